@@ -1,0 +1,137 @@
+"""Truncated Fourier series on one period: the multi-harmonic basis (eq. 9-10).
+
+A periodic signal is ``u(t) = a_0 + sum_{k=1}^{Nh} a_k cos(k omega t) + b_k sin(k omega t)``.
+Its *full* coefficient vector is ``[a_0, a_1, b_1, ..., a_Nh, b_Nh]`` (eq. 10),
+of length ``2 Nh + 1``.
+
+For half-wave symmetric problems (``u(t + T/2) = -u(t)``) only odd harmonics
+are non-zero; the *reduced* basis then keeps odd orders only and the time
+grid covers half a period. :class:`HarmonicBasis` holds the slots of the basis
+in use and the matrices that map between coefficients and time samples
+(the iDFT/DFT of the alternating frequency-time scheme).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+__all__ = ["HarmonicBasis", "default_samples", "full_synthesis", "amplitude"]
+
+
+def default_samples(harmonics: int) -> int:
+    """Default samples per period: the next power of two ``>= 16 Nh`` (at least 16).
+
+    Friction forces are non-smooth in time; about 16 samples per period of the
+    highest harmonic resolve the stick/slip transitions well enough for the
+    truncation error of the harmonic balance to dominate.
+    """
+    return max(16, 1 << int(np.ceil(np.log2(16 * harmonics))))
+
+
+def _check_sizes(harmonics: int, samples: int) -> None:
+    if not isinstance(harmonics, (int, np.integer)) or harmonics < 1:
+        raise ValueError(f"harmonics (Nh) must be an integer >= 1, got {harmonics!r}")
+    if not isinstance(samples, (int, np.integer)) or samples < 2 * harmonics + 1:
+        raise ValueError(
+            f"samples (N) must be an integer >= 2*Nh+1 = {2 * harmonics + 1} to avoid aliasing, got {samples!r}"
+        )
+
+
+@dataclass(frozen=True)
+class HarmonicBasis:
+    """Slots of a (possibly half-wave reduced) harmonic basis and its time grid.
+
+    Parameters
+    ----------
+    harmonics : int
+        Highest harmonic order ``Nh >= 1``.
+    samples : int
+        Time samples per *full* period ``N >= 2 Nh + 1``. Half-wave bases use
+        the first ``N / 2`` of them and need ``N`` even.
+    half_wave : bool
+        Keep odd harmonics only and march over half a period.
+    """
+
+    harmonics: int
+    samples: int
+    half_wave: bool = False
+
+    def __post_init__(self) -> None:
+        _check_sizes(self.harmonics, self.samples)
+        if self.half_wave and self.samples % 2:
+            raise ValueError(f"samples (N) must be even for a half-wave basis, got {self.samples}")
+
+    # -- slots ------------------------------------------------------------
+    @cached_property
+    def orders(self) -> np.ndarray:
+        """Harmonic order of each slot, shape (H,)."""
+        ks = np.arange(1, self.harmonics + 1, 2 if self.half_wave else 1)
+        body = np.repeat(ks, 2)
+        return body if self.half_wave else np.concatenate([[0], body])
+
+    @cached_property
+    def is_sine(self) -> np.ndarray:
+        """True for the ``sin`` slots, shape (H,)."""
+        flags = np.tile([False, True], len(self.orders) // 2)
+        return flags if self.half_wave else np.concatenate([[False], flags])
+
+    @property
+    def size(self) -> int:
+        """Number of slots ``H`` (``2 Nh + 1`` for the full basis)."""
+        return len(self.orders)
+
+    @cached_property
+    def full_index(self) -> np.ndarray:
+        """Position of each slot in the full coefficient vector of eq. 10, shape (H,)."""
+        return np.where(self.orders == 0, 0, 2 * self.orders - 1 + self.is_sine)
+
+    # -- time grid --------------------------------------------------------
+    @property
+    def marched_samples(self) -> int:
+        """Samples marched in time: ``N`` (full) or ``N / 2`` (half-wave)."""
+        return self.samples // 2 if self.half_wave else self.samples
+
+    @cached_property
+    def phases(self) -> np.ndarray:
+        """Phases ``omega t_n = 2 pi n / N`` of the marched samples (rad)."""
+        return 2 * np.pi * np.arange(self.marched_samples) / self.samples
+
+    @cached_property
+    def synthesis(self) -> np.ndarray:
+        """iDFT matrix, shape (N_marched, H): samples = synthesis @ coefficients."""
+        arg = np.outer(self.phases, self.orders)
+        return np.ascontiguousarray(np.where(self.is_sine, np.sin(arg), np.cos(arg)))
+
+    @cached_property
+    def analysis(self) -> np.ndarray:
+        """DFT matrix, shape (H, N_marched): coefficients = analysis @ samples.
+
+        Exact inverse of :attr:`synthesis` on the basis (``analysis @ synthesis = I``),
+        the discrete Galerkin projection of the AFT scheme.
+        """
+        n = self.marched_samples
+        weight = np.where(self.orders == 0, 1.0 / n, 2.0 / n)
+        return np.ascontiguousarray(weight[:, None] * self.synthesis.T)
+
+    def to_full(self, coeffs: np.ndarray) -> np.ndarray:
+        """Scatter reduced coefficients (..., H) into the full layout (..., 2 Nh + 1)."""
+        out = np.zeros(coeffs.shape[:-1] + (2 * self.harmonics + 1,), dtype=coeffs.dtype)
+        out[..., self.full_index] = coeffs
+        return out
+
+    def from_full(self, coeffs: np.ndarray) -> np.ndarray:
+        """Gather the slots of this basis from full coefficients (..., 2 Nh + 1)."""
+        return coeffs[..., self.full_index]
+
+
+def full_synthesis(harmonics: int, samples: int) -> np.ndarray:
+    """iDFT matrix (N, 2 Nh + 1) of the full basis on a full period of ``samples`` points."""
+    return HarmonicBasis(harmonics, samples).synthesis
+
+
+def amplitude(coeffs: np.ndarray, order: int = 1) -> np.ndarray:
+    """Amplitude ``sqrt(a_k^2 + b_k^2)`` of harmonic ``order`` from full coefficients (..., 2 Nh + 1)."""
+    return np.hypot(coeffs[..., 2 * order - 1], coeffs[..., 2 * order])

@@ -1,0 +1,352 @@
+"""Periodic response at one frequency: harmonic balance with DLFT contact forces.
+
+:func:`solve_periodic` is the single-frequency solver (paper sections 1.3-1.5).
+It computes only the effects present:
+
+1. contacts with zero normal load are open and left out of the nonlinear system;
+2. with no active contact left, the linear open solution is exact (path ``"linear-open"``);
+3. with friction contacts only, the exact linear *stuck* solution is returned when
+   it keeps every contact strictly inside its friction cone over the whole
+   period (path ``"linear-stuck"``), with no nonlinear solve;
+4. otherwise Newton's method with backtracking line search on the DLFT residual,
+   from a guess or from the stuck solution (path ``"dlft"``); if that fails, a
+   continuation in the load factor from the largest load that still sticks
+   (path ``"dlft-homotopy"``), which is reliable at any harmonic count.
+
+:class:`Problem` holds everything that depends on the frequency only
+(condensation, DFT matrices, penalties) and is reused by the sweeps in
+:mod:`fretwear.continuation`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import dlft
+from .condensation import condense
+from .harmonics import HarmonicBasis, default_samples
+from .model import Model
+from .results import PeriodicSolution
+
+__all__ = ["Problem", "NewtonResult", "solve_periodic", "solve_problem", "newton"]
+
+#: default penalty, as a multiple of the condensed dynamic stiffness scale
+EPS_FACTOR = 1.0
+
+
+@dataclass
+class NewtonResult:
+    """Outcome of a Newton solve on the DLFT residual."""
+
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    message: str = ""
+
+
+@dataclass
+class Problem:
+    """DLFT problem at one frequency, for a model in a given wear state.
+
+    Parameters
+    ----------
+    model : Model
+    omega : float
+        Excitation frequency (rad/s), > 0.
+    harmonics : int
+        Highest harmonic ``Nh >= 1``.
+    samples : int, optional
+        Samples per period ``N >= 2 Nh + 1``; default :func:`default_samples`.
+    wear : array_like, optional
+        Wear depth of each friction contact (m); default zero.
+    eps : float or array_like, optional
+        DLFT penalty per active contact (N/m). Default: ``EPS_FACTOR`` times the
+        largest diagonal entry of the condensed dynamic stiffness over the
+        retained harmonics (the paper's advice, section 1.4).
+    half_wave : bool, optional
+        Use odd harmonics and half a period; default: when the model allows it.
+    force_scale : float
+        Load factor applied to every external force (used by load continuation).
+    """
+
+    model: Model
+    omega: float
+    harmonics: int = 7
+    samples: int | None = None
+    wear: np.ndarray | None = None
+    eps: float | np.ndarray | None = None
+    half_wave: bool | None = None
+    force_scale: float = 1.0
+    derivative: bool = False
+    basis: HarmonicBasis = field(init=False)
+
+    def __post_init__(self) -> None:
+        m = self.model
+        if not np.isfinite(self.omega) or self.omega <= 0:
+            raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {self.omega!r}")
+        samples = default_samples(self.harmonics) if self.samples is None else self.samples
+        if self.half_wave is None:
+            self.half_wave = m.half_wave_symmetric and samples % 2 == 0
+        elif self.half_wave and not m.half_wave_symmetric:
+            raise ValueError("half_wave=True needs a half-wave symmetric model (no static load, no unilateral contact)")
+        self.basis = HarmonicBasis(self.harmonics, samples, bool(self.half_wave))
+        self.samples = samples
+        self.normal_loads = m.normal_loads(self.wear)
+        self.wear = np.zeros(len(m.friction)) if self.wear is None else np.asarray(self.wear, float)
+        if np.any(self.wear < 0):
+            raise ValueError(f"wear must be >= 0 m, got {self.wear}")
+        active_f = [i for i, c in enumerate(m.friction) if c.mu * self.normal_loads[i] > 0]
+        self.active_index = active_f + [len(m.friction) + j for j in range(len(m.normal))]
+        self.active = [m.contacts[i] for i in self.active_index]
+        self.kinds = np.array([dlft.FRICTION] * len(active_f) + [dlft.UNILATERAL] * len(m.normal), dtype=np.int64)
+        self.limits = np.array(
+            [m.friction[i].mu * self.normal_loads[i] for i in active_f] + [c.gap for c in m.normal], dtype=float
+        )
+        self.B = m.relative_map(self.active)
+        if self.active:
+            cond = condense(m, self.B, self.omega, self.basis, self.derivative)
+            self.Z, self.F0, self.dZ, self.dF0 = cond.Z, cond.F, cond.dZ, cond.dF
+            self.eps = self._penalty(self.eps)
+
+    # -- sizes ----------------------------------------------------------------
+    @property
+    def n_active(self) -> int:
+        return len(self.active)
+
+    @property
+    def size(self) -> int:
+        """Number of unknowns ``nc H``."""
+        return self.n_active * self.basis.size
+
+    @property
+    def F(self) -> np.ndarray:
+        """Reduced force at the current load factor (N)."""
+        return self.force_scale * self.F0
+
+    def _penalty(self, eps) -> np.ndarray:
+        H = self.basis.size
+        if eps is None:
+            diag = np.abs(np.diag(self.Z)).reshape(self.n_active, H)
+            return EPS_FACTOR * diag.max(axis=1)
+        eps = np.broadcast_to(np.asarray(eps, dtype=float), (self.n_active,)).copy()
+        if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
+            raise ValueError(f"eps must be finite and > 0 N/m, got {eps}")
+        return eps
+
+    # -- DLFT -------------------------------------------------------------------
+    def evaluate(self, x: np.ndarray, jacobian: bool = True):
+        """Residual (N), Jacobian (N/m) or None, and the time-domain fields of the march."""
+        nc, H = self.n_active, self.basis.size
+        Ns = self.basis.marched_samples
+        R = np.empty(nc * H)
+        A = np.empty((nc, H, H))
+        lam = np.empty((nc, Ns))
+        X = np.empty((nc, Ns))
+        state = np.empty((nc, Ns), dtype=np.int8)
+        dlft.evaluate(
+            x, self.Z, self.F, self.eps, self.kinds, self.limits, self.basis.synthesis, self.basis.analysis,
+            self.basis.half_wave, jacobian, R, A, lam, X, state,
+        )  # fmt: skip
+        J = None
+        if jacobian:
+            J = np.empty((nc * H, nc * H))
+            dlft.jacobian_from_blocks(self.Z, self.eps, A, J)
+        return R, J, A, lam, X, state
+
+    def residual_scale(self) -> float:
+        """Force scale (N) against which residuals are judged."""
+        scale = max(np.abs(self.F).max(initial=0.0), np.abs(self.limits[self.kinds == dlft.FRICTION]).max(initial=0))
+        return scale if scale > 0 else 1.0
+
+    # -- linear solutions -------------------------------------------------------
+    def stuck_guess(self) -> np.ndarray:
+        """Stuck friction contacts (x = 0) and unilateral contacts closed at their gap."""
+        x = np.zeros(self.size)
+        if not self.basis.half_wave:
+            H = self.basis.size
+            for c in np.flatnonzero(self.kinds == dlft.UNILATERAL):
+                x[c * H] = self.limits[c]
+        return x
+
+    def stick_ratio(self) -> float:
+        """Largest ratio ``(stick force half-range) / (mu F_N)`` of the exact stuck solution.
+
+        Only for friction-only problems: the stuck solution has ``x = 0`` on
+        every harmonic but the mean, chosen so that each stick force is centred
+        in its cone, and its force is ``Lambda = F_r - Z_r x``. Values ``<= 1``
+        mean the stuck solution is exact.
+        """
+        H = self.basis.size
+        F = self.F.reshape(self.n_active, H)
+        amp = np.sqrt(np.sum(F[:, self.basis.orders == 1] ** 2, axis=1))  # forcing is at the fundamental
+        return float(np.max(amp / self.limits))
+
+    def stuck_solution(self) -> np.ndarray:
+        """Unknowns of the centred stuck solution (friction-only problems)."""
+        x = np.zeros(self.size)
+        if not self.basis.half_wave:
+            H = self.basis.size
+            means = np.arange(self.n_active) * H
+            # centred stick: the mean stick force Lambda_0 = F_0 - Z_0 x_0 is zero
+            x[means] = np.linalg.solve(self.Z[np.ix_(means, means)], self.F[means])
+        return x
+
+
+def _norm(v: np.ndarray) -> float:
+    return float(np.abs(v).max(initial=0.0))
+
+
+def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int = 50) -> NewtonResult:
+    """Newton's method with backtracking line search on the DLFT residual.
+
+    Converged when ``max |R| <= tol * scale`` with ``scale`` the largest
+    external or friction force (N). The residual is piecewise linear, so Newton
+    terminates in a few steps once the stick/slip pattern is right.
+    """
+    scale = problem.residual_scale()
+    x = x0.copy()
+    R, J, *_ = problem.evaluate(x)
+    r = _norm(R)
+    for it in range(max_iter + 1):
+        if r <= tol * scale:
+            return NewtonResult(x, True, it, r / scale)
+        if it == max_iter:
+            break
+        try:
+            dx = np.linalg.solve(J, -R)
+        except np.linalg.LinAlgError:
+            return NewtonResult(x, False, it, r / scale, "singular Jacobian")
+        if not np.all(np.isfinite(dx)):
+            return NewtonResult(x, False, it, r / scale, "non-finite Newton step")
+        step = 1.0
+        for _ in range(30):
+            xt = x + step * dx
+            Rt, Jt, *_ = problem.evaluate(xt)
+            rt = _norm(Rt)
+            if rt < (1 - 1e-4 * step) * r:
+                break
+            step *= 0.5
+        else:
+            return NewtonResult(x, False, it, r / scale, "line search failed")
+        x, R, J, r = xt, Rt, Jt, rt
+    return NewtonResult(x, False, max_iter, r / scale, f"no convergence in {max_iter} iterations")
+
+
+def _homotopy(problem: Problem, tol: float, max_iter: int, max_steps: int = 400) -> NewtonResult:
+    """Load continuation from the largest load that sticks to the full load."""
+    full = problem.force_scale
+    friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
+    if friction_only:
+        problem.force_scale = full
+        s0 = min(1.0, 1.0 / problem.stick_ratio()) * full
+        problem.force_scale = s0
+        x = problem.stuck_solution()
+    else:
+        s0 = 0.0
+        problem.force_scale = s0
+        res = newton(problem, problem.stuck_guess(), tol, max_iter)
+        if not res.converged:
+            problem.force_scale = full
+            return NewtonResult(res.x, False, res.iterations, res.residual, "homotopy: no unloaded solution")
+        x = res.x
+    s, ds = s0, (full - s0) / 8
+    prev = None  # (s, x) of the previous converged step, for the secant predictor
+    total = 0
+    for _ in range(max_steps):
+        if s >= full:
+            break
+        s_new = min(full, s + ds)
+        guess = x if prev is None else x + (s_new - s) / (s - prev[0]) * (x - prev[1])
+        problem.force_scale = s_new
+        res = newton(problem, guess, tol, max_iter)
+        total += res.iterations
+        if res.converged:
+            prev, s, x = (s, x), s_new, res.x
+            if res.iterations <= 4:
+                ds *= 1.5
+        else:
+            ds *= 0.5
+            if ds < 1e-6 * max(full, 1.0):
+                problem.force_scale = full
+                return NewtonResult(x, False, total, res.residual, f"homotopy stalled at load factor {s / full:.6g}")
+    problem.force_scale = full
+    final = newton(problem, x, tol, max_iter)
+    final.iterations += total
+    if not final.converged:
+        final.message = "homotopy: " + final.message
+    return final
+
+
+def solve_periodic(
+    model: Model,
+    omega: float,
+    harmonics: int = 7,
+    *,
+    samples: int | None = None,
+    wear=None,
+    eps=None,
+    half_wave: bool | None = None,
+    guess: np.ndarray | None = None,
+    tol: float = 1e-10,
+    max_iter: int = 50,
+) -> PeriodicSolution:
+    """Periodic response of ``model`` at ``omega`` by HBM + DLFT.
+
+    Parameters
+    ----------
+    model : Model
+    omega : float
+        Excitation frequency (rad/s), > 0.
+    harmonics : int
+        Highest harmonic ``Nh >= 1``.
+    samples : int, optional
+        Time samples per period ``N >= 2 Nh + 1`` (default: next power of 2 >= 16 Nh).
+    wear : array_like, optional
+        Wear depth of each friction contact (m).
+    eps : float or array_like, optional
+        DLFT penalty (N/m); changes the convergence, and at finite ``Nh`` the
+        answer only within the truncation error.
+    half_wave : bool, optional
+        Force or forbid the half-wave (odd harmonics) reduction.
+    guess : ndarray, optional
+        Starting unknowns (harmonics of the active contact coordinates, in the
+        layout of :class:`Problem`), e.g. ``solution.unknowns`` of a neighbour.
+    tol : float
+        Relative residual tolerance.
+    max_iter : int
+        Newton iterations per solve.
+
+    Returns
+    -------
+    PeriodicSolution
+        With ``converged``, ``residual``, ``iterations``, ``message`` and ``path``.
+    """
+    problem = Problem(model, omega, harmonics, samples, wear, eps, half_wave)
+    return solve_problem(problem, guess, tol, max_iter)
+
+
+def solve_problem(
+    problem: Problem, guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 50
+) -> PeriodicSolution:
+    """Solve a prepared :class:`Problem` (see :func:`solve_periodic` for the paths)."""
+    if problem.n_active == 0:
+        return PeriodicSolution.build(problem, None, NewtonResult(np.zeros(0), True, 0, 0.0), "linear-open")
+    friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
+    if friction_only and problem.stick_ratio() < 1.0:
+        x = problem.stuck_solution()
+        return PeriodicSolution.build(problem, x, NewtonResult(x, True, 0, 0.0), "linear-stuck")
+    start = problem.stuck_solution() if friction_only else problem.stuck_guess()
+    if guess is not None:
+        guess = np.asarray(guess, dtype=float)
+        if guess.shape != (problem.size,):
+            raise ValueError(f"guess must have shape ({problem.size},), got {guess.shape}")
+        start = guess
+    res = newton(problem, start, tol, min(max_iter, 25) if guess is None else max_iter)
+    path = "dlft"
+    if not res.converged:
+        res = _homotopy(problem, tol, max_iter)
+        path = "dlft-homotopy"
+    return PeriodicSolution.build(problem, res.x, res, path)
