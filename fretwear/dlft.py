@@ -247,3 +247,92 @@ def jacobian_from_blocks(Z, eps, A, J):
                 J[r0 + i, j] = Z[r0 + i, j] - AZ[i, j]
             for j in range(H):
                 J[r0 + i, r0 + j] += eps[c] * A[c, i, j]
+
+
+@njit(cache=True, nogil=True)
+def _crossing(pred, dpred, level, tau):
+    """Smallest tau' in [0, tau) with pred + tau' dpred = level, else tau."""
+    if dpred != 0.0:
+        t = (level - pred) / dpred
+        if 0.0 <= t < tau:
+            return t
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def _friction_boundary(u, du, limit, eps, half_wave, tau):
+    """Distance along ``u + tau du`` to the first change of a friction stick/slip pattern."""
+    n = u.shape[0]
+    if limit <= 0.0:
+        return tau
+    big_i, hi_i, lo_i = 0, 0, 0
+    mean, dmean = 0.0, 0.0
+    for s in range(n):
+        if abs(u[s]) > abs(u[big_i]):
+            big_i = s
+        if u[s] > u[hi_i]:
+            hi_i = s
+        if u[s] < u[lo_i]:
+            lo_i = s
+        mean += u[s]
+        dmean += du[s]
+    mean /= n
+    dmean /= n
+    full_stick = abs(u[big_i]) <= limit if half_wave else max(u[hi_i] - mean, mean - u[lo_i]) <= limit
+    if full_stick:  # first sample to reach the cone edge
+        c, dc = (0.0, 0.0) if half_wave else (mean, dmean)
+        for s in range(n):
+            tau = _crossing(u[s] - c, du[s] - dc, limit, tau)
+            tau = _crossing(u[s] - c, du[s] - dc, -limit, tau)
+        return tau
+    s0 = big_i
+    sign0 = 1.0 if u[s0] > 0 else -1.0
+    x_prev = (u[s0] - sign0 * limit) / eps
+    dx_prev = du[s0] / eps
+    for v in range(1, n + 1):  # one full turn, back to s0 to check its own prediction
+        s = s0 + v
+        p = 1.0
+        while s >= n:
+            s -= n
+            if half_wave:
+                p = -p
+        uv, duv = p * u[s], p * du[s]
+        pred = uv - eps * x_prev
+        dpred = duv - eps * dx_prev
+        if abs(pred) < limit:  # stick: leaves the cone at +-limit
+            tau = _crossing(pred, dpred, limit, tau)
+            tau = _crossing(pred, dpred, -limit, tau)
+        else:  # slip with sign sg: returns inside the cone at sg * limit
+            sg = 1.0 if pred > 0 else -1.0
+            if sg * dpred < 0.0:
+                tau = _crossing(pred, dpred, sg * limit, tau)
+            x_prev = (uv - sg * limit) / eps
+            dx_prev = duv / eps
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max):
+    """Largest step ``tau <= tau_max`` along ``lambda_u + tau d lambda_u`` keeping every sample's state.
+
+    The DLFT residual is linear on each such piece, so a path that is straight
+    in the unknowns is exact up to the returned distance.
+
+    Parameters
+    ----------
+    lu, dlu : (nc H,) augmented Lagrangian harmonics and their direction (N).
+    eps, kinds, limits, Phi, half_wave : as in :func:`evaluate`.
+    tau_max : float, upper bound on the returned step.
+    """
+    nc = kinds.shape[0]
+    H = Phi.shape[1]
+    tau = tau_max
+    for c in range(nc):
+        u = Phi @ lu[c * H : (c + 1) * H]
+        du = Phi @ dlu[c * H : (c + 1) * H]
+        if kinds[c] == FRICTION:
+            tau = _friction_boundary(u, du, limits[c], eps[c], half_wave, tau)
+        else:
+            for s in range(u.shape[0]):
+                tau = _crossing(u[s] - eps[c] * limits[c], du[s], 0.0, tau)
+    return tau

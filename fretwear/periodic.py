@@ -33,7 +33,7 @@ from .results import PeriodicSolution
 __all__ = ["Problem", "NewtonResult", "solve_periodic", "solve_problem", "newton"]
 
 #: default penalty, as a multiple of the condensed dynamic stiffness scale
-EPS_FACTOR = 1.0
+EPS_FACTOR = 10.0
 
 
 @dataclass
@@ -200,27 +200,46 @@ def _norm(v: np.ndarray) -> float:
 
 
 def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int = 50) -> NewtonResult:
-    """Newton's method with backtracking line search on the DLFT residual.
+    """Newton's method on the DLFT residual, non-monotone, with a damped fallback.
 
     Converged when ``max |R| <= tol * scale`` with ``scale`` the largest
-    external or friction force (N). The residual is piecewise linear, so Newton
-    terminates in a few steps once the stick/slip pattern is right.
+    external or friction force (N). The residual is piecewise linear: once the
+    stick/slip pattern is right, a full Newton step lands on the solution. On
+    the way, full steps must be allowed to raise the residual while the pattern
+    settles (a monotone line search stalls at the kinks), so full steps are
+    taken while the residual stays within a factor of the best one seen; then,
+    if needed, a backtracking line search restarts from the best iterate.
     """
     scale = problem.residual_scale()
+    target = tol * scale
     x = x0.copy()
     R, J, *_ = problem.evaluate(x)
     r = _norm(R)
-    for it in range(max_iter + 1):
-        if r <= tol * scale:
+    best = (r, x, R, J)
+    it = 0
+    damped = False
+    while it < max_iter:
+        if r <= target:
             return NewtonResult(x, True, it, r / scale)
-        if it == max_iter:
-            break
         try:
             dx = np.linalg.solve(J, -R)
         except np.linalg.LinAlgError:
-            return NewtonResult(x, False, it, r / scale, "singular Jacobian")
-        if not np.all(np.isfinite(dx)):
-            return NewtonResult(x, False, it, r / scale, "non-finite Newton step")
+            if damped:
+                return NewtonResult(x, False, it, r / scale, "singular Jacobian")
+            damped, (r, x, R, J) = True, best
+            continue
+        it += 1
+        if not damped:
+            xt = x + dx
+            Rt, Jt, *_ = problem.evaluate(xt)
+            rt = _norm(Rt)
+            if np.isfinite(rt) and rt < 1e3 * best[0] and it < max_iter // 2:
+                x, R, J, r = xt, Rt, Jt, rt
+                if r < best[0]:
+                    best = (r, x, R, J)
+                continue
+            damped, (r, x, R, J) = True, best  # switch to the damped phase from the best iterate
+            continue
         step = 1.0
         for _ in range(30):
             xt = x + step * dx
@@ -232,51 +251,98 @@ def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int =
         else:
             return NewtonResult(x, False, it, r / scale, "line search failed")
         x, R, J, r = xt, Rt, Jt, rt
-    return NewtonResult(x, False, max_iter, r / scale, f"no convergence in {max_iter} iterations")
+    if r <= target:
+        return NewtonResult(x, True, it, r / scale)
+    return NewtonResult(x, False, it, r / scale, f"no convergence in {max_iter} iterations")
 
 
-def _homotopy(problem: Problem, tol: float, max_iter: int, max_steps: int = 400) -> NewtonResult:
-    """Load continuation from the largest load that sticks to the full load."""
+def _tangent(J: np.ndarray, dR: np.ndarray, row: np.ndarray, orientation: float) -> tuple[np.ndarray, float]:
+    """Unit null vector ``t`` of ``[J dR]`` and the orientation ``sign det [J dR; t]``.
+
+    With ``orientation = 0`` the sign is chosen so that ``row . t > 0`` and
+    returned; otherwise ``t`` is oriented to keep the given sign, which is the
+    invariant of a regular solution curve across the kinks of a
+    piecewise-linear map (a dot product with the previous tangent is not).
+    """
+    n = J.shape[0]
+    aug = np.empty((n + 1, n + 1))
+    aug[:n, :n], aug[:n, n], aug[n] = J, dR, row
+    rhs = np.zeros(n + 1)
+    rhs[n] = 1.0
+    t = np.linalg.solve(aug, rhs)
+    t /= np.linalg.norm(t)
+    aug[n] = t
+    sign = np.linalg.slogdet(aug)[0]
+    if orientation and sign != orientation:
+        t, sign = -t, orientation
+    return t, sign
+
+
+def load_homotopy(problem: Problem, tol: float = 1e-10, max_iter: int = 50, max_pieces: int = 100_000) -> NewtonResult:
+    """Solve ``problem`` by exact piecewise-linear continuation in the load factor.
+
+    With the forces scaled by ``s``, the DLFT residual ``R(x, s)`` is piecewise
+    linear in ``(x, s)`` jointly (linear while no sample changes state), so its
+    solution curve is a polygon. The curve is followed piece by piece: the
+    tangent is the null vector of ``[dR/dx, dR/ds]``, the distance to the next
+    state change is computed exactly (:func:`fretwear.dlft.boundary_distance`),
+    and the walk steps just past it into the next piece. No Newton iteration
+    can fail on the way; the cost is one linear solve per piece crossed.
+
+    For friction-only problems the curve starts at the largest load factor for
+    which the stuck solution is exact; otherwise at zero load.
+    """
     full = problem.force_scale
-    friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
-    if friction_only:
-        problem.force_scale = full
-        s0 = min(1.0, 1.0 / problem.stick_ratio()) * full
-        problem.force_scale = s0
+    nc, H = problem.n_active, problem.basis.size
+    if np.all(problem.kinds == dlft.FRICTION):
+        s = full * min(1.0, 1.0 / problem.stick_ratio())
+        problem.force_scale = s
         x = problem.stuck_solution()
     else:
-        s0 = 0.0
-        problem.force_scale = s0
-        res = newton(problem, problem.stuck_guess(), tol, max_iter)
-        if not res.converged:
+        s = 0.0
+        problem.force_scale = s
+        start = newton(problem, problem.stuck_guess(), tol, max_iter)
+        if not start.converged:
             problem.force_scale = full
-            return NewtonResult(res.x, False, res.iterations, res.residual, "homotopy: no unloaded solution")
-        x = res.x
-    s, ds = s0, (full - s0) / 8
-    prev = None  # (s, x) of the previous converged step, for the secant predictor
-    total = 0
-    for _ in range(max_steps):
-        if s >= full:
+            return NewtonResult(start.x, False, start.iterations, start.residual, "no solution at zero load")
+        x = start.x
+    F0 = problem.F0.reshape(nc, H)
+    eps_diag = np.repeat(problem.eps, H)
+    phi, hw = problem.basis.synthesis, problem.basis.half_wave
+
+    def distance(x, s, t, cap):
+        lu = s * problem.F0 - problem.Z @ x + eps_diag * x
+        dlu = t[-1] * problem.F0 - problem.Z @ t[:-1] + eps_diag * t[:-1]
+        return dlft.boundary_distance(lu, dlu, problem.eps, problem.kinds, problem.limits, phi, hw, cap)
+
+    row = np.zeros(x.size + 1)
+    row[-1] = 1.0
+    orientation = 0.0
+    overshoot = 0.0
+    for piece in range(max_pieces):
+        problem.force_scale = s
+        _, J, A, *_ = problem.evaluate(x)
+        dR = -(F0 - np.einsum("cij,cj->ci", A, F0)).reshape(-1)
+        try:
+            t, sign = _tangent(J, dR, row, orientation)
+        except np.linalg.LinAlgError:
             break
-        s_new = min(full, s + ds)
-        guess = x if prev is None else x + (s_new - s) / (s - prev[0]) * (x - prev[1])
-        problem.force_scale = s_new
-        res = newton(problem, guess, tol, max_iter)
-        total += res.iterations
-        if res.converged:
-            prev, s, x = (s, x), s_new, res.x
-            if res.iterations <= 4:
-                ds *= 1.5
-        else:
-            ds *= 0.5
-            if ds < 1e-6 * max(full, 1.0):
-                problem.force_scale = full
-                return NewtonResult(x, False, total, res.residual, f"homotopy stalled at load factor {s / full:.6g}")
+        reach = lambda t: (full - s) / t[-1] if t[-1] > 0 else np.inf  # noqa: E731
+        tau = distance(x, s, t, min(reach(t), 1e300))
+        orientation = sign
+        if reach(t) <= tau:
+            x, s = x + reach(t) * t[:-1], full
+            break
+        overshoot = tau * 1e-9 + 1e-13 * (np.abs(np.append(x, s)).max() + 1e-300)
+        x, s = x + (tau + overshoot) * t[:-1], s + (tau + overshoot) * t[-1]
+        row = t
+    else:
+        piece = max_pieces
     problem.force_scale = full
-    final = newton(problem, x, tol, max_iter)
-    final.iterations += total
+    final = newton(problem, x, tol, max_iter)  # polish the end point (exact up to round-off already)
+    final.iterations += piece + 1
     if not final.converged:
-        final.message = "homotopy: " + final.message
+        final.message = f"load continuation ended at load factor {s / full:.6g} after {piece + 1} pieces; " + final.message
     return final
 
 
@@ -344,9 +410,9 @@ def solve_problem(
         if guess.shape != (problem.size,):
             raise ValueError(f"guess must have shape ({problem.size},), got {guess.shape}")
         start = guess
-    res = newton(problem, start, tol, min(max_iter, 25) if guess is None else max_iter)
+    res = newton(problem, start, tol, min(max_iter, 16))
     path = "dlft"
     if not res.converged:
-        res = _homotopy(problem, tol, max_iter)
+        res = load_homotopy(problem, tol, max_iter)
         path = "dlft-homotopy"
     return PeriodicSolution.build(problem, res.x, res, path)

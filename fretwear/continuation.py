@@ -1,0 +1,205 @@
+"""Path following for the DLFT equations: load homotopy, frequency sweeps, folds.
+
+The DLFT residual is piecewise linear in the unknowns and, in the stick-slip
+band, the solution can move fast with the load or the frequency; natural
+parameter steps then fail. :func:`track` follows the solution curve of
+``R(x, p) = 0`` by pseudo-arc-length continuation in scaled variables, which
+passes steep parts and folds alike, and lands exactly on a target parameter.
+
+It serves three purposes:
+
+* the cold start of a single-frequency solve: follow the load factor from the
+  largest load that still sticks (where the stuck solution is exact) to the
+  full load (:func:`load_homotopy`);
+* :func:`sweep`: the response at given frequencies, each reached from the
+  previous one along the branch;
+* :func:`continuation`: the whole branch over a frequency band, folds
+  included, as a sequence of solutions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import dlft
+from .arclength import Evaluate, track
+from .model import Model
+from .periodic import NewtonResult, Problem, newton, solve_problem
+from .results import PeriodicSolution
+
+__all__ = ["Sweep", "sweep", "Branch", "continuation"]
+
+# -- frequency ------------------------------------------------------------------
+
+
+def _x_scale(problem: Problem) -> float:
+    """Typical relative displacement (m): slip force over the fundamental condensed stiffness."""
+    H = problem.basis.size
+    z1 = np.abs(np.diag(problem.Z)).reshape(problem.n_active, H)[:, problem.basis.orders == 1].max()
+    f = max(np.abs(problem.limits[problem.kinds == dlft.FRICTION]).max(initial=0), np.abs(problem.F).max())
+    return max(f / max(z1, 1e-300), 1e-300)
+
+
+def _frequency_evaluate(model: Model, settings: dict, eps: np.ndarray) -> Evaluate:
+    """Residual, Jacobian and ``dR/d omega`` at a fixed penalty."""
+
+    def evaluate(x, omega):
+        p = Problem(model, omega, eps=eps, derivative=True, **settings)
+        R, J, A, *_ = p.evaluate(x)
+        nc, H = p.n_active, p.basis.size
+        v = (p.dZ @ x - p.force_scale * p.dF0).reshape(nc, H)
+        dR = (v - np.einsum("cij,cj->ci", A, v)).reshape(-1)
+        return R, J, dR
+
+    return evaluate
+
+
+def _active_signature(problem: Problem) -> tuple:
+    return tuple(problem.active_index)
+
+
+@dataclass
+class Sweep:
+    """Responses at a sequence of frequencies (see :func:`sweep`)."""
+
+    solutions: list[PeriodicSolution]
+
+    @property
+    def omega(self) -> np.ndarray:
+        return np.array([s.omega for s in self.solutions])
+
+    @property
+    def converged(self) -> np.ndarray:
+        return np.array([s.converged for s in self.solutions])
+
+
+def sweep(
+    model: Model,
+    omegas,
+    harmonics: int = 7,
+    *,
+    samples: int | None = None,
+    wear=None,
+    half_wave: bool | None = None,
+    eps=None,
+    tol: float = 1e-10,
+    max_iter: int = 50,
+) -> Sweep:
+    """Periodic responses at the frequencies ``omegas`` (rad/s), in the given order.
+
+    Each point starts from its predecessor: a secant prediction and Newton
+    first; when that fails, arc-length continuation from the previous point
+    (which follows the branch through steep parts and folds); when that fails
+    too, a cold solve by load continuation. A point that still fails is
+    reported (``converged=False``) and the sweep goes on from the last good
+    point. Points whose stuck solution is exact take no nonlinear solve.
+    """
+    omegas = np.asarray(omegas, dtype=float)
+    if omegas.ndim != 1 or omegas.size == 0 or np.any(~np.isfinite(omegas)) or np.any(omegas <= 0):
+        raise ValueError("omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s")
+    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    out: list[PeriodicSolution] = []
+    history: list[tuple[float, np.ndarray, tuple]] = []  # converged nonlinear-capable points
+    for omega in omegas:
+        problem = Problem(model, omega, eps=eps, **settings)
+        sol = None
+        sig = _active_signature(problem)
+        prev = [h for h in history if h[2] == sig][-2:]
+        if prev and problem.n_active:
+            sol = _from_previous(model, problem, prev, settings, tol, max_iter)
+        if sol is None:
+            sol = solve_problem(problem, None, tol, max_iter)
+        out.append(sol)
+        if sol.converged and problem.n_active:
+            history.append((omega, sol.unknowns, sig))
+    return Sweep(out)
+
+
+def _from_previous(model, problem, prev, settings, tol, max_iter) -> PeriodicSolution | None:
+    """Solve ``problem`` starting from neighbouring converged points ``prev``."""
+    friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
+    if friction_only and problem.stick_ratio() < 1.0:
+        return solve_problem(problem, None, tol, max_iter)  # exact stuck solution
+    omega = problem.omega
+    if len(prev) == 2:
+        (w0, x0, _), (w1, x1, _) = prev
+        guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
+    else:
+        guess = prev[-1][1]
+    res = newton(problem, guess, tol, 8)
+    path = "dlft"
+    if not res.converged:
+        w1, x1, _ = prev[-1]
+        start = Problem(model, w1, **settings)
+        evaluate = _frequency_evaluate(model, settings, start.eps)
+        tr = track(evaluate, x1, w1, omega, x_scale=_x_scale(start), tol=tol * start.residual_scale())
+        if not tr.converged:
+            return None
+        res = newton(problem, tr.x, tol, max_iter)  # polish with this frequency's penalty
+        res.iterations += tr.iterations
+        path = "dlft-continuation"
+        if not res.converged:
+            return None
+    return PeriodicSolution.build(problem, res.x, res, path)
+
+
+@dataclass
+class Branch:
+    """Solutions along a frequency branch, in arc-length order (see :func:`continuation`)."""
+
+    solutions: list[PeriodicSolution]
+    converged: bool
+    message: str
+
+    @property
+    def omega(self) -> np.ndarray:
+        return np.array([s.omega for s in self.solutions])
+
+    @property
+    def folds(self) -> np.ndarray:
+        """Indices where the frequency turns back (limit points lie between i and i+1)."""
+        d = np.sign(np.diff(self.omega))
+        return np.flatnonzero(d[1:] * d[:-1] < 0) + 1
+
+
+def continuation(
+    model: Model,
+    omega_start: float,
+    omega_end: float,
+    harmonics: int = 7,
+    *,
+    samples: int | None = None,
+    wear=None,
+    half_wave: bool | None = None,
+    eps=None,
+    tol: float = 1e-10,
+    h_max: float = 0.02,
+    max_steps: int = 5000,
+) -> Branch:
+    """Follow the response branch from ``omega_start`` to ``omega_end`` (rad/s) through folds.
+
+    Pseudo-arc-length continuation in frequency with the penalty of the start
+    point kept along the branch (so the branch is one smooth curve). Every
+    accepted point is returned; ``Branch.folds`` locates the turning points.
+    """
+    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    first = Problem(model, omega_start, eps=eps, **settings)
+    sol0 = solve_problem(first, None, tol, 50)
+    if not sol0.converged or first.n_active == 0:
+        return Branch([sol0], sol0.converged, sol0.message or "no active contact: linear response")
+    evaluate = _frequency_evaluate(model, settings, first.eps)
+    lo, hi = sorted((omega_start, omega_end))
+    tr = track(
+        evaluate, sol0.unknowns, omega_start, omega_end, x_scale=_x_scale(first),
+        tol=tol * first.residual_scale(), h_max=h_max, max_steps=max_steps, record=True,
+        stop_outside=(lo * (1 - 1e-9), hi * (1 + 1e-9)),
+    )  # fmt: skip
+    sols = [sol0]
+    for x, omega in tr.points:
+        p = Problem(model, omega, eps=first.eps, **settings)
+        R = p.evaluate(x, jacobian=False)[0]
+        res = NewtonResult(x, True, 0, float(np.abs(R).max() / p.residual_scale()))
+        sols.append(PeriodicSolution.build(p, x, res, "dlft-continuation"))
+    return Branch(sols, tr.converged, tr.message)
