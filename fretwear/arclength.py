@@ -7,8 +7,8 @@ that it passes steep parts and folds alike and never loops forever.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -161,4 +161,6 @@ def track(
             y = z * scales
             return TrackResult(y[:-1], y[-1], False, step + 1, iterations, "step size underflow", points)
     y = z * scales
-    return TrackResult(y[:-1], y[-1], False, max_steps, iterations, f"no arrival in {max_steps} steps", points)
+    return TrackResult(
+        y[:-1], y[-1], False, max_steps, iterations, f"no arrival in {max_steps} steps", points
+    )

@@ -26,7 +26,7 @@ import numpy as np
 from . import dlft
 from .arclength import Evaluate, track
 from .model import Model
-from .periodic import NewtonResult, Problem, newton, solve_problem
+from .periodic import NewtonResult, Problem, newton, newton_homotopy, solve_problem
 from .results import PeriodicSolution
 
 __all__ = ["Sweep", "sweep", "Branch", "continuation"]
@@ -108,7 +108,7 @@ def sweep(
         sig = _active_signature(problem)
         prev = [h for h in history if h[2] == sig][-2:]
         if prev and problem.n_active:
-            sol = _from_previous(model, problem, prev, settings, tol, max_iter)
+            sol = _from_previous(problem, prev, tol, max_iter)
         if sol is None:
             sol = solve_problem(problem, None, tol, max_iter)
         out.append(sol)
@@ -117,7 +117,7 @@ def sweep(
     return Sweep(out)
 
 
-def _from_previous(model, problem, prev, settings, tol, max_iter) -> PeriodicSolution | None:
+def _from_previous(problem, prev, tol, max_iter) -> PeriodicSolution | None:
     """Solve ``problem`` starting from neighbouring converged points ``prev``."""
     friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
     if friction_only and problem.stick_ratio() < 1.0:
@@ -128,18 +128,11 @@ def _from_previous(model, problem, prev, settings, tol, max_iter) -> PeriodicSol
         guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
     else:
         guess = prev[-1][1]
-    res = newton(problem, guess, tol, 8)
+    res = newton(problem, guess, tol, 6)
     path = "dlft"
     if not res.converged:
-        w1, x1, _ = prev[-1]
-        start = Problem(model, w1, **settings)
-        evaluate = _frequency_evaluate(model, settings, start.eps)
-        tr = track(evaluate, x1, w1, omega, x_scale=_x_scale(start), tol=tol * start.residual_scale())
-        if not tr.converged:
-            return None
-        res = newton(problem, tr.x, tol, max_iter)  # polish with this frequency's penalty
-        res.iterations += tr.iterations
-        path = "dlft-continuation"
+        res = newton_homotopy(problem, prev[-1][1], tol)
+        path = "dlft-newton-homotopy"
         if not res.converged:
             return None
     return PeriodicSolution.build(problem, res.x, res, path)

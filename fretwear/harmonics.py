@@ -36,7 +36,7 @@ def _check_sizes(harmonics: int, samples: int) -> None:
         raise ValueError(f"harmonics (Nh) must be an integer >= 1, got {harmonics!r}")
     if not isinstance(samples, (int, np.integer)) or samples < 2 * harmonics + 1:
         raise ValueError(
-            f"samples (N) must be an integer >= 2*Nh+1 = {2 * harmonics + 1} to avoid aliasing, got {samples!r}"
+            f"samples (N) must be an integer >= 2*Nh+1 = {2 * harmonics + 1} (no aliasing), got {samples!r}"
         )
 
 

@@ -39,7 +39,7 @@ __all__ = [
 def _check_dof(name: str, value: int | None, n_dofs: int, allow_none: bool) -> None:
     if value is None and allow_none:
         return
-    if not isinstance(value, (int, np.integer)) or not 0 <= value < n_dofs:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value < n_dofs:
         raise ValueError(
             f"{name} must be a DOF index in [0, {n_dofs - 1}]"
             + (" or None (ground)" if allow_none else "")
@@ -48,6 +48,8 @@ def _check_dof(name: str, value: int | None, n_dofs: int, allow_none: bool) -> N
 
 
 def _finite(name: str, value: float, low: float | None = None, strict: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a number, got {value!r}")
     value = float(value)
     if not np.isfinite(value):
         raise ValueError(f"{name} must be a finite number, got {value!r}")
@@ -171,20 +173,27 @@ class Model:
             if not np.allclose(a, a.T, rtol=1e-12, atol=1e-14 * np.abs(a).max()):
                 raise ValueError(f"{name} must be symmetric")
             if np.linalg.eigvalsh(a).min() < -1e-12 * max(np.abs(a).max(), 1e-300):
-                raise ValueError(f"{name} must be positive semi-definite (no negative mass, damping or stiffness)")
+                raise ValueError(
+                    f"{name} must be positive semi-definite (no negative mass, damping or stiffness)"
+                )
             a.setflags(write=False)
             set_(self, name, a)
         for name in ("force_cos", "force_sin", "force_static"):
             v = getattr(self, name)
-            v = np.zeros(n) if v is None else np.array(v, dtype=float).reshape(-1)
+            v = np.zeros(n) if v is None else np.array(v, dtype=float)
             if v.shape != (n,) or not np.all(np.isfinite(v)):
                 raise ValueError(f"{name} must be a finite vector of length {n}, got shape {v.shape}")
             v.setflags(write=False)
             set_(self, name, v)
         set_(self, "friction", tuple(self.friction))
         set_(self, "normal", tuple(self.normal))
-        for kind, contacts in (("friction", self.friction), ("normal", self.normal)):
+        for kind, cls, contacts in (
+            ("friction", FrictionContact, self.friction),
+            ("normal", NormalContact, self.normal),
+        ):
             for j, c in enumerate(contacts):
+                if not isinstance(c, cls):
+                    raise ValueError(f"{kind}[{j}] must be a {cls.__name__}, got {type(c).__name__}")
                 _check_dof(f"{kind}[{j}].dof", c.dof, n, allow_none=False)
                 _check_dof(f"{kind}[{j}].other", c.other, n, allow_none=True)
                 if c.other == c.dof:
@@ -226,11 +235,16 @@ class Model:
         """Normal loads ``F_N`` (N) of the friction contacts for wear depths ``wear`` (m)."""
         wear = np.zeros(len(self.friction)) if wear is None else np.asarray(wear, dtype=float)
         if wear.shape != (len(self.friction),):
-            raise ValueError(f"wear must have one entry per friction contact ({len(self.friction)}), got shape {wear.shape}")
-        return np.array([c.normal_load(w) for c, w in zip(self.friction, wear)])
+            raise ValueError(
+                f"wear must have one entry per friction contact ({len(self.friction)}), got {wear.shape}"
+            )
+        if not np.all(np.isfinite(wear)) or np.any(wear < 0):
+            raise ValueError(f"wear depths must be finite and >= 0 m, got {wear}")
+        return np.array([c.normal_load(w) for c, w in zip(self.friction, wear, strict=True)])
 
     def scaled(self, force: float = 1.0) -> Model:
         """Copy with every external force scaled by ``force`` (-)."""
+        _finite("force", force)
         return replace(
             self,
             force_cos=force * self.force_cos,

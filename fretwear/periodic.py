@@ -30,7 +30,15 @@ from .harmonics import HarmonicBasis, default_samples
 from .model import Model
 from .results import PeriodicSolution
 
-__all__ = ["Problem", "NewtonResult", "solve_periodic", "solve_problem", "newton"]
+__all__ = [
+    "Problem",
+    "NewtonResult",
+    "solve_periodic",
+    "solve_problem",
+    "newton",
+    "load_homotopy",
+    "newton_homotopy",
+]
 
 #: default penalty, as a multiple of the condensed dynamic stiffness scale
 EPS_FACTOR = 10.0
@@ -91,7 +99,9 @@ class Problem:
         if self.half_wave is None:
             self.half_wave = m.half_wave_symmetric and samples % 2 == 0
         elif self.half_wave and not m.half_wave_symmetric:
-            raise ValueError("half_wave=True needs a half-wave symmetric model (no static load, no unilateral contact)")
+            raise ValueError(
+                "half_wave=True needs a half-wave symmetric model (no static load, no unilateral contact)"
+            )
         self.basis = HarmonicBasis(self.harmonics, samples, bool(self.half_wave))
         self.samples = samples
         self.normal_loads = m.normal_loads(self.wear)
@@ -101,9 +111,12 @@ class Problem:
         active_f = [i for i, c in enumerate(m.friction) if c.mu * self.normal_loads[i] > 0]
         self.active_index = active_f + [len(m.friction) + j for j in range(len(m.normal))]
         self.active = [m.contacts[i] for i in self.active_index]
-        self.kinds = np.array([dlft.FRICTION] * len(active_f) + [dlft.UNILATERAL] * len(m.normal), dtype=np.int64)
+        self.kinds = np.array(
+            [dlft.FRICTION] * len(active_f) + [dlft.UNILATERAL] * len(m.normal), dtype=np.int64
+        )
         self.limits = np.array(
-            [m.friction[i].mu * self.normal_loads[i] for i in active_f] + [c.gap for c in m.normal], dtype=float
+            [m.friction[i].mu * self.normal_loads[i] for i in active_f] + [c.gap for c in m.normal],
+            dtype=float,
         )
         self.B = m.relative_map(self.active)
         if self.active:
@@ -158,7 +171,9 @@ class Problem:
 
     def residual_scale(self) -> float:
         """Force scale (N) against which residuals are judged."""
-        scale = max(np.abs(self.F).max(initial=0.0), np.abs(self.limits[self.kinds == dlft.FRICTION]).max(initial=0))
+        scale = max(
+            np.abs(self.F).max(initial=0.0), np.abs(self.limits[self.kinds == dlft.FRICTION]).max(initial=0)
+        )
         return scale if scale > 0 else 1.0
 
     # -- linear solutions -------------------------------------------------------
@@ -278,16 +293,49 @@ def _tangent(J: np.ndarray, dR: np.ndarray, row: np.ndarray, orientation: float)
     return t, sign
 
 
-def load_homotopy(problem: Problem, tol: float = 1e-10, max_iter: int = 50, max_pieces: int = 100_000) -> NewtonResult:
+def _walk(problem: Problem, x, p, p_end, derivatives, augmented, max_pieces):
+    """Follow a piecewise-linear solution curve of ``R(x, p) = 0`` from ``(x, p)`` to ``p = p_end > p``.
+
+    ``derivatives(x, p) -> (J, dR/dp)`` and ``augmented(x, p, t) -> (lambda_u,
+    d lambda_u)`` along the tangent ``t``. Each step goes along the null
+    vector of ``[J, dR/dp]`` to the next state change (computed exactly by
+    :func:`fretwear.dlft.boundary_distance`) and just past it. The tangent
+    keeps the sign of ``det [J dR/dp; t]``, the invariant of a regular curve
+    across the kinks. Returns ``(x, p, pieces, arrived)``.
+    """
+    phi, hw = problem.basis.synthesis, problem.basis.half_wave
+    row = np.zeros(x.size + 1)
+    row[-1] = 1.0
+    orientation = 0.0
+    for piece in range(1, max_pieces + 1):
+        J, dR = derivatives(x, p)
+        try:
+            t, orientation = _tangent(J, dR, row, orientation)
+        except np.linalg.LinAlgError:
+            return x, p, piece, False
+        reach = (p_end - p) / t[-1] if t[-1] > 0 else np.inf
+        lu, dlu = augmented(x, p, t)
+        tau = dlft.boundary_distance(
+            lu, dlu, problem.eps, problem.kinds, problem.limits, phi, hw, min(reach, 1e300)
+        )
+        if reach <= tau:
+            return x + reach * t[:-1], p_end, piece, True
+        step = tau * (1 + 1e-9) + 1e-13 * (np.abs(np.append(x, p)).max() + 1e-300)
+        x, p = x + step * t[:-1], p + step * t[-1]
+        row = t
+    return x, p, max_pieces, False
+
+
+def load_homotopy(
+    problem: Problem, tol: float = 1e-10, max_iter: int = 50, max_pieces: int = 100_000
+) -> NewtonResult:
     """Solve ``problem`` by exact piecewise-linear continuation in the load factor.
 
     With the forces scaled by ``s``, the DLFT residual ``R(x, s)`` is piecewise
     linear in ``(x, s)`` jointly (linear while no sample changes state), so its
-    solution curve is a polygon. The curve is followed piece by piece: the
-    tangent is the null vector of ``[dR/dx, dR/ds]``, the distance to the next
-    state change is computed exactly (:func:`fretwear.dlft.boundary_distance`),
-    and the walk steps just past it into the next piece. No Newton iteration
-    can fail on the way; the cost is one linear solve per piece crossed.
+    solution curve is a polygon, followed piece by piece by :func:`_walk`: no
+    Newton iteration can fail on the way, and the cost is one linear solve per
+    piece crossed.
 
     For friction-only problems the curve starts at the largest load factor for
     which the stuck solution is exact; otherwise at zero load.
@@ -306,43 +354,54 @@ def load_homotopy(problem: Problem, tol: float = 1e-10, max_iter: int = 50, max_
             problem.force_scale = full
             return NewtonResult(start.x, False, start.iterations, start.residual, "no solution at zero load")
         x = start.x
-    F0 = problem.F0.reshape(nc, H)
+    F0 = problem.F0
     eps_diag = np.repeat(problem.eps, H)
-    phi, hw = problem.basis.synthesis, problem.basis.half_wave
 
-    def distance(x, s, t, cap):
-        lu = s * problem.F0 - problem.Z @ x + eps_diag * x
-        dlu = t[-1] * problem.F0 - problem.Z @ t[:-1] + eps_diag * t[:-1]
-        return dlft.boundary_distance(lu, dlu, problem.eps, problem.kinds, problem.limits, phi, hw, cap)
-
-    row = np.zeros(x.size + 1)
-    row[-1] = 1.0
-    orientation = 0.0
-    overshoot = 0.0
-    for piece in range(max_pieces):
+    def derivatives(x, s):
         problem.force_scale = s
         _, J, A, *_ = problem.evaluate(x)
-        dR = -(F0 - np.einsum("cij,cj->ci", A, F0)).reshape(-1)
-        try:
-            t, sign = _tangent(J, dR, row, orientation)
-        except np.linalg.LinAlgError:
-            break
-        reach = lambda t: (full - s) / t[-1] if t[-1] > 0 else np.inf  # noqa: E731
-        tau = distance(x, s, t, min(reach(t), 1e300))
-        orientation = sign
-        if reach(t) <= tau:
-            x, s = x + reach(t) * t[:-1], full
-            break
-        overshoot = tau * 1e-9 + 1e-13 * (np.abs(np.append(x, s)).max() + 1e-300)
-        x, s = x + (tau + overshoot) * t[:-1], s + (tau + overshoot) * t[-1]
-        row = t
-    else:
-        piece = max_pieces
+        f = F0.reshape(nc, H)
+        return J, -(f - np.einsum("cij,cj->ci", A, f)).reshape(-1)
+
+    def augmented(x, s, t):
+        return s * F0 - problem.Z @ x + eps_diag * x, t[-1] * F0 - problem.Z @ t[:-1] + eps_diag * t[:-1]
+
+    x, s, pieces, _ = _walk(problem, x, s, full, derivatives, augmented, max_pieces)
     problem.force_scale = full
     final = newton(problem, x, tol, max_iter)  # polish the end point (exact up to round-off already)
-    final.iterations += piece + 1
+    final.iterations += pieces
     if not final.converged:
-        final.message = f"load continuation ended at load factor {s / full:.6g} after {piece + 1} pieces; " + final.message
+        final.message = (
+            f"load continuation ended at load factor {s / full:.6g} after {pieces} pieces; " + final.message
+        )
+    return final
+
+
+def newton_homotopy(
+    problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_pieces: int = 20_000
+) -> NewtonResult:
+    """Solve ``problem`` from a nearby point ``x0`` by the global Newton homotopy.
+
+    ``R(x) = (1 - sigma) R(x0)`` is piecewise linear in ``(x, sigma)``; its curve
+    from ``(x0, 0)`` to ``sigma = 1`` is followed exactly by :func:`_walk`. From
+    the solution at a neighbouring frequency this crosses few pieces, and it
+    does not fail where Newton's method jumps between stick/slip patterns.
+    """
+    H = problem.basis.size
+    r0 = problem.evaluate(x0, jacobian=False)[0]
+    eps_diag = np.repeat(problem.eps, H)
+
+    def derivatives(x, sigma):
+        return problem.evaluate(x)[1], r0
+
+    def augmented(x, sigma, t):
+        return problem.F - problem.Z @ x + eps_diag * x, -problem.Z @ t[:-1] + eps_diag * t[:-1]
+
+    x, sigma, pieces, _ = _walk(problem, x0.copy(), 0.0, 1.0, derivatives, augmented, max_pieces)
+    final = newton(problem, x, tol, 20)
+    final.iterations += pieces
+    if not final.converged:
+        final.message = f"Newton homotopy ended at sigma {sigma:.6g} after {pieces} pieces; " + final.message
     return final
 
 

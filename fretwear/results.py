@@ -197,7 +197,11 @@ class PeriodicSolution:
         """Work of the external force over one period (J)."""
         m = self.model
         phase = self.omega * self.time
-        F = m.force_static[:, None] + np.outer(m.force_cos, np.cos(phase)) + np.outer(m.force_sin, np.sin(phase))
+        F = (
+            m.force_static[:, None]
+            + np.outer(m.force_cos, np.cos(phase))
+            + np.outer(m.force_sin, np.sin(phase))
+        )
         return self._period_integral(np.sum(F * self._velocity, axis=0))
 
     @property
