@@ -18,7 +18,7 @@ from functools import cached_property
 
 import numpy as np
 
-__all__ = ["HarmonicBasis", "default_samples", "full_synthesis", "amplitude"]
+__all__ = ["HarmonicBasis", "default_samples", "full_synthesis", "amplitude", "extrema"]
 
 
 def default_samples(harmonics: int) -> int:
@@ -28,6 +28,7 @@ def default_samples(harmonics: int) -> int:
     highest harmonic resolve the stick/slip transitions well enough for the
     truncation error of the harmonic balance to dominate.
     """
+    _check_sizes(harmonics, 2 * harmonics + 1)
     return max(16, 1 << int(np.ceil(np.log2(16 * harmonics))))
 
 
@@ -135,3 +136,47 @@ def full_synthesis(harmonics: int, samples: int) -> np.ndarray:
 def amplitude(coeffs: np.ndarray, order: int = 1) -> np.ndarray:
     """Amplitude ``sqrt(a_k^2 + b_k^2)`` of harmonic ``order`` from full coefficients (..., 2 Nh + 1)."""
     return np.hypot(coeffs[..., 2 * order - 1], coeffs[..., 2 * order])
+
+
+def extrema(coeffs: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Exact maximum and minimum over the period of each truncated Fourier series.
+
+    Starts from the extreme samples of ``samples`` (the series on a uniform
+    grid) and refines the phase by Newton's method on the derivative, so that
+    peak-to-peak values do not depend on the grid.
+
+    Parameters
+    ----------
+    coeffs : ndarray, shape (m, 2 Nh + 1)
+        Full coefficients of ``m`` signals.
+    samples : ndarray, shape (m, N)
+        The same signals on ``N`` uniform samples of the period.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Maxima and minima, shape (m,).
+    """
+    m, N = samples.shape
+    k = np.arange(1, (coeffs.shape[1] - 1) // 2 + 1)
+    a, b = coeffs[:, 1::2], coeffs[:, 2::2]
+    rows = np.arange(m)
+
+    def value(theta):
+        c, s = np.cos(np.outer(theta, k)), np.sin(np.outer(theta, k))
+        return coeffs[:, 0] + np.sum(a * c + b * s, axis=1)
+
+    out = []
+    for idx in (np.argmax(samples, axis=1), np.argmin(samples, axis=1)):
+        theta = 2 * np.pi * idx / N
+        best = samples[rows, idx]
+        for _ in range(8):
+            c, s = np.cos(np.outer(theta, k)), np.sin(np.outer(theta, k))
+            d1 = np.sum(k * (b * c - a * s), axis=1)
+            d2 = -np.sum(k**2 * (a * c + b * s), axis=1)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = np.where(d2 != 0, d1 / d2, 0.0)
+            theta = theta - np.clip(step, -np.pi / N, np.pi / N)  # stay within the sample's cell
+        out.append(value(theta))
+        out[-1] = np.maximum(out[-1], best) if len(out) == 1 else np.minimum(out[-1], best)
+    return out[0], out[1]

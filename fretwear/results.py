@@ -14,7 +14,7 @@ import numpy as np
 
 from . import dlft
 from .condensation import recover
-from .harmonics import amplitude, full_synthesis
+from .harmonics import amplitude, extrema, full_synthesis
 from .model import Model
 
 if TYPE_CHECKING:
@@ -145,8 +145,9 @@ class PeriodicSolution:
 
     @property
     def half_peak_to_peak(self) -> np.ndarray:
-        """Half peak-to-peak displacement of every DOF on the grid (m), shape (n,)."""
-        return np.ptp(self.displacement, axis=1) / 2
+        """Half peak-to-peak displacement of every DOF (m), shape (n): exact extrema of the series."""
+        hi, lo = extrema(self.dof_harmonics, self.displacement)
+        return (hi - lo) / 2
 
     @property
     def relative_harmonics(self) -> np.ndarray:
@@ -160,8 +161,9 @@ class PeriodicSolution:
 
     @property
     def relative_half_peak_to_peak(self) -> np.ndarray:
-        """Half peak-to-peak relative displacement of every contact (m)."""
-        return np.ptp(self.relative_displacement, axis=1) / 2
+        """Half peak-to-peak relative displacement of every contact (m): exact extrema of the series."""
+        hi, lo = extrema(self.relative_harmonics, self.relative_displacement)
+        return (hi - lo) / 2
 
     # -- per-period quantities ------------------------------------------------
     @property

@@ -1,0 +1,411 @@
+"""Command line interface: ``fretwear frf``, ``fretwear linear`` and ``fretwear point``.
+
+The commands are thin wrappers around the library calls the dashboard and the
+benchmarks use (:func:`fretwear.continuation.sweep`,
+:func:`fretwear.continuation.continuation`, :func:`fretwear.linear.linear_frf`
+and :func:`fretwear.solve_periodic`). Frequencies are given and written in Hz
+(the library works in rad/s); every other quantity is SI (m, N, N/m, J).
+
+The model is the 2-DOF example of the paper (:func:`fretwear.paper_model`,
+options ``--fex --mu --fn --kn --u0``) or a TOML model file (``--model``, see
+:mod:`fretwear.modelfile`).
+
+Output columns (CSV) and keys (JSON)
+------------------------------------
+``f_hz``
+    Excitation frequency (Hz).
+``x{i}_h1``, ``x{i}_half_p2p``
+    First-harmonic amplitude and half peak-to-peak displacement (m) of DOF
+    ``i`` (from 1).
+``xr_h1``, ``xr_half_p2p`` (paper model) or ``xr{j}_h1``, ``xr{j}_half_p2p`` (model file)
+    The same for the relative displacement of contact ``j`` (from 1, friction
+    contacts first); for the paper model ``xr = x1 - x2``.
+``sliding_distance``, ``friction_energy`` (or ``...{j}`` per friction contact of a model file)
+    Distance slid (m) and energy dissipated (J) per period.
+``converged``, ``residual``, ``iterations``, ``path``, ``message``
+    Solver status: relative residual, Newton iterations, solution path
+    (``linear-stuck``, ``dlft``, ...) and the reason of a failure.
+``state`` (``linear`` only)
+    ``stuck`` or ``open``; a linear response is sinusoidal, so ``h1`` and
+    ``half_p2p`` are both the modulus of the complex amplitude.
+
+Exit status
+-----------
+0 on success; 2 on bad input (a one-line message on stderr names the option
+and its valid range); 3 when some frequency did not converge (its row is
+still written, with ``converged=False`` and its residual) or a continuation
+stopped before the end of the band.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .continuation import continuation, sweep
+from .linear import linear_frf
+from .model import Model, paper_model
+from .modelfile import example_names, example_path, read_model_file
+from .periodic import solve_periodic
+from .results import PeriodicSolution
+
+__all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USAGE", "EXIT_NOT_CONVERGED"]
+
+EXIT_OK, EXIT_USAGE, EXIT_NOT_CONVERGED = 0, 2, 3
+
+#: the paper's values (section 2.1) of the paper-model options
+PAPER_DEFAULTS = {"fex": 10.0, "mu": 1.0, "fn": 10.0, "kn": 1e7}
+_PAPER_OPTIONS = ("fex", "mu", "fn", "kn", "u0")
+
+
+class UsageError(Exception):
+    """Bad command-line input; the message names the option and its valid range."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """Argument parser whose errors are one line on stderr and exit status 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+def _number(
+    low: float | None = None, strict: bool = False, unit: str = "", integer: bool = False
+) -> Callable:
+    """Argument type: a finite number (an integer if ``integer``) ``>= low`` (``> low`` if ``strict``)."""
+    kind = "an integer" if integer else "a number"
+    valid = kind if low is None else f"{kind} {'>' if strict else '>='} {low:g}"
+    valid += f" {unit}" if unit else ""
+
+    def convert(text: str) -> float | int:
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be {valid}, got {text!r}") from None
+        if not math.isfinite(value) or (low is not None and (value <= low if strict else value < low)):
+            raise argparse.ArgumentTypeError(f"must be {valid}, got {text!r}")
+        return value
+
+    return convert
+
+
+def _add_model_options(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group(
+        "model", "the paper's 2-DOF example (section 2.1) with the options below, or --model FILE"
+    )
+    group.add_argument(
+        "--model",
+        metavar="FILE",
+        help="TOML model file (format: fretwear.modelfile) or a bundled example: "
+        + ", ".join(example_names())
+        + "; excludes the paper-model options",
+    )
+    group.add_argument("--fex", type=_number(unit="N"), help="excitation amplitude on mass 1 (N); default 10")
+    group.add_argument("--mu", type=_number(0.0), help="friction coefficient (-), >= 0; default 1")
+    load = group.add_mutually_exclusive_group()
+    load.add_argument("--fn", type=_number(0.0, unit="N"), help="normal load F_N (N), >= 0; default 10")
+    load.add_argument(
+        "--u0",
+        type=_number(0.0, unit="m"),
+        help="normal interference u0 (m), >= 0, instead of --fn: F_N = kn u0",
+    )
+    group.add_argument(
+        "--kn",
+        type=_number(0.0, strict=True, unit="N/m"),
+        help="normal contact stiffness (N/m), > 0; default 1e7",
+    )
+
+
+def _add_solver_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--harmonics",
+        type=_number(1, integer=True),
+        default=7,
+        metavar="NH",
+        help="highest harmonic Nh (-), >= 1; default 7",
+    )
+    parser.add_argument(
+        "--samples",
+        type=_number(1, integer=True),
+        metavar="N",
+        help="time samples per period N (-), >= 2 Nh + 1; default: next power of 2 >= 16 Nh",
+    )
+
+
+def _add_band_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--fmin", type=_number(0.0, strict=True, unit="Hz"), required=True, help="lowest frequency (Hz), > 0"
+    )
+    parser.add_argument(
+        "--fmax",
+        type=_number(0.0, strict=True, unit="Hz"),
+        required=True,
+        help="highest frequency (Hz), >= --fmin",
+    )
+    parser.add_argument(
+        "--n",
+        type=_number(1, integer=True),
+        default=101,
+        help="number of equally spaced frequencies (-), >= 1; default 101",
+    )
+    parser.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``fretwear`` argument parser with its three subcommands."""
+    parser = _Parser(
+        prog="fretwear",
+        description="Periodic response of structures with dry-friction contacts (HBM + DLFT). "
+        "Frequencies in Hz, everything else in SI units.",
+        epilog="Exit status: 0 success, 2 bad input, 3 some frequency did not converge "
+        "(its row is still written, with converged=False).",
+    )
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    frf = commands.add_parser(
+        "frf",
+        help="nonlinear frequency response (CSV)",
+        description="Nonlinear frequency response by HBM + DLFT, written as CSV (one row per frequency).",
+    )
+    _add_model_options(frf)
+    _add_band_options(frf)
+    _add_solver_options(frf)
+    frf.add_argument(
+        "--continuation",
+        action="store_true",
+        help="follow the branch by arc-length continuation from --fmin to --fmax, through folds: "
+        "rows are the branch points in arc-length order (--n is then unused)",
+    )
+
+    linear = commands.add_parser(
+        "linear",
+        help="linear FRFs with every contact stuck or open (CSV)",
+        description="Linear frequency responses with every contact stuck (rigid) or open, written as CSV.",
+    )
+    _add_model_options(linear)
+    _add_band_options(linear)
+    linear.add_argument(
+        "--state",
+        choices=("stuck", "open", "both"),
+        default="both",
+        help="contact state; default both (stuck rows first)",
+    )
+
+    point = commands.add_parser(
+        "point",
+        help="response at one frequency (JSON on stdout)",
+        description="Periodic response at one frequency, printed as JSON.",
+    )
+    point.add_argument(
+        "--f",
+        type=_number(0.0, strict=True, unit="Hz"),
+        required=True,
+        metavar="HZ",
+        help="excitation frequency (Hz), > 0",
+    )
+    _add_model_options(point)
+    _add_solver_options(point)
+    return parser
+
+
+# -- model and checks ---------------------------------------------------------
+@dataclass(frozen=True)
+class _Names:
+    """Column-name stems: DOFs, contacts and the suffixes of the friction-contact columns."""
+
+    dofs: tuple[str, ...]
+    contacts: tuple[str, ...]
+    friction: tuple[str, ...]
+
+
+def _model(args: argparse.Namespace) -> tuple[Model, _Names]:
+    """The model selected by the options, and its column names."""
+    given = [f"--{name}" for name in _PAPER_OPTIONS if getattr(args, name) is not None]
+    if args.model is not None:
+        if given:
+            raise UsageError(f"argument --model: not allowed with the paper-model options {', '.join(given)}")
+        path = Path(args.model)
+        if not path.exists() and args.model.removesuffix(".toml") in example_names():
+            path = example_path(args.model)
+        try:
+            model = read_model_file(path).model
+        except ValueError as exc:
+            raise UsageError(f"argument --model: {exc}") from None
+        n, nc, nf = model.n_dofs, len(model.contacts), len(model.friction)
+        return model, _Names(
+            tuple(f"x{i}" for i in range(1, n + 1)),
+            tuple(f"xr{j}" for j in range(1, nc + 1)),
+            tuple(str(j) for j in range(1, nf + 1)),
+        )
+    values = {
+        name: PAPER_DEFAULTS[name] if getattr(args, name) is None else getattr(args, name)
+        for name in PAPER_DEFAULTS
+    }
+    kn = values["kn"]
+    fn = values["fn"] if args.u0 is None else kn * args.u0
+    model = paper_model(fex=values["fex"], mu=values["mu"], normal_load=fn, kn=kn)
+    return model, _Names(dofs=("x1", "x2"), contacts=("xr",), friction=("",))
+
+
+def _check(args: argparse.Namespace) -> None:
+    """Checks that involve several options."""
+    if getattr(args, "fmax", None) is not None:
+        if args.fmax < args.fmin:
+            raise UsageError(f"argument --fmax: must be >= --fmin = {args.fmin:g} Hz, got {args.fmax:g}")
+        if getattr(args, "continuation", False) and args.fmax == args.fmin:
+            raise UsageError(f"argument --fmax: must be > --fmin = {args.fmin:g} Hz with --continuation")
+    out = getattr(args, "out", "-")
+    if out != "-" and not Path(out).resolve().parent.is_dir():
+        raise UsageError(f"argument --out: the folder of {out!r} does not exist")
+    if getattr(args, "samples", None) is not None and args.samples < 2 * args.harmonics + 1:
+        raise UsageError(
+            f"argument --samples: must be >= 2 Nh + 1 = {2 * args.harmonics + 1} "
+            f"for --harmonics {args.harmonics}, got {args.samples}"
+        )
+
+
+# -- records -----------------------------------------------------------------------
+def _record(sol: PeriodicSolution, names: _Names) -> dict:
+    """CSV row / JSON object of one periodic solution."""
+    row: dict = {"f_hz": float(sol.frequency)}
+    for name, h1, p2p in zip(names.dofs, sol.amplitude, sol.half_peak_to_peak, strict=True):
+        row[f"{name}_h1"], row[f"{name}_half_p2p"] = float(h1), float(p2p)
+    for name, h1, p2p in zip(
+        names.contacts, sol.relative_amplitude, sol.relative_half_peak_to_peak, strict=True
+    ):
+        row[f"{name}_h1"], row[f"{name}_half_p2p"] = float(h1), float(p2p)
+    for suffix, dist, energy in zip(names.friction, sol.sliding_distance, sol.friction_energy, strict=True):
+        row[f"sliding_distance{suffix}"], row[f"friction_energy{suffix}"] = float(dist), float(energy)
+    row.update(
+        converged=bool(sol.converged),
+        residual=float(sol.residual),
+        iterations=int(sol.iterations),
+        path=sol.path,
+        message=sol.message,
+    )
+    return row
+
+
+def _linear_records(model: Model, names: _Names, freqs: np.ndarray, states: Sequence[str]) -> list[dict]:
+    rows = []
+    B = model.relative_map()
+    for state in states:
+        U = linear_frf(model, 2 * np.pi * freqs, state=state)
+        dof_amp, rel_amp = np.abs(U), np.abs(U @ B.T)
+        for f, u, r in zip(freqs, dof_amp, rel_amp, strict=True):
+            row: dict = {"f_hz": float(f), "state": state}
+            for stems, amps in ((names.dofs, u), (names.contacts, r)):
+                for name, a in zip(stems, amps, strict=True):
+                    row[f"{name}_h1"] = row[f"{name}_half_p2p"] = float(a)
+            rows.append(row)
+    return rows
+
+
+def _write_csv(rows: Iterable[dict], out: str) -> None:
+    rows = list(rows)
+    try:
+        fh = sys.stdout if out == "-" else open(out, "w", newline="", encoding="utf-8")
+    except OSError as exc:
+        raise UsageError(f"argument --out: cannot write {out!r}: {exc.strerror or exc}") from None
+    try:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    finally:
+        if fh is not sys.stdout:
+            fh.close()
+
+
+# -- commands -----------------------------------------------------------------------
+def _frf(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    wmin, wmax = 2 * np.pi * args.fmin, 2 * np.pi * args.fmax
+    complete, note = True, ""
+    if args.continuation:
+        branch = continuation(model, wmin, wmax, args.harmonics, samples=args.samples)
+        solutions = branch.solutions
+        complete = branch.converged
+        note = (
+            "" if complete else f"; continuation stopped at {solutions[-1].frequency:g} Hz: {branch.message}"
+        )
+    else:
+        solutions = sweep(
+            model, np.linspace(wmin, wmax, args.n), args.harmonics, samples=args.samples
+        ).solutions
+    _write_csv((_record(s, names) for s in solutions), args.out)
+    failed = sum(not s.converged for s in solutions)
+    worst = max(s.residual for s in solutions)
+    print(
+        f"fretwear frf: {len(solutions)} points, {len(solutions) - failed} converged, {failed} not converged "
+        f"(largest residual {worst:.3g}){note}; wrote {args.out}",
+        file=sys.stderr,
+    )
+    return EXIT_OK if complete and not failed else EXIT_NOT_CONVERGED
+
+
+def _linear(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    states = ("stuck", "open") if args.state == "both" else (args.state,)
+    rows = _linear_records(model, names, np.linspace(args.fmin, args.fmax, args.n), states)
+    _write_csv(rows, args.out)
+    print(f"fretwear linear: {len(rows)} rows ({', '.join(states)}); wrote {args.out}", file=sys.stderr)
+    return EXIT_OK
+
+
+def _point(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    sol = solve_periodic(model, 2 * np.pi * args.f, args.harmonics, samples=args.samples)
+    record = _record(sol, names)
+    record.update(
+        omega_rad_s=float(sol.omega),
+        harmonics=int(sol.harmonics),
+        samples=int(sol.samples),
+        half_wave=bool(sol.half_wave),
+        input_work=float(sol.input_work),
+        viscous_dissipation=float(sol.viscous_dissipation),
+        contact_work=float(sol.contact_work),
+    )
+    json.dump(record, sys.stdout, indent=2)
+    sys.stdout.write("\n")
+    status = "converged" if sol.converged else f"NOT converged ({sol.message})"
+    print(f"fretwear point: {status}, residual {sol.residual:.3g}, path {sol.path}", file=sys.stderr)
+    return EXIT_OK if sol.converged else EXIT_NOT_CONVERGED
+
+
+_COMMANDS = {"frf": _frf, "linear": _linear, "point": _point}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``) and return the exit status.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments after the program name.
+
+    Returns
+    -------
+    int
+        ``0`` success, ``2`` bad input, ``3`` some frequency did not converge.
+    """
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # --help, or a usage error already printed
+        return exc.code if isinstance(exc.code, int) else EXIT_USAGE
+    try:
+        _check(args)
+        model, names = _model(args)
+        return _COMMANDS[args.command](args, model, names)
+    except (UsageError, ValueError) as exc:
+        message = " ".join(str(exc).split())
+        print(f"fretwear {args.command}: error: {message}", file=sys.stderr)
+        return EXIT_USAGE
+
+
+if __name__ == "__main__":
+    sys.exit(main())
