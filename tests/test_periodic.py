@@ -92,7 +92,7 @@ def test_jenkins_massless_dof_limits():
 @pytest.mark.parametrize("beta", [0.6, 0.8, 1.5, 2.0])
 @pytest.mark.parametrize("ratio", [0.1, 0.3])
 def test_den_hartog_continuous_sliding(beta, ratio):
-    """Gross slip of a Coulomb oscillator: error O(1/Nh), measured 1e-3 (P0/F0 = 0.1) to 1e-2 (0.3) at Nh = 21.
+    """Gross slip of a Coulomb oscillator: error O(1/Nh), 1e-3 (P0/F0 = 0.1) to 1e-2 (0.3) at Nh = 21.
 
     The friction force jumps at each reversal; the DLFT stick/slip decision sees
     the Gibbs ripple of the truncated acceleration there, which shifts the
