@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["TrackResult", "track"]
+__all__ = ["TrackResult", "track", "tangent"]
 
 Evaluate = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
@@ -30,15 +30,26 @@ class TrackResult:
     points: list[tuple[np.ndarray, float]] = field(default_factory=list)
 
 
-def _tangent(J: np.ndarray, dR: np.ndarray, row: np.ndarray) -> np.ndarray:
-    """Unit tangent ``t`` of the curve with ``[J dR] t = 0`` and ``row . t = 1`` (orientation)."""
+def tangent(J: np.ndarray, dR: np.ndarray, row: np.ndarray, orientation: float) -> tuple[np.ndarray, float]:
+    """Unit null vector ``t`` of ``[J dR]`` and the orientation ``sign det [J dR; t]``.
+
+    With ``orientation = 0`` the sign is chosen so that ``row . t > 0`` and
+    returned; otherwise ``t`` is oriented to keep the given sign, which is the
+    invariant of a regular solution curve across the kinks of a
+    piecewise-linear map (a dot product with the previous tangent is not).
+    """
     n = J.shape[0]
     aug = np.empty((n + 1, n + 1))
     aug[:n, :n], aug[:n, n], aug[n] = J, dR, row
     rhs = np.zeros(n + 1)
     rhs[n] = 1.0
     t = np.linalg.solve(aug, rhs)
-    return t / np.linalg.norm(t)
+    t /= np.linalg.norm(t)
+    aug[n] = t
+    sign = np.linalg.slogdet(aug)[0]
+    if orientation and sign != orientation:
+        t, sign = -t, orientation
+    return t, sign
 
 
 def track(
@@ -56,6 +67,7 @@ def track(
     max_corrector: int = 10,
     record: bool = False,
     stop_outside: tuple[float, float] | None = None,
+    solve_at: Callable[[np.ndarray, float], np.ndarray | None] | None = None,
 ) -> TrackResult:
     """Follow ``R(x, p) = 0`` from a solution ``(x0, p0)`` until ``p = p_end``.
 
@@ -86,6 +98,10 @@ def track(
     stop_outside : (float, float), optional
         Stop successfully once ``p`` leaves this interval (for a branch that
         turns back out of the band instead of reaching ``p_end``).
+    solve_at : callable, optional
+        ``solve_at(x, p) -> x*`` solves ``R(x*, p) = 0`` at fixed ``p`` from ``x``
+        (or returns None); tried when the corrector fails, e.g. when Newton
+        cycles between the pieces of a piecewise-linear residual.
     """
     p_scale = abs(p_end - p0)
     if p_scale == 0:
@@ -93,7 +109,7 @@ def track(
     scales = np.append(np.full(x0.shape, x_scale), p_scale)
     z = np.append(x0, p0) / scales
     R, J, dR = evaluate(x0, p0)
-    t = _tangent(J * x_scale, dR * p_scale, np.sign(p_end - p0) * np.eye(z.size)[-1])
+    t, orientation = tangent(J * x_scale, dR * p_scale, np.sign(p_end - p0) * np.eye(z.size)[-1], 0.0)
     e_p = np.zeros(z.size)
     e_p[-1] = 1.0
     target = p_end / p_scale
@@ -105,7 +121,10 @@ def track(
         zc = zp.copy()
         for k in range(max_corrector):
             y = zc * scales
-            R, J, dR = evaluate(y[:-1], y[-1])
+            try:
+                R, J, dR = evaluate(y[:-1], y[-1])
+            except ValueError:  # left the domain of the parameter (e.g. omega <= 0)
+                return None
             iterations += 1
             if not np.all(np.isfinite(R)):
                 return None
@@ -117,7 +136,14 @@ def track(
                 zc = zc - np.linalg.solve(aug, np.append(R, cons @ (zc - zp)))
             except np.linalg.LinAlgError:
                 return None
-        return None
+        if solve_at is None:
+            return None
+        y = zp * scales
+        xs = solve_at(y[:-1], y[-1])
+        if xs is None:
+            return None
+        R, J, dR = evaluate(xs, y[-1])
+        return np.append(xs, y[-1]) / scales, J, dR, max_corrector
 
     h = h0
     for step in range(max_steps):
@@ -147,7 +173,7 @@ def track(
                 got = None
             if got is not None:
                 zc, J, dR, its = got
-                t = _tangent(J * x_scale, dR * p_scale, t)
+                t, orientation = tangent(J * x_scale, dR * p_scale, t, orientation)
                 z = zc
                 y = z * scales
                 if record:

@@ -326,19 +326,16 @@ def _write_csv(rows: Iterable[dict], out: str) -> None:
 
 # -- commands -----------------------------------------------------------------------
 def _frf(args: argparse.Namespace, model: Model, names: _Names) -> int:
-    wmin, wmax = 2 * np.pi * args.fmin, 2 * np.pi * args.fmax
     complete, note = True, ""
     if args.continuation:
-        branch = continuation(model, wmin, wmax, args.harmonics, samples=args.samples)
-        solutions = branch.solutions
-        complete = branch.converged
-        note = (
-            "" if complete else f"; continuation stopped at {solutions[-1].frequency:g} Hz: {branch.message}"
-        )
+        band = 2 * np.pi * args.fmin, 2 * np.pi * args.fmax
+        branch = continuation(model, *band, args.harmonics, samples=args.samples)
+        solutions, complete = branch.solutions, branch.converged
+        if not complete:
+            note = f"; continuation stopped at {solutions[-1].frequency:g} Hz: {branch.message}"
     else:
-        solutions = sweep(
-            model, np.linspace(wmin, wmax, args.n), args.harmonics, samples=args.samples
-        ).solutions
+        omegas = 2 * np.pi * np.linspace(args.fmin, args.fmax, args.n)
+        solutions = sweep(model, omegas, args.harmonics, samples=args.samples).solutions
     _write_csv((_record(s, names) for s in solutions), args.out)
     failed = sum(not s.converged for s in solutions)
     worst = max(s.residual for s in solutions)

@@ -42,16 +42,21 @@ def _x_scale(problem: Problem) -> float:
     return max(f / max(z1, 1e-300), 1e-300)
 
 
-def _frequency_evaluate(model: Model, settings: dict, eps: np.ndarray) -> Evaluate:
-    """Residual, Jacobian and ``dR/d omega`` at a fixed penalty."""
+def _frequency_evaluate(model: Model, settings: dict, eps) -> Evaluate:
+    """Residual, Jacobian and ``dR/d omega``.
+
+    ``R = Z x - F + Psi lambda(Phi (F + (E - Z) x))`` with ``E = diag(eps)``, so
+    ``dR/d omega = (I - A) (dZ x - dF) + A dE x``; the default penalty follows
+    the condensed stiffness and moves with omega, a user penalty does not.
+    """
 
     def evaluate(x, omega):
         p = Problem(model, omega, eps=eps, derivative=True, **settings)
         R, J, A, *_ = p.evaluate(x)
         nc, H = p.n_active, p.basis.size
         v = (p.dZ @ x - p.force_scale * p.dF0).reshape(nc, H)
-        dR = (v - np.einsum("cij,cj->ci", A, v)).reshape(-1)
-        return R, J, dR
+        dR = v - np.einsum("cij,cj->ci", A, v - p.deps[:, None] * x.reshape(nc, H))
+        return R, J, dR.reshape(-1)
 
     return evaluate
 
@@ -173,25 +178,32 @@ def continuation(
 ) -> Branch:
     """Follow the response branch from ``omega_start`` to ``omega_end`` (rad/s) through folds.
 
-    Pseudo-arc-length continuation in frequency with the penalty of the start
-    point kept along the branch (so the branch is one smooth curve). Every
-    accepted point is returned; ``Branch.folds`` locates the turning points.
+    Pseudo-arc-length continuation in frequency; every accepted point is
+    returned, each the same solution :func:`solve_periodic` would give there
+    (same penalty), and ``Branch.folds`` locates the turning points.
     """
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
     first = Problem(model, omega_start, eps=eps, **settings)
     sol0 = solve_problem(first, None, tol, 50)
     if not sol0.converged or first.n_active == 0:
         return Branch([sol0], sol0.converged, sol0.message or "no active contact: linear response")
-    evaluate = _frequency_evaluate(model, settings, first.eps)
+    evaluate = _frequency_evaluate(model, settings, eps)
+
+    def solve_at(x, omega):
+        if omega <= 0:
+            return None
+        res = newton_homotopy(Problem(model, omega, eps=eps, **settings), x, tol)
+        return res.x if res.converged else None
+
     lo, hi = sorted((omega_start, omega_end))
     tr = track(
         evaluate, sol0.unknowns, omega_start, omega_end, x_scale=_x_scale(first),
         tol=tol * first.residual_scale(), h_max=h_max, max_steps=max_steps, record=True,
-        stop_outside=(lo * (1 - 1e-9), hi * (1 + 1e-9)),
+        stop_outside=(lo * (1 - 1e-9), hi * (1 + 1e-9)), solve_at=solve_at,
     )  # fmt: skip
     sols = [sol0]
     for x, omega in tr.points:
-        p = Problem(model, omega, eps=first.eps, **settings)
+        p = Problem(model, omega, eps=eps, **settings)
         R = p.evaluate(x, jacobian=False)[0]
         res = NewtonResult(x, True, 0, float(np.abs(R).max() / p.residual_scale()))
         sols.append(PeriodicSolution.build(p, x, res, "dlft-continuation"))

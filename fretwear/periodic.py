@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import dlft
+from .arclength import tangent
 from .condensation import condense
 from .harmonics import HarmonicBasis, default_samples
 from .model import Model
@@ -140,10 +141,16 @@ class Problem:
         return self.force_scale * self.F0
 
     def _penalty(self, eps) -> np.ndarray:
-        H = self.basis.size
+        """Penalty per contact (N/m); sets ``deps``, its derivative in omega (N s/m)."""
+        H, nc = self.basis.size, self.n_active
+        self.deps = np.zeros(nc)
         if eps is None:
-            diag = np.abs(np.diag(self.Z)).reshape(self.n_active, H)
-            return EPS_FACTOR * diag.max(axis=1)
+            diag = np.diag(self.Z).reshape(nc, H)
+            j = np.argmax(np.abs(diag), axis=1)
+            if self.dZ is not None:
+                dd = np.diag(self.dZ).reshape(nc, H)[np.arange(nc), j]
+                self.deps = EPS_FACTOR * np.sign(diag[np.arange(nc), j]) * dd
+            return EPS_FACTOR * np.abs(diag[np.arange(nc), j])
         eps = np.broadcast_to(np.asarray(eps, dtype=float), (self.n_active,)).copy()
         if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
             raise ValueError(f"eps must be finite and > 0 N/m, got {eps}")
@@ -271,28 +278,6 @@ def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int =
     return NewtonResult(x, False, it, r / scale, f"no convergence in {max_iter} iterations")
 
 
-def _tangent(J: np.ndarray, dR: np.ndarray, row: np.ndarray, orientation: float) -> tuple[np.ndarray, float]:
-    """Unit null vector ``t`` of ``[J dR]`` and the orientation ``sign det [J dR; t]``.
-
-    With ``orientation = 0`` the sign is chosen so that ``row . t > 0`` and
-    returned; otherwise ``t`` is oriented to keep the given sign, which is the
-    invariant of a regular solution curve across the kinks of a
-    piecewise-linear map (a dot product with the previous tangent is not).
-    """
-    n = J.shape[0]
-    aug = np.empty((n + 1, n + 1))
-    aug[:n, :n], aug[:n, n], aug[n] = J, dR, row
-    rhs = np.zeros(n + 1)
-    rhs[n] = 1.0
-    t = np.linalg.solve(aug, rhs)
-    t /= np.linalg.norm(t)
-    aug[n] = t
-    sign = np.linalg.slogdet(aug)[0]
-    if orientation and sign != orientation:
-        t, sign = -t, orientation
-    return t, sign
-
-
 def _walk(problem: Problem, x, p, p_end, derivatives, augmented, max_pieces):
     """Follow a piecewise-linear solution curve of ``R(x, p) = 0`` from ``(x, p)`` to ``p = p_end > p``.
 
@@ -310,7 +295,7 @@ def _walk(problem: Problem, x, p, p_end, derivatives, augmented, max_pieces):
     for piece in range(1, max_pieces + 1):
         J, dR = derivatives(x, p)
         try:
-            t, orientation = _tangent(J, dR, row, orientation)
+            t, orientation = tangent(J, dR, row, orientation)
         except np.linalg.LinAlgError:
             return x, p, piece, False
         reach = (p_end - p) / t[-1] if t[-1] > 0 else np.inf

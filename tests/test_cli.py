@@ -1,0 +1,304 @@
+"""Tests of the command line interface (fretwear.cli).
+
+Every command is run in-process through ``main`` and checked against the
+library call it wraps, and the linear FRFs against the closed-form responses
+of the paper's 2-DOF model.
+"""
+
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fretwear import cli, paper_model, solve_periodic
+from fretwear.continuation import sweep
+from fretwear.linear import linear_frf
+from fretwear.model import jenkins_oscillator
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER_FILE = str(ROOT / "fretwear" / "data" / "paper_2dof.toml")
+PAPER_COLUMNS = [
+    "f_hz", "x1_h1", "x1_half_p2p", "x2_h1", "x2_half_p2p", "xr_h1", "xr_half_p2p",
+    "sliding_distance", "friction_energy", "converged", "residual", "iterations", "path",
+]  # fmt: skip
+FREQS = np.linspace(0.4, 1.1, 5)  # Hz: stuck, stick-slip and stuck points
+BAND = ["--fmin", "0.4", "--fmax", "1.1", "--n", "5"]
+RTOL = 1e-12
+
+
+def read_csv(path: Path) -> tuple[list[str], list[dict[str, str]]]:
+    with open(path, newline="") as fh:
+        reader = csv.DictReader(fh)
+        return list(reader.fieldnames or []), list(reader)
+
+
+def column(rows: list[dict[str, str]], name: str) -> np.ndarray:
+    return np.array([float(r[name]) for r in rows])
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = cli.main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# -- help -------------------------------------------------------------------------
+def test_console_help_in_a_subprocess():
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    for module in ("fretwear", "fretwear.cli"):
+        done = subprocess.run(
+            [sys.executable, "-m", module, "--help"], capture_output=True, text=True, env=env, timeout=60
+        )
+        assert done.returncode == 0, done.stderr
+        assert all(name in done.stdout for name in ("frf", "linear", "point", "Exit status"))
+
+
+@pytest.mark.parametrize("command", ["frf", "linear", "point"])
+def test_help_documents_units(capsys, command):
+    code, out, _ = run(capsys, command, "--help")
+    assert code == 0
+    text = " ".join(out.split())
+    units = {"--fex": "N", "--mu": "-", "--fn": "N", "--u0": "m", "--kn": "N/m"}
+    if command == "point":
+        units |= {"--f": "Hz", "--harmonics": "-", "--samples": "-"}
+    else:
+        units |= {"--fmin": "Hz", "--fmax": "Hz", "--n": "-"}
+    if command == "frf":
+        units |= {"--harmonics": "-", "--samples": "-"}
+    for option, unit in units.items():
+        assert re.search(rf"{re.escape(option)} [A-Z0-9_]+ [^(]*\({re.escape(unit)}\)", text), option
+
+
+# -- frf --------------------------------------------------------------------------
+def test_frf_sweep_equals_library(tmp_path, capsys):
+    out = tmp_path / "frf.csv"
+    code, _, err = run(capsys, "frf", *BAND, "--harmonics", "5", "--out", str(out))
+    assert code == cli.EXIT_OK
+    assert "5 converged, 0 not converged" in err and len(err.strip().splitlines()) == 1
+    names, rows = read_csv(out)
+    assert names[: len(PAPER_COLUMNS)] == PAPER_COLUMNS
+    assert len(rows) == len(FREQS)
+    sols = sweep(paper_model(), 2 * np.pi * FREQS, 5).solutions
+    assert {s.path for s in sols} >= {"linear-stuck"} and any(s.sliding_distance[0] > 0 for s in sols)
+    np.testing.assert_allclose(column(rows, "f_hz"), FREQS, rtol=RTOL)
+    for i, dof in enumerate(("x1", "x2")):
+        np.testing.assert_allclose(column(rows, f"{dof}_h1"), [s.amplitude[i] for s in sols], rtol=RTOL)
+        np.testing.assert_allclose(
+            column(rows, f"{dof}_half_p2p"), [s.half_peak_to_peak[i] for s in sols], rtol=RTOL
+        )
+    for name, values in (
+        ("xr_h1", [s.relative_amplitude[0] for s in sols]),
+        ("xr_half_p2p", [s.relative_half_peak_to_peak[0] for s in sols]),
+        ("sliding_distance", [s.sliding_distance[0] for s in sols]),
+        ("friction_energy", [s.friction_energy[0] for s in sols]),
+        ("residual", [s.residual for s in sols]),
+    ):
+        np.testing.assert_allclose(column(rows, name), values, rtol=RTOL, atol=1e-300, err_msg=name)
+    assert [r["converged"] for r in rows] == ["True"] * len(FREQS)
+    assert [r["path"] for r in rows] == [s.path for s in sols]
+    assert [int(r["iterations"]) for r in rows] == [s.iterations for s in sols]
+
+
+def test_frf_model_file_matches_paper_options(tmp_path, capsys):
+    paper, fromfile = tmp_path / "paper.csv", tmp_path / "file.csv"
+    assert run(capsys, "frf", *BAND, "--harmonics", "3", "--out", str(paper))[0] == 0
+    assert (
+        run(capsys, "frf", "--model", PAPER_FILE, *BAND, "--harmonics", "3", "--out", str(fromfile))[0] == 0
+    )
+    _, a = read_csv(paper)
+    names, b = read_csv(fromfile)
+    expected = ["x1_h1", "x1_half_p2p", "x2_h1", "x2_half_p2p", "xr1_h1", "xr1_half_p2p", "sliding_distance1"]
+    assert set(expected) <= set(names) and "xr_h1" not in names
+    renamed = {"xr1_h1": "xr_h1", "xr1_half_p2p": "xr_half_p2p", "sliding_distance1": "sliding_distance"}
+    for name in ("f_hz", *expected):
+        np.testing.assert_allclose(
+            column(b, name), column(a, renamed.get(name, name)), rtol=1e-10, atol=1e-18
+        )
+
+
+def test_frf_continuation_rows_follow_the_branch(tmp_path, capsys):
+    out = tmp_path / "branch.csv"
+    code, _, err = run(capsys, "frf", *BAND, "--harmonics", "5", "--continuation", "--out", str(out))
+    assert code == cli.EXIT_OK, err
+    _, rows = read_csv(out)
+    f = column(rows, "f_hz")
+    assert len(rows) > len(FREQS)  # the branch points, not the --n grid
+    assert f[0] == pytest.approx(0.4) and f[-1] == pytest.approx(1.1)
+    assert all(r["converged"] == "True" for r in rows)
+    assert column(rows, "sliding_distance").max() > 0
+
+
+def test_frf_reports_non_converged_points(tmp_path, capsys, monkeypatch):
+    def failing_sweep(*args, **kwargs):
+        result = sweep(*args, **kwargs)
+        result.solutions[1].converged, result.solutions[1].residual = False, 0.25
+        return result
+
+    monkeypatch.setattr(cli, "sweep", failing_sweep)
+    out = tmp_path / "frf.csv"
+    code, _, err = run(capsys, "frf", *BAND, "--harmonics", "3", "--out", str(out))
+    assert code == cli.EXIT_NOT_CONVERGED == 3
+    assert "4 converged, 1 not converged" in err
+    _, rows = read_csv(out)
+    assert len(rows) == len(FREQS)
+    assert rows[1]["converged"] == "False" and float(rows[1]["residual"]) == 0.25
+
+
+# -- linear -----------------------------------------------------------------------
+def test_linear_equals_closed_form_and_library(tmp_path, capsys):
+    out = tmp_path / "linear.csv"
+    code, _, _ = run(capsys, "linear", *BAND, "--fex", "3", "--out", str(out))
+    assert code == 0
+    names, rows = read_csv(out)
+    assert names == ["f_hz", "state", "x1_h1", "x1_half_p2p", "x2_h1", "x2_half_p2p", "xr_h1", "xr_half_p2p"]
+    assert [r["state"] for r in rows] == ["stuck"] * 5 + ["open"] * 5
+    w = 2 * np.pi * FREQS
+    k1, k2 = np.pi**2, 7 * np.pi**2
+    c1, c2 = 2e-3 * np.sqrt(k1), 2e-3 * np.sqrt(k2)
+    stuck = 3 / np.abs(k1 + k2 - 2 * w**2 + 1j * (c1 + c2) * w)
+    free = 3 / np.abs(k1 - w**2 + 1j * c1 * w)
+    expected = {
+        "stuck": {"x1": stuck, "x2": stuck, "xr": 0 * w},
+        "open": {"x1": free, "x2": 0 * w, "xr": free},
+    }
+    for state, block in (("stuck", rows[:5]), ("open", rows[5:])):
+        np.testing.assert_allclose(column(block, "f_hz"), FREQS, rtol=RTOL)
+        U = np.abs(linear_frf(paper_model(fex=3), w, state=state))
+        for name, value in expected[state].items():
+            for kind in ("h1", "half_p2p"):
+                np.testing.assert_allclose(column(block, f"{name}_{kind}"), value, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(column(block, "x1_h1"), U[:, 0], rtol=RTOL)
+        np.testing.assert_allclose(column(block, "x2_h1"), U[:, 1], rtol=RTOL)
+
+
+def test_linear_single_state_and_model_file(tmp_path, capsys):
+    out = tmp_path / "linear.csv"
+    code, _, _ = run(capsys, "linear", "--model", "jenkins", *BAND, "--state", "open", "--out", str(out))
+    assert code == 0
+    names, rows = read_csv(out)
+    assert names == [
+        "f_hz",
+        "state",
+        "x1_h1",
+        "x1_half_p2p",
+        "x2_h1",
+        "x2_half_p2p",
+        "xr1_h1",
+        "xr1_half_p2p",
+    ]
+    assert {r["state"] for r in rows} == {"open"} and len(rows) == 5
+    U = np.abs(linear_frf(jenkins_oscillator(), 2 * np.pi * FREQS, state="open"))
+    np.testing.assert_allclose(column(rows, "x1_h1"), U[:, 0], rtol=RTOL)
+    np.testing.assert_allclose(column(rows, "xr1_h1"), U[:, 1], rtol=RTOL)  # contact of DOF 2 to ground
+
+
+# -- point -------------------------------------------------------------------------
+def test_point_equals_solve_periodic(capsys):
+    argv = ["--fex", "5", "--mu", "0.5", "--u0", "2e-6", "--kn", "5e6", "--harmonics", "5"]
+    code, out, err = run(capsys, "point", "--f", "0.7", *argv)
+    assert code == 0 and "converged" in err
+    got = json.loads(out)
+    sol = solve_periodic(paper_model(fex=5, mu=0.5, normal_load=5e6 * 2e-6, kn=5e6), 2 * np.pi * 0.7, 5)
+    assert sol.path.startswith("dlft") and sol.sliding_distance[0] > 0
+    expected = {
+        "f_hz": sol.frequency,
+        "x1_h1": sol.amplitude[0],
+        "x1_half_p2p": sol.half_peak_to_peak[0],
+        "x2_h1": sol.amplitude[1],
+        "xr_h1": sol.relative_amplitude[0],
+        "xr_half_p2p": sol.relative_half_peak_to_peak[0],
+        "sliding_distance": sol.sliding_distance[0],
+        "friction_energy": sol.friction_energy[0],
+        "residual": sol.residual,
+        "input_work": sol.input_work,
+        "viscous_dissipation": sol.viscous_dissipation,
+    }
+    for key, value in expected.items():
+        assert got[key] == pytest.approx(value, rel=RTOL, abs=1e-300), key
+    assert (got["converged"], got["iterations"], got["path"]) == (True, sol.iterations, sol.path)
+    assert got["half_wave"] is True and got["harmonics"] == 5
+
+
+def test_point_model_file_keys(capsys):
+    code, out, _ = run(capsys, "point", "--f", "0.7", "--model", PAPER_FILE, "--harmonics", "3")
+    assert code == 0
+    got = json.loads(out)
+    assert {"x1_h1", "x2_half_p2p", "xr1_h1", "xr1_half_p2p", "sliding_distance1", "friction_energy1"} <= set(
+        got
+    )
+    sol = solve_periodic(paper_model(), 2 * np.pi * 0.7, 3)
+    assert got["xr1_h1"] == pytest.approx(sol.relative_amplitude[0], rel=1e-10)
+
+
+def test_point_not_converged_exit_status(capsys, monkeypatch):
+    def failing(*args, **kwargs):
+        sol = solve_periodic(*args, **kwargs)
+        sol.converged, sol.message = False, "no convergence in 50 iterations"
+        return sol
+
+    monkeypatch.setattr(cli, "solve_periodic", failing)
+    code, out, err = run(capsys, "point", "--f", "0.7", "--harmonics", "3")
+    assert code == cli.EXIT_NOT_CONVERGED
+    assert json.loads(out)["converged"] is False and "NOT converged" in err
+
+
+# -- bad input ------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("argv", "needle"),
+    [
+        (["frf", "--fmin", "0", "--fmax", "1", "--out", "x.csv"], "--fmin: must be a number > 0 Hz"),
+        (["frf", "--fmin", "1", "--fmax", "0.5", "--out", "x.csv"], "--fmax: must be >= --fmin"),
+        (["frf", *BAND[:4], "--n", "0", "--out", "x.csv"], "--n: must be an integer >= 1"),
+        (["frf", *BAND, "--harmonics", "0", "--out", "x.csv"], "--harmonics: must be an integer >= 1"),
+        (
+            ["frf", *BAND, "--harmonics", "5", "--samples", "10", "--out", "x.csv"],
+            "--samples: must be >= 2 Nh + 1",
+        ),
+        (
+            ["frf", "--fmin", "1", "--fmax", "1", "--continuation", "--out", "x.csv"],
+            "--fmax: must be > --fmin",
+        ),
+        (["frf", *BAND, "--out", "no/such/dir/x.csv"], "--out:"),
+        (["linear", *BAND, "--kn", "-1", "--out", "x.csv"], "--kn: must be a number > 0 N/m"),
+        (["linear", *BAND, "--state", "sliding", "--out", "x.csv"], "--state: invalid choice"),
+        (["point", "--f", "abc"], "--f: must be a number > 0 Hz"),
+        (["point", "--f", "1", "--mu", "-1"], "--mu: must be a number >= 0"),
+        (["point", "--f", "1", "--fn", "-3"], "--fn: must be a number >= 0 N"),
+        (["point", "--f", "1", "--u0", "-1e-6"], "--u0:"),
+        (["point", "--f", "1", "--fn", "5", "--u0", "1e-6"], "--u0: not allowed with argument --fn"),
+        (["point", "--f", "1", "--model", "missing.toml"], "--model: missing.toml: cannot read file"),
+        (["point", "--f", "1", "--model", PAPER_FILE, "--fex", "2"], "--model: not allowed with"),
+        (["point"], "--f"),
+        ([], "COMMAND"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(capsys, argv, needle):
+    code, out, err = run(capsys, *argv)
+    assert code == cli.EXIT_USAGE == 2
+    assert out == ""
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert needle in err
+
+
+def test_malformed_model_file_names_file_and_key(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(Path(PAPER_FILE).read_text().replace("mu = 1.0", "mu = -1.0"))
+    code, _, err = run(capsys, "point", "--f", "1", "--model", str(bad))
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert str(bad) in err and "friction[1].mu" in err and ">= 0" in err
+
+
+def test_library_value_error_becomes_a_message(capsys, monkeypatch):
+    def reject(*args, **kwargs):
+        raise ValueError("eps must be finite and > 0 N/m,\n got -1")
+
+    monkeypatch.setattr(cli, "solve_periodic", reject)
+    code, out, err = run(capsys, "point", "--f", "1")
+    assert (code, out) == (2, "")
+    assert err == "fretwear point: error: eps must be finite and > 0 N/m, got -1\n"
