@@ -14,7 +14,7 @@ in use and the matrices that map between coefficients and time samples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -100,22 +100,19 @@ class HarmonicBasis:
         """Phases ``omega t_n = 2 pi n / N`` of the marched samples (rad)."""
         return 2 * np.pi * np.arange(self.marched_samples) / self.samples
 
-    @cached_property
+    @property
     def synthesis(self) -> np.ndarray:
-        """iDFT matrix, shape (N_marched, H): samples = synthesis @ coefficients."""
-        arg = np.outer(self.phases, self.orders)
-        return np.ascontiguousarray(np.where(self.is_sine, np.sin(arg), np.cos(arg)))
+        """iDFT matrix, shape (N_marched, H): samples = synthesis @ coefficients (read-only, shared)."""
+        return _dft_pair(self.harmonics, self.samples, self.half_wave)[0]
 
-    @cached_property
+    @property
     def analysis(self) -> np.ndarray:
-        """DFT matrix, shape (H, N_marched): coefficients = analysis @ samples.
+        """DFT matrix, shape (H, N_marched): coefficients = analysis @ samples (read-only, shared).
 
         Exact inverse of :attr:`synthesis` on the basis (``analysis @ synthesis = I``),
         the discrete Galerkin projection of the AFT scheme.
         """
-        n = self.marched_samples
-        weight = np.where(self.orders == 0, 1.0 / n, 2.0 / n)
-        return np.ascontiguousarray(weight[:, None] * self.synthesis.T)
+        return _dft_pair(self.harmonics, self.samples, self.half_wave)[1]
 
     def to_full(self, coeffs: np.ndarray) -> np.ndarray:
         """Scatter reduced coefficients (..., H) into the full layout (..., 2 Nh + 1)."""
@@ -126,6 +123,20 @@ class HarmonicBasis:
     def from_full(self, coeffs: np.ndarray) -> np.ndarray:
         """Gather the slots of this basis from full coefficients (..., 2 Nh + 1)."""
         return coeffs[..., self.full_index]
+
+
+@lru_cache(maxsize=64)
+def _dft_pair(harmonics: int, samples: int, half_wave: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Synthesis and analysis matrices of a basis, computed once per size."""
+    basis = HarmonicBasis(harmonics, samples, half_wave)
+    arg = np.outer(basis.phases, basis.orders)
+    phi = np.ascontiguousarray(np.where(basis.is_sine, np.sin(arg), np.cos(arg)))
+    n = basis.marched_samples
+    weight = np.where(basis.orders == 0, 1.0 / n, 2.0 / n)
+    psi = np.ascontiguousarray(weight[:, None] * phi.T)
+    phi.setflags(write=False)
+    psi.setflags(write=False)
+    return phi, psi
 
 
 def full_synthesis(harmonics: int, samples: int) -> np.ndarray:
