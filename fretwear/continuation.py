@@ -26,7 +26,7 @@ import numpy as np
 from . import dlft
 from .arclength import Evaluate, track
 from .model import Model
-from .periodic import NewtonResult, Problem, newton, newton_homotopy, solve_problem
+from .periodic import NewtonResult, Problem, newton_homotopy, solve_problem
 from .results import PeriodicSolution
 
 __all__ = ["Sweep", "sweep", "Branch", "continuation"]
@@ -61,10 +61,6 @@ def _frequency_evaluate(model: Model, settings: dict, eps) -> Evaluate:
     return evaluate
 
 
-def _active_signature(problem: Problem) -> tuple:
-    return tuple(problem.active_index)
-
-
 @dataclass
 class Sweep:
     """Responses at a sequence of frequencies (see :func:`sweep`)."""
@@ -94,53 +90,33 @@ def sweep(
 ) -> Sweep:
     """Periodic responses at the frequencies ``omegas`` (rad/s), in the given order.
 
-    Each point starts from its predecessor: a secant prediction and Newton
-    first; when that fails, arc-length continuation from the previous point
-    (which follows the branch through steep parts and folds); when that fails
-    too, a cold solve by load continuation. A point that still fails is
-    reported (``converged=False``) and the sweep goes on from the last good
-    point. Points whose stuck solution is exact take no nonlinear solve.
+    Each point starts from a secant prediction through its two predecessors:
+    Newton first, then the exact Newton homotopy from the prediction, then a
+    cold solve by load continuation (see :func:`fretwear.periodic.solve_problem`).
+    A point that still fails is reported (``converged=False``) and the sweep
+    goes on from the last good point. Points whose stuck solution is exact take
+    no nonlinear solve.
     """
     omegas = np.asarray(omegas, dtype=float)
     if omegas.ndim != 1 or omegas.size == 0 or np.any(~np.isfinite(omegas)) or np.any(omegas <= 0):
         raise ValueError("omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s")
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
     out: list[PeriodicSolution] = []
-    history: list[tuple[float, np.ndarray, tuple]] = []  # converged nonlinear-capable points
+    previous: dict[tuple, list[tuple[float, np.ndarray]]] = {}  # converged points per active set
     for omega in omegas:
         problem = Problem(model, omega, eps=eps, **settings)
-        sol = None
-        sig = _active_signature(problem)
-        prev = [h for h in history if h[2] == sig][-2:]
-        if prev and problem.n_active:
-            sol = _from_previous(problem, prev, tol, max_iter)
-        if sol is None:
-            sol = solve_problem(problem, None, tol, max_iter)
+        prev = previous.setdefault(tuple(problem.active_index), [])[-2:]
+        guess = None
+        if len(prev) == 2:  # secant predictor
+            (w0, x0), (w1, x1) = prev
+            guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
+        elif prev:
+            guess = prev[-1][1]
+        sol = solve_problem(problem, guess, tol, max_iter)
         out.append(sol)
         if sol.converged and problem.n_active:
-            history.append((omega, sol.unknowns, sig))
+            previous[tuple(problem.active_index)].append((omega, sol.unknowns))
     return Sweep(out)
-
-
-def _from_previous(problem, prev, tol, max_iter) -> PeriodicSolution | None:
-    """Solve ``problem`` starting from neighbouring converged points ``prev``."""
-    friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
-    if friction_only and problem.stick_ratio() < 1.0:
-        return solve_problem(problem, None, tol, max_iter)  # exact stuck solution
-    omega = problem.omega
-    if len(prev) == 2:
-        (w0, x0, _), (w1, x1, _) = prev
-        guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
-    else:
-        guess = prev[-1][1]
-    res = newton(problem, guess, tol, 6)
-    path = "dlft"
-    if not res.converged:
-        res = newton_homotopy(problem, prev[-1][1], tol)
-        path = "dlft-newton-homotopy"
-        if not res.converged:
-            return None
-    return PeriodicSolution.build(problem, res.x, res, path)
 
 
 @dataclass

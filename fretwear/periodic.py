@@ -441,22 +441,37 @@ def solve_periodic(
 def solve_problem(
     problem: Problem, guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 50
 ) -> PeriodicSolution:
-    """Solve a prepared :class:`Problem` (see :func:`solve_periodic` for the paths)."""
+    """Solve a prepared :class:`Problem`, computing only the effects present.
+
+    Linear paths first (no active contact; exact stuck solution). Then, from a
+    ``guess`` (a neighbour's solution): Newton, and if it fails the global
+    Newton homotopy from the guess. Without a guess, or if those fail: Newton
+    from the stuck solution and then the exact load continuation.
+    """
     if problem.n_active == 0:
         return PeriodicSolution.build(problem, None, NewtonResult(np.zeros(0), True, 0, 0.0), "linear-open")
     friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
     if friction_only and problem.stick_ratio() < 1.0:
         x = problem.stuck_solution()
         return PeriodicSolution.build(problem, x, NewtonResult(x, True, 0, 0.0), "linear-stuck")
-    start = problem.stuck_solution() if friction_only else problem.stuck_guess()
+    iterations = 0
     if guess is not None:
         guess = np.asarray(guess, dtype=float)
         if guess.shape != (problem.size,):
             raise ValueError(f"guess must have shape ({problem.size},), got {guess.shape}")
-        start = guess
+        res = newton(problem, guess, tol, min(max_iter, 6))
+        if res.converged:
+            return PeriodicSolution.build(problem, res.x, res, "dlft")
+        res = newton_homotopy(problem, res.x, tol)  # from Newton's best iterate
+        if res.converged:
+            res.iterations += 6
+            return PeriodicSolution.build(problem, res.x, res, "dlft-newton-homotopy")
+        iterations = res.iterations + 6
+    start = problem.stuck_solution() if friction_only else problem.stuck_guess()
     res = newton(problem, start, tol, min(max_iter, 16))
     path = "dlft"
     if not res.converged:
         res = load_homotopy(problem, tol, max_iter)
         path = "dlft-homotopy"
+    res.iterations += iterations
     return PeriodicSolution.build(problem, res.x, res, path)
