@@ -2,7 +2,7 @@
 
 Run from the repository root::
 
-    python benchmarks/bench_solver.py            # about a minute on 2 cores
+    python benchmarks/bench_solver.py            # about half a minute on 2 cores
     python benchmarks/bench_solver.py --quick    # fewer repeats
 
 Prints three tables:
@@ -45,8 +45,8 @@ from fretwear.continuation import sweep  # noqa: E402
 from fretwear.harmonics import HarmonicBasis, default_samples  # noqa: E402
 from fretwear.periodic import Problem, solve_problem  # noqa: E402
 
-#: targets of the paper model, warm (s), by (measurement, Nh)
-WARM_TARGETS = {("sweep", 7): 2e-3, ("sweep", 21): 10e-3}
+#: warm 101-point sweep targets of the paper model (s), by Nh
+SWEEP_TARGETS = {7: 2e-3, 21: 10e-3}
 COLD_TARGET, CACHED_TARGET = 20.0, 1.0
 
 CASES = {
@@ -77,13 +77,15 @@ def median_time(fn: Callable[[], object], repeats: int) -> float:
 
 
 def fmt_time(seconds: float) -> str:
+    """``seconds`` with 3 significant digits in s, ms, us or ns."""
     for unit, scale in (("s", 1.0), ("ms", 1e-3), ("us", 1e-6)):
         if seconds >= scale:
             return f"{seconds / scale:.3g} {unit}"
     return f"{seconds / 1e-9:.3g} ns"
 
 
-def table(header: list[str], rows: list[list[str]]) -> None:
+def table(header: list[str], rows: list[list]) -> None:
+    """Print ``rows`` under ``header`` in aligned columns."""
     widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
     for r in [header, ["-" * w for w in widths], *rows]:
         print("  ".join(str(c).ljust(w) for c, w in zip(r, widths, strict=True)).rstrip())
@@ -92,14 +94,15 @@ def table(header: list[str], rows: list[list[str]]) -> None:
 
 # -- 1. warm solver timings -----------------------------------------------------------
 def warm(quick: bool) -> None:
+    """Table 1: warm single solves and 101-point sweeps."""
     print("1. Warm timings: median wall time after a compiling warm-up call", flush=True)
     rows = []
     for name, (model, omega, omegas) in CASES.items():
         for nh in (7, 21):
             single = median_time(lambda m=model, w=omega, n=nh: solve_periodic(m, w, n), 5 if quick else 20)
-            swept = median_time(lambda m=model, w=omegas, n=nh: sweep(m, w, n), 1 if quick else 5)
+            swept = median_time(lambda m=model, w=omegas, n=nh: sweep(m, w, n), 1 if quick else 7)
             n_ok = int(sweep(model, omegas, nh).converged.sum())
-            target = WARM_TARGETS.get(("sweep", nh)) if name.startswith("paper") else None
+            target = SWEEP_TARGETS[nh] if name.startswith("paper") else None
             rows.append([
                 name, nh, fmt_time(single), fmt_time(swept), f"{n_ok}/{len(omegas)}",
                 fmt_time(target) if target else "-", f"{swept / target:.3g}" if target else "-",
@@ -109,6 +112,7 @@ def warm(quick: bool) -> None:
 
 # -- 2. start-up -------------------------------------------------------------------------
 def start_up() -> None:
+    """Table 2: a new process with an empty, then a filled, Numba cache."""
     print("2. Start-up: new process, import fretwear + one solve (paper model, 0.7 Hz, Nh = 7)", flush=True)
     rows = []
     with tempfile.TemporaryDirectory(prefix="fretwear-numba-cache-") as cache:
@@ -300,17 +304,18 @@ def transform_row(half_wave: bool, nh: int, repeats: int) -> list:
         "half" if half_wave else "full", nh, basis.samples, basis.marched_samples, basis.size,
         fmt_time(t_matrix), fmt_time(t_fft), "matrix DFT" if t_matrix < t_fft else "FFT",
         f"{max(t_matrix, t_fft) / min(t_matrix, t_fft):.2g}x", f"{error:.0e}",
-        fmt_time(t_res), fmt_time(t_jac), f"{2 * t_matrix / t_res:.0%}",
+        fmt_time(t_res), fmt_time(t_jac), f"{2 * t_matrix / t_res:.0%}", f"{2 * t_matrix / t_jac:.0%}",
     ]  # fmt: skip
 
 
 def transforms(quick: bool) -> None:
+    """Table 3: matrix DFT against the radix-2 real FFT, half- and full-wave, Nh = 7, 21, 41."""
     print("3. One DFT of the AFT scheme (samples -> harmonics), per transform, in Numba", flush=True)
-    repeats = 5 if quick else 15
+    repeats = 5 if quick else 25
     rows = [transform_row(half_wave, nh, repeats) for half_wave in (True, False) for nh in (7, 21, 41)]
     header = [
         "wave", "Nh", "N", "marched", "H", "matrix DFT", "radix-2 rFFT", "faster", "by", "rel. diff",
-        "residual", "residual+Jacobian", "2 DFTs / residual",
+        "residual", "residual+Jacobian", "2 DFTs/residual", "2 DFTs/res.+Jac.",
     ]  # fmt: skip
     table(header, rows)
     print(
@@ -320,8 +325,9 @@ def transforms(quick: bool) -> None:
 
 
 def main(argv: list[str] | None = None) -> None:
+    """Run the benchmarks (``--quick``: fewer repeats)."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="fewer repeats (about half the time)")
+    parser.add_argument("--quick", action="store_true", help="fewer repeats")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     print(f"fretwear benchmarks on {os.cpu_count()} cores, Python {sys.version.split()[0]}\n")

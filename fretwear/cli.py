@@ -99,6 +99,7 @@ def _number(
 
 
 def _add_model_options(parser: argparse.ArgumentParser) -> None:
+    """``--model`` or the paper-model options ``--fex --mu --fn/--u0 --kn``."""
     group = parser.add_argument_group(
         "model", "the paper's 2-DOF example (section 2.1) with the options below, or --model FILE"
     )
@@ -126,6 +127,7 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _add_solver_options(parser: argparse.ArgumentParser) -> None:
+    """``--harmonics`` and ``--samples``."""
     parser.add_argument(
         "--harmonics",
         type=_number(1, integer=True),
@@ -142,6 +144,7 @@ def _add_solver_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _add_band_options(parser: argparse.ArgumentParser) -> None:
+    """``--fmin --fmax --n --out``."""
     parser.add_argument(
         "--fmin", type=_number(0.0, strict=True, unit="Hz"), required=True, help="lowest frequency (Hz), > 0"
     )
@@ -296,6 +299,7 @@ def _record(sol: PeriodicSolution, names: _Names) -> dict:
 
 
 def _linear_records(model: Model, names: _Names, freqs: np.ndarray, states: Sequence[str]) -> list[dict]:
+    """CSV rows of the linear FRFs at ``freqs`` (Hz), one block per contact state."""
     rows = []
     B = model.relative_map()
     for state in states:
@@ -311,6 +315,7 @@ def _linear_records(model: Model, names: _Names, freqs: np.ndarray, states: Sequ
 
 
 def _write_csv(rows: Iterable[dict], out: str) -> None:
+    """Write ``rows`` (dicts with the same keys) as CSV to the file ``out`` or, for ``-``, to stdout."""
     rows = list(rows)
     try:
         fh = sys.stdout if out == "-" else open(out, "w", newline="", encoding="utf-8")
@@ -327,6 +332,7 @@ def _write_csv(rows: Iterable[dict], out: str) -> None:
 
 # -- commands -----------------------------------------------------------------------
 def _frf(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    """``fretwear frf``: sweep or arc-length continuation, one CSV row per solution."""
     complete, note = True, ""
     if args.continuation:
         band = 2 * np.pi * args.fmin, 2 * np.pi * args.fmax
@@ -349,6 +355,7 @@ def _frf(args: argparse.Namespace, model: Model, names: _Names) -> int:
 
 
 def _linear(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    """``fretwear linear``: stuck and/or open linear FRFs as CSV."""
     states = ("stuck", "open") if args.state == "both" else (args.state,)
     rows = _linear_records(model, names, np.linspace(args.fmin, args.fmax, args.n), states)
     _write_csv(rows, args.out)
@@ -357,6 +364,7 @@ def _linear(args: argparse.Namespace, model: Model, names: _Names) -> int:
 
 
 def _point(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    """``fretwear point``: one periodic solve, JSON on stdout."""
     sol = solve_periodic(model, 2 * np.pi * args.f, args.harmonics, samples=args.samples)
     record = _record(sol, names)
     record.update(

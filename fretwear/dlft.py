@@ -336,3 +336,58 @@ def boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max):
             for s in range(u.shape[0]):
                 tau = _crossing(u[s] - eps[c] * limits[c], du[s], 0.0, tau)
     return tau
+
+
+@njit(cache=True, nogil=True)
+def friction_sensitivity(u, limit, eps, half_wave, lam, X, state, dlam_dL, ds_du):
+    """Friction march with the derivatives the slow-time (wear) equations need.
+
+    Fills ``lam``, ``X``, ``state`` as :func:`evaluate` does for one friction
+    contact, ``dlam_dL`` (d lambda_n / d(mu F_N)) and ``ds_du`` (derivative of the
+    distance slid per period with respect to each sample of ``lambda_u``), and
+    returns ``(s, ds/d(mu F_N))`` with ``s`` the distance slid per full period (m).
+    """
+    n = u.shape[0]
+    dep = np.empty(n, dtype=np.int64)
+    sgn = np.ones(n)
+    _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn)
+    # dX_s/du = coef_s * e_{src_s} and dX_s/dL = dXdL_s (full stick: X is constant, s = 0)
+    src = np.empty(n, dtype=np.int64)
+    coef = np.zeros(n)
+    dXdL = np.zeros(n)
+    for s in range(n):
+        d = dep[s]
+        if limit <= 0.0 or state[s] == SLIP:
+            src[s], coef[s] = s, 1.0 / eps
+            dXdL[s] = 0.0 if limit <= 0.0 else -np.sign(lam[s]) / eps
+            dlam_dL[s] = 0.0 if limit <= 0.0 else np.sign(lam[s])
+        elif d >= 0:
+            src[s], coef[s] = d, sgn[s] / eps
+            dXdL[s] = -sgn[s] * np.sign(lam[d]) / eps
+            dlam_dL[s] = sgn[s] * np.sign(lam[d])
+        else:  # full stick: X does not depend on the limit
+            src[s], coef[s] = -1, 0.0
+            dXdL[s] = 0.0
+            dlam_dL[s] = 0.0
+    ds_du[:] = 0.0
+    total, dtotal = 0.0, 0.0
+    wrap = -1.0 if half_wave else 1.0
+    for s in range(n):
+        p = s - 1 if s > 0 else n - 1
+        w = wrap if s == 0 else 1.0
+        diff = X[s] - w * X[p]
+        if diff == 0.0:
+            continue
+        sg = 1.0 if diff > 0 else -1.0
+        total += abs(diff)
+        dtotal += sg * (dXdL[s] - w * dXdL[p])
+        if src[s] >= 0:
+            ds_du[src[s]] += sg * coef[s]
+        if src[p] >= 0:
+            ds_du[src[p]] -= sg * w * coef[p]
+    if half_wave:
+        total *= 2.0
+        dtotal *= 2.0
+        for s in range(n):
+            ds_du[s] *= 2.0
+    return total, dtotal

@@ -20,6 +20,7 @@ It computes only the effects present:
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -124,6 +125,33 @@ class Problem:
             cond = condense(m, self.B, self.omega, self.basis, self.derivative)
             self.Z, self.F0, self.dZ, self.dF0 = cond.Z, cond.F, cond.dZ, cond.dF
             self.eps = self._penalty(self.eps)
+
+    def with_wear(self, wear) -> Problem:
+        """The same problem at wear depths ``wear`` (m): wear changes only the friction limits.
+
+        Reuses the condensation and the penalty when the set of active contacts
+        is unchanged (it changes only when a normal load reaches zero).
+        """
+        wear = np.asarray(wear, dtype=float)
+        loads = self.model.normal_loads(wear)
+        nf = len(self.model.friction)
+        active_f = [i for i in range(nf) if self.model.friction[i].mu * loads[i] > 0]
+        if active_f != [i for i in self.active_index if i < nf]:
+            return Problem(
+                self.model, self.omega, self.harmonics, self.samples, wear, None, self.basis.half_wave,
+                self.force_scale,
+            )  # fmt: skip
+        new = copy.copy(self)
+        new.wear, new.normal_loads = wear, loads
+        new.limits = self.limits.copy()
+        new.limits[: len(active_f)] = [self.model.friction[i].mu * loads[i] for i in active_f]
+        return new
+
+    def sliding_distance(self, x: np.ndarray) -> np.ndarray:
+        """Distance slid per period by each active friction contact at unknowns ``x`` (m)."""
+        X = self.evaluate(x, jacobian=False)[4]
+        slid = np.abs(np.diff(X, axis=1, append=X[:, :1] * (-1 if self.basis.half_wave else 1))).sum(axis=1)
+        return (2 * slid if self.basis.half_wave else slid)[self.kinds == dlft.FRICTION]
 
     # -- sizes ----------------------------------------------------------------
     @property
