@@ -241,7 +241,7 @@ def jacobian_from_blocks(Z, eps, A, J):
     nc, H = A.shape[0], A.shape[1]
     for c in range(nc):
         r0 = c * H
-        AZ = A[c] @ Z[r0 : r0 + H, :]
+        AZ = A[c] @ np.ascontiguousarray(Z[r0 : r0 + H, :])
         for i in range(H):
             for j in range(nc * H):
                 J[r0 + i, j] = Z[r0 + i, j] - AZ[i, j]

@@ -391,7 +391,7 @@ def load_homotopy(
 
 
 def newton_homotopy(
-    problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_pieces: int = 20_000
+    problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_pieces: int = 500
 ) -> NewtonResult:
     """Solve ``problem`` from a nearby point ``x0`` by the global Newton homotopy.
 
@@ -487,14 +487,14 @@ def solve_problem(
         guess = np.asarray(guess, dtype=float)
         if guess.shape != (problem.size,):
             raise ValueError(f"guess must have shape ({problem.size},), got {guess.shape}")
-        res = newton(problem, guess, tol, min(max_iter, 6))
+        res = newton(problem, guess, tol, min(max_iter, 12))
         if res.converged:
             return PeriodicSolution.build(problem, res.x, res, "dlft")
         res = newton_homotopy(problem, res.x, tol)  # from Newton's best iterate
         if res.converged:
-            res.iterations += 6
+            res.iterations += 12
             return PeriodicSolution.build(problem, res.x, res, "dlft-newton-homotopy")
-        iterations = res.iterations + 6
+        iterations = res.iterations + 12
     start = problem.stuck_solution() if friction_only else problem.stuck_guess()
     res = newton(problem, start, tol, min(max_iter, 16))
     path = "dlft"

@@ -69,6 +69,7 @@ __all__ = [
     "integrate",
     "period_map",
     "shooting",
+    "periodic_state",
     "steady_state",
 ]
 
@@ -1013,6 +1014,40 @@ def shooting(
         y, converged, more = _newton(eng, g, y, tol, max_iter)
         iterations += more
     return _solution(eng, g, wear, y, converged, iterations, samples)
+
+
+def periodic_state(
+    model: Model, omega: float, y_guess, *, wear=None, tol: float = 1e-12, max_iter: int = 50
+) -> tuple[np.ndarray, bool]:
+    """State at ``t = 0`` of the periodic orbit reached by Newton from ``y_guess``.
+
+    The Newton iterations of :func:`shooting` without its post-processing
+    (sampling, extrema, Floquet multipliers): a cheap projection of a nearby
+    state onto the periodic orbit, e.g. to follow an orbit that drifts with wear.
+
+    Parameters
+    ----------
+    model : Model
+    omega : float
+        Excitation angular frequency (rad/s), > 0.
+    y_guess : array_like, shape (2 n,)
+        Starting state ``(u, v)`` at ``t = 0`` (m, m/s).
+    wear : array_like, shape (n_friction,), optional
+        Wear depth of each friction contact (m).
+    tol : float
+        Target periodicity residual (see :attr:`ShootingSolution.residual`).
+    max_iter : int
+        Largest number of Newton iterations.
+
+    Returns
+    -------
+    y0 : ndarray, shape (2 n,)
+        Periodic state (the last iterate when Newton fails).
+    converged : bool
+    """
+    eng, g = _setup(model, omega, wear)
+    y, converged, _ = _newton(eng, g, _check_state(eng, y_guess, "y_guess"), tol, max_iter)
+    return y, converged
 
 
 def steady_state(
