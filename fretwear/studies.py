@@ -25,7 +25,15 @@ import numpy as np
 from .model import Model
 from .wear import WearHistory, check_wear_inputs, wear_polynomial, wear_stepping
 
-__all__ = ["WearMap", "wear_history", "wear_map", "harmonic_convergence", "compare_methods"]
+__all__ = [
+    "WearMap",
+    "wear_history",
+    "wear_map",
+    "harmonic_convergence",
+    "compare_methods",
+    "stick_limit",
+    "regime_map",
+]
 
 Method = Literal["stepping", "polynomial", "time"]
 
@@ -197,3 +205,45 @@ def compare_methods(
         opts = {k: v for k, v in opts.items() if v is not None}
         out[method] = wear_history(model, 2 * np.pi * frequency, method, **opts)
     return out
+
+
+def stick_limit(model: Model, frequencies, harmonics: int = 1) -> np.ndarray:
+    """Largest load ratio ``r = F_ex / (mu F_N)`` (relative to the model's forcing) that keeps full stick.
+
+    Exact: the linear stuck solution at load factor ``s`` needs the stick force
+    ``s * Lambda_stuck``; it stays in the friction cone while ``s <= 1 / stick_ratio``.
+    Returns, per frequency (Hz), the load factor at the stick boundary (``inf`` for no
+    active friction contact).
+    """
+    from .periodic import Problem
+
+    out = []
+    for f in np.atleast_1d(np.asarray(frequencies, dtype=float)):
+        p = Problem(model, 2 * np.pi * f, harmonics)
+        out.append(np.inf if p.n_active == 0 else 1.0 / p.stick_ratio())
+    return np.array(out)
+
+
+def regime_map(model: Model, frequencies, load_factors, harmonics: int = 7) -> dict[str, np.ndarray]:
+    """Stick/slip regime over frequency (Hz) x load factor (forcing scaled by ``load_factors``).
+
+    By homogeneity of the friction law, scaling the forcing by ``s`` is scaling
+    ``r = F_ex / (mu F_N)`` by ``s``. Returns the fraction of the period spent
+    slipping (first friction contact), the sliding distance per period, the
+    first-harmonic amplitude of DOF 1 and the exact stick boundary per frequency.
+    """
+    from .continuation import sweep
+
+    frequencies = np.asarray(frequencies, dtype=float)
+    load_factors = np.asarray(load_factors, dtype=float)
+    slip = np.zeros((len(load_factors), len(frequencies)))
+    slid = np.zeros_like(slip)
+    amp = np.zeros_like(slip)
+    for i, s in enumerate(load_factors):
+        sw = sweep(model.scaled(s), 2 * np.pi * frequencies, harmonics)
+        for j, sol in enumerate(sw.solutions):
+            slip[i, j] = np.mean(sol.state[0] == 1) if model.friction else 0.0
+            slid[i, j] = sol.sliding_distance[0] if model.friction else 0.0
+            amp[i, j] = sol.amplitude[0]
+    return {"slip_fraction": slip, "sliding_distance": slid, "amplitude": amp,
+            "stick_limit": stick_limit(model, frequencies)}  # fmt: skip
