@@ -1,4 +1,4 @@
-"""Command line interface: ``fretwear frf``, ``fretwear linear`` and ``fretwear point``.
+"""Command line interface: ``fretwear frf``, ``linear``, ``point``, ``wear`` and ``map``.
 
 The commands are thin wrappers around the library calls the dashboard and the
 benchmarks use (:func:`fretwear.continuation.sweep`,
@@ -57,6 +57,8 @@ from .model import Model, paper_model
 from .modelfile import example_names, example_path, read_model_file
 from .periodic import solve_periodic
 from .results import PeriodicSolution
+from .studies import shooting_sweep, wear_history, wear_map
+from .time_integration import ShootingSolution, shooting
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USAGE", "EXIT_NOT_CONVERGED"]
 
@@ -182,6 +184,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_model_options(frf)
     _add_band_options(frf)
     _add_solver_options(frf)
+    _add_method_option(frf)
     frf.add_argument(
         "--continuation",
         action="store_true",
@@ -217,7 +220,74 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_model_options(point)
     _add_solver_options(point)
+    _add_method_option(point)
+
+    wear = commands.add_parser(
+        "wear",
+        help="wear evolution at one frequency (CSV)",
+        description="Fretting wear w(N) over the cycle count N at one frequency, by slow-time stepping, "
+        "the polynomial slow-time DLFT or direct time integration, written as CSV.",
+    )
+    wear.add_argument("--f", type=_number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
+                      help="excitation frequency (Hz), > 0")  # fmt: skip
+    _add_model_options(wear)
+    _add_wear_options(wear)
+    wear.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
+
+    wmap = commands.add_parser(
+        "map",
+        help="wear map over frequency x cycles (CSV long format, or NPZ)",
+        description="Wear map W(f, N) (paper Fig. 7) with the response, over linspace(fmin, fmax, nf) "
+        "and ncycles log-spaced cycle counts from 1 to --cycles. CSV long format (f_hz, cycles, w, ...), "
+        "or NumPy NPZ arrays when --out ends in .npz.",
+    )
+    _add_model_options(wmap)
+    wmap.add_argument("--fmin", type=_number(0.0, strict=True, unit="Hz"), required=True,
+                      help="lowest frequency (Hz), > 0")  # fmt: skip
+    wmap.add_argument("--fmax", type=_number(0.0, strict=True, unit="Hz"), required=True,
+                      help="highest frequency (Hz), >= --fmin")  # fmt: skip
+    wmap.add_argument("--nf", type=_number(1, integer=True), default=41,
+                      help="number of frequencies (-), >= 1; default 41")  # fmt: skip
+    wmap.add_argument("--ncycles", type=_number(2, integer=True), default=60,
+                      help="number of log-spaced cycle counts (-), >= 2; default 60")  # fmt: skip
+    _add_wear_options(wmap)
+    wmap.add_argument("--out", required=True, metavar="FILE", help="CSV (long format) or .npz file")
     return parser
+
+
+def _add_method_option(parser: argparse.ArgumentParser) -> None:
+    """``--method {dlft,shooting}`` of the periodic solver."""
+    parser.add_argument(
+        "--method",
+        choices=("dlft", "shooting"),
+        default="dlft",
+        help="periodic solver: HBM + DLFT (default) or shooting on the exact event-driven time "
+        "integrator (no truncation error; needs a positive definite mass matrix)",
+    )
+
+
+def _add_wear_options(parser: argparse.ArgumentParser) -> None:
+    """Slow-time options of ``wear`` and ``map``."""
+    parser.add_argument("--kw", type=_number(0.0, unit="1/Pa"), default=1e-11,
+                        help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
+    parser.add_argument("--cycles", type=_number(0.0, strict=True), default=1e5,
+                        help="horizon: number of vibration cycles N (-), > 0; default 1e5")  # fmt: skip
+    parser.add_argument("--method", choices=("stepping", "polynomial", "time"), default="stepping",
+                        help="slow-time method: adaptive stepping (default), polynomial slow-time DLFT, "
+                        "or direct time integration with cycle jumps")  # fmt: skip
+    parser.add_argument("--dynamics", choices=("dlft", "shooting"), default="dlft",
+                        help="periodic solver inside stepping: HBM + DLFT (default) or shooting")  # fmt: skip
+    _add_solver_options(parser)
+    parser.add_argument("--degree", type=_number(0, integer=True), default=4,
+                        help="degree m of the polynomial method (-), in [0, 12]; default 4")  # fmt: skip
+    parser.add_argument("--basis", choices=("legendre", "monomial"), default="legendre",
+                        help="slow-time basis of the polynomial method; default legendre")  # fmt: skip
+    parser.add_argument("--tol", type=_number(0.0, strict=True), default=1e-3,
+                        help="local error tolerance on w/u0 of stepping and cycle jumps (-), in (0, 1); "
+                        "default 1e-3")  # fmt: skip
+    parser.add_argument("--fixed-step", type=_number(0.0, strict=True), metavar="DN",
+                        help="stepping with a fixed step of DN cycles (explicit Euler; 1 = the paper's "
+                        "per-period update, eq. 24) instead of the adaptive pair")  # fmt: skip
 
 
 # -- model and checks ---------------------------------------------------------
@@ -277,14 +347,17 @@ def _check(args: argparse.Namespace) -> None:
 
 
 # -- records -----------------------------------------------------------------------
-def _record(sol: PeriodicSolution, names: _Names) -> dict:
-    """CSV row / JSON object of one periodic solution."""
-    row: dict = {"f_hz": float(sol.frequency)}
+def _record(sol: PeriodicSolution | ShootingSolution, names: _Names, model: Model) -> dict:
+    """CSV row / JSON object of one periodic solution (HBM + DLFT or shooting)."""
+    if isinstance(sol, ShootingSolution):
+        rel = model.relative_map(model.friction) @ sol.first_harmonic
+        rel_amp, path, message = np.hypot(rel[:, 0], rel[:, 1]), "shooting", ""
+    else:
+        rel_amp, path, message = sol.relative_amplitude, sol.path, sol.message
+    row: dict = {"f_hz": float(sol.omega / (2 * np.pi))}
     for name, h1, p2p in zip(names.dofs, sol.amplitude, sol.half_peak_to_peak, strict=True):
         row[f"{name}_h1"], row[f"{name}_half_p2p"] = float(h1), float(p2p)
-    for name, h1, p2p in zip(
-        names.contacts, sol.relative_amplitude, sol.relative_half_peak_to_peak, strict=True
-    ):
+    for name, h1, p2p in zip(names.contacts, rel_amp, sol.relative_half_peak_to_peak, strict=True):
         row[f"{name}_h1"], row[f"{name}_half_p2p"] = float(h1), float(p2p)
     for suffix, dist, energy in zip(names.friction, sol.sliding_distance, sol.friction_energy, strict=True):
         row[f"sliding_distance{suffix}"], row[f"friction_energy{suffix}"] = float(dist), float(energy)
@@ -292,8 +365,8 @@ def _record(sol: PeriodicSolution, names: _Names) -> dict:
         converged=bool(sol.converged),
         residual=float(sol.residual),
         iterations=int(sol.iterations),
-        path=sol.path,
-        message=sol.message,
+        path=path,
+        message=message,
     )
     return row
 
@@ -334,7 +407,12 @@ def _write_csv(rows: Iterable[dict], out: str) -> None:
 def _frf(args: argparse.Namespace, model: Model, names: _Names) -> int:
     """``fretwear frf``: sweep or arc-length continuation, one CSV row per solution."""
     complete, note = True, ""
-    if args.continuation:
+    if args.method == "shooting":
+        if args.continuation:
+            raise UsageError("argument --continuation: not available with --method shooting")
+        omegas = 2 * np.pi * np.linspace(args.fmin, args.fmax, args.n)
+        solutions = shooting_sweep(model, omegas)
+    elif args.continuation:
         band = 2 * np.pi * args.fmin, 2 * np.pi * args.fmax
         branch = continuation(model, *band, args.harmonics, samples=args.samples)
         solutions, complete = branch.solutions, branch.converged
@@ -343,7 +421,7 @@ def _frf(args: argparse.Namespace, model: Model, names: _Names) -> int:
     else:
         omegas = 2 * np.pi * np.linspace(args.fmin, args.fmax, args.n)
         solutions = sweep(model, omegas, args.harmonics, samples=args.samples).solutions
-    _write_csv((_record(s, names) for s in solutions), args.out)
+    _write_csv((_record(s, names, model) for s in solutions), args.out)
     failed = sum(not s.converged for s in solutions)
     worst = max(s.residual for s in solutions)
     print(
@@ -365,25 +443,94 @@ def _linear(args: argparse.Namespace, model: Model, names: _Names) -> int:
 
 def _point(args: argparse.Namespace, model: Model, names: _Names) -> int:
     """``fretwear point``: one periodic solve, JSON on stdout."""
-    sol = solve_periodic(model, 2 * np.pi * args.f, args.harmonics, samples=args.samples)
-    record = _record(sol, names)
-    record.update(
-        omega_rad_s=float(sol.omega),
-        harmonics=int(sol.harmonics),
-        samples=int(sol.samples),
-        half_wave=bool(sol.half_wave),
-        input_work=float(sol.input_work),
-        viscous_dissipation=float(sol.viscous_dissipation),
-        contact_work=float(sol.contact_work),
-    )
+    omega = 2 * np.pi * args.f
+    if args.method == "shooting":
+        sol = shooting(model, omega)
+        record = _record(sol, names, model)
+        record.update(omega_rad_s=float(omega), input_work=float(sol.input_work),
+                      viscous_dissipation=float(sol.viscous_dissipation),
+                      floquet_max=float(np.abs(sol.floquet_multipliers).max()),
+                      stable=bool(sol.stable))  # fmt: skip
+    else:
+        sol = solve_periodic(model, omega, args.harmonics, samples=args.samples)
+        record = _record(sol, names, model)
+        record.update(
+            omega_rad_s=float(sol.omega),
+            harmonics=int(sol.harmonics),
+            samples=int(sol.samples),
+            half_wave=bool(sol.half_wave),
+            input_work=float(sol.input_work),
+            viscous_dissipation=float(sol.viscous_dissipation),
+            contact_work=float(sol.contact_work),
+        )
     json.dump(record, sys.stdout, indent=2)
     sys.stdout.write("\n")
-    status = "converged" if sol.converged else f"NOT converged ({sol.message})"
-    print(f"fretwear point: {status}, residual {sol.residual:.3g}, path {sol.path}", file=sys.stderr)
+    status = "converged" if sol.converged else f"NOT converged ({record['message']})"
+    print(f"fretwear point: {status}, residual {sol.residual:.3g}, path {record['path']}", file=sys.stderr)
     return EXIT_OK if sol.converged else EXIT_NOT_CONVERGED
 
 
-_COMMANDS = {"frf": _frf, "linear": _linear, "point": _point}
+def _wear_options(args: argparse.Namespace) -> dict:
+    if args.method == "polynomial" and args.degree > 12:
+        raise UsageError(f"argument --degree: must be an integer in [0, 12], got {args.degree}")
+    if not 0 < args.tol < 1:
+        raise UsageError(f"argument --tol: must be in (0, 1), got {args.tol:g}")
+    options = dict(kw=args.kw, harmonics=args.harmonics, samples=args.samples, tol=args.tol)
+    if args.method == "stepping":
+        options.update(dynamics=args.dynamics, fixed_step=args.fixed_step)
+    elif args.method == "polynomial":
+        options.update(degree=args.degree, basis=args.basis)
+    return options
+
+
+def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    """``fretwear wear``: one wear history as CSV, one row per record."""
+    hist = wear_history(model, 2 * np.pi * args.f, args.method, cycles=args.cycles, **_wear_options(args))
+    rows = []
+    for k, N in enumerate(hist.cycles):
+        row: dict = {"cycles": float(N)}
+        for j, suffix in enumerate(names.friction):
+            row[f"w{suffix}"] = float(hist.wear[k, j])
+            row[f"w{suffix}_over_u0"] = float(hist.wear_fraction[k, j])
+            row[f"fn{suffix}"] = float(hist.normal_load[k, j])
+            row[f"dw_dn{suffix}"] = float(hist.rate[k, j])
+            row[f"sliding_distance{suffix}"] = float(hist.sliding_distance[k, j])
+        for i, name in enumerate(names.dofs):
+            row[f"{name}_h1"] = float(hist.amplitude[k, i])
+            row[f"{name}_half_p2p"] = float(hist.half_peak_to_peak[k, i])
+        for j, name in enumerate(names.contacts):
+            row[f"{name}_half_p2p"] = float(hist.relative_half_peak_to_peak[k, j])
+        rows.append(row)
+    _write_csv(rows, args.out)
+    for note in hist.warnings:
+        print(f"fretwear wear: warning: {note}", file=sys.stderr)
+    print(f"fretwear wear: {args.method}, {len(rows)} records to N = {hist.cycles[-1]:g}, "
+          f"status {hist.status}, "
+          f"{hist.solves} solves, {hist.wall_time:.2f} s; wrote {args.out}", file=sys.stderr)  # fmt: skip
+    return EXIT_OK if hist.converged else EXIT_NOT_CONVERGED
+
+
+def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    """``fretwear map``: wear map as a long CSV table or NPZ arrays."""
+    freqs = np.linspace(args.fmin, args.fmax, args.nf)
+    cycles = np.geomspace(1.0, max(args.cycles, 1.0 + 1e-9), args.ncycles)
+    wmap = wear_map(model, freqs, cycles, method=args.method, **_wear_options(args))
+    if args.out.endswith(".npz"):
+        np.savez_compressed(args.out, frequency_hz=wmap.frequency, cycles=wmap.cycles, wear=wmap.wear,
+                            wear_fraction=wmap.wear_fraction, amplitude=wmap.amplitude,
+                            half_peak_to_peak=wmap.half_peak_to_peak,
+                            relative_half_peak_to_peak=wmap.relative_half_peak_to_peak)  # fmt: skip
+    else:
+        table = wmap.long_table()
+        keys = list(table)
+        _write_csv(({k: float(table[k][r]) for k in keys} for r in range(len(table["f_hz"]))), args.out)
+    failed = int(np.sum(~wmap.converged))
+    print(f"fretwear map: {args.nf} frequencies x {args.ncycles} cycle counts, {failed} incomplete; "
+          f"wrote {args.out}", file=sys.stderr)  # fmt: skip
+    return EXIT_OK if not failed else EXIT_NOT_CONVERGED
+
+
+_COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

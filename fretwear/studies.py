@@ -33,6 +33,7 @@ __all__ = [
     "compare_methods",
     "stick_limit",
     "regime_map",
+    "shooting_sweep",
 ]
 
 Method = Literal["stepping", "polynomial", "time"]
@@ -204,6 +205,21 @@ def compare_methods(
         }
         opts = {k: v for k, v in opts.items() if v is not None}
         out[method] = wear_history(model, 2 * np.pi * frequency, method, **opts)
+    return out
+
+
+def shooting_sweep(model: Model, omegas, **options) -> list:
+    """Exact periodic responses by shooting at ``omegas`` (rad/s), each seeded by its predecessor.
+
+    ``options`` go to :func:`fretwear.time_integration.shooting`.
+    """
+    from .time_integration import shooting
+
+    out, guess = [], None
+    for w in np.asarray(omegas, dtype=float):
+        sol = shooting(model, w, guess, **options)
+        out.append(sol)
+        guess = sol.y0 if sol.converged else None
     return out
 
 

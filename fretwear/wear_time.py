@@ -262,8 +262,9 @@ def integrate_wear(
     stop_fraction : float
         Stop once every contact has ``w >= stop_fraction * u0``, in (0, 1].
     record_every : int, optional
-        Periods between records when ``max_jump=0``; default about 1000
-        records over the horizon. With jumps every block is recorded.
+        Periods between records when ``max_jump=0``; default about 200 records
+        over the horizon or over ``u0 / (initial wear per cycle)`` cycles if
+        shorter. With jumps every block is recorded.
     samples : int
         Uniform samples per recorded period (>= 4) for the amplitudes.
 
@@ -346,7 +347,9 @@ def integrate_wear(
         return run.history("stuck", True, clock, notes, info)
 
     jumps = max_jump is None or max_jump > 0
-    length = block if jumps else record_every or max(1, cycles // 1000)
+    if record_every is None:  # about 200 records over the horizon or the time to wear u0 at the initial rate
+        record_every = max(1, round(min(cycles, 1 / per_cycle if per_cycle > 0 else cycles) / 200))
+    length = block if jumps else record_every
     nodes: list[float] = []
     rates: list[np.ndarray] = []
     dN: float | None = None
