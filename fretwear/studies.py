@@ -113,9 +113,17 @@ class WearMap:
         return np.array([h.converged for h in self.histories])
 
     def pseudo_frf(self, cycles) -> np.ndarray:
-        """First-harmonic amplitudes at cycle counts ``cycles``, shape (len(cycles), nf, n) (Fig. 8-9)."""
-        return np.stack([np.stack([np.interp(c, self.cycles, a) for a in self.amplitude.T], axis=-1).T
-                         for c in np.atleast_1d(cycles)])  # fmt: skip
+        """First-harmonic amplitudes at cycle counts ``cycles``, shape (len(cycles), nf, n) (Fig. 8-9).
+
+        Linear interpolation in ``N`` between the map's cycle counts (held past the ends).
+        """
+        c = np.clip(np.atleast_1d(np.asarray(cycles, dtype=float)), self.cycles[0], self.cycles[-1])
+        k = np.clip(np.searchsorted(self.cycles, c, side="right") - 1, 0, len(self.cycles) - 2)
+        if len(self.cycles) == 1:
+            return np.repeat(self.amplitude[None, :, 0], len(c), axis=0)
+        t = ((c - self.cycles[k]) / (self.cycles[k + 1] - self.cycles[k]))[:, None, None]
+        a = np.moveaxis(self.amplitude, 1, 0)  # (nN, nf, n)
+        return (1 - t) * a[k] + t * a[k + 1]
 
     def long_table(self) -> dict[str, np.ndarray]:
         """Columns of the long-format table (one row per frequency and cycle count)."""

@@ -537,7 +537,7 @@ class _Engine:
         vanished), ``None`` when ``t1`` is reached; ``near`` lists slipping
         contacts whose relative velocity also vanishes at the event.
         """
-        rows, owner = [], []
+        rows, owner, floor = [], [], []
         e1 = np.zeros(pat.dim)
         e1[pat.i_one] = 1.0
         for j in range(self.nf):
@@ -546,9 +546,11 @@ class _Engine:
             if j in pat.stuck:
                 rows += [g[j] * e1 - pat.force[j], g[j] * e1 + pat.force[j]]
                 owner += [(j, "force"), (j, "force")]
+                floor += [g[j], g[j]]  # a stuck force held at the limit is not an event
             else:
                 rows.append(direction[j] * pat.rel_vel[j])
                 owner.append((j, "velocity"))
+                floor.append(0.0)
         if not rows or t1 <= t:
             return t1, None, None, ()
         H = np.array(rows)
@@ -562,7 +564,7 @@ class _Engine:
                 taus = np.concatenate([pat.h * _GEOMETRIC, taus])
             taus = np.append(taus[taus < tau_stop], tau_stop)
             E = ev(taus)
-            scale = np.maximum(np.abs(E).max(axis=1), np.abs(prev))
+            scale = np.maximum(np.maximum(np.abs(E).max(axis=1), np.abs(prev)), floor)
             bad = E < -_EVENT_TOL * scale[:, None]
             if bad.any():
                 col = int(np.argmax(bad.any(axis=0)))
