@@ -26,11 +26,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import dlft
-from .arclength import tangent
 from .condensation import condense
 from .harmonics import HarmonicBasis, default_samples
 from .model import Model
 from .results import PeriodicSolution
+from .solver_kernels import LOAD, NEWTON, newton_kernel, walk_kernel
 
 __all__ = [
     "Problem",
@@ -257,86 +257,42 @@ def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int =
     stick/slip pattern is right, a full Newton step lands on the solution. On
     the way, full steps must be allowed to raise the residual while the pattern
     settles (a monotone line search stalls at the kinks), so full steps are
-    taken while the residual stays within a factor of the best one seen; then,
-    if needed, a backtracking line search restarts from the best iterate.
+    taken while the residual stays within a factor 1000 of the best one seen,
+    for half the budget; then a backtracking line search restarts from the best
+    iterate. The loop is compiled (:func:`fretwear.solver_kernels.newton_kernel`).
     """
     scale = problem.residual_scale()
-    target = tol * scale
-    x = x0.copy()
-    R, J, *_ = problem.evaluate(x)
-    r = _norm(R)
-    best = (r, x, R, J)
-    it = 0
-    damped = False
-    while it < max_iter:
-        if r <= target:
-            return NewtonResult(x, True, it, r / scale)
-        try:
-            dx = np.linalg.solve(J, -R)
-        except np.linalg.LinAlgError:
-            if damped:
-                return NewtonResult(x, False, it, r / scale, "singular Jacobian")
-            damped, (r, x, R, J) = True, best
-            continue
-        it += 1
-        if not damped:
-            xt = x + dx
-            Rt, Jt, *_ = problem.evaluate(xt)
-            rt = _norm(Rt)
-            if np.isfinite(rt) and rt < 1e3 * best[0] and it < max_iter // 2:
-                x, R, J, r = xt, Rt, Jt, rt
-                if r < best[0]:
-                    best = (r, x, R, J)
-                continue
-            damped, (r, x, R, J) = True, best  # switch to the damped phase from the best iterate
-            continue
-        step = 1.0
-        for _ in range(30):
-            xt = x + step * dx
-            Rt, Jt, *_ = problem.evaluate(xt)
-            rt = _norm(Rt)
-            if rt < (1 - 1e-4 * step) * r:
-                break
-            step *= 0.5
-        else:
-            return NewtonResult(x, False, it, r / scale, "line search failed")
-        x, R, J, r = xt, Rt, Jt, rt
-    if r <= target:
-        return NewtonResult(x, True, it, r / scale)
-    return NewtonResult(x, False, it, r / scale, f"no convergence in {max_iter} iterations")
+    b = problem.basis
+    try:
+        x, ok, it, r, code = newton_kernel(
+            np.asarray(x0, dtype=float).copy(), problem.Z, problem.F, problem.eps, problem.kinds,
+            problem.limits, b.synthesis, b.analysis, b.half_wave, tol * scale, max_iter,
+        )  # fmt: skip
+    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
+        return NewtonResult(np.asarray(x0, dtype=float), False, 0, np.inf, "singular Jacobian")
+    messages = {0: "", 1: "non-finite Newton step", 2: "line search failed",
+                3: f"no convergence in {max_iter} iterations"}  # fmt: skip
+    return NewtonResult(x, bool(ok), int(it), float(r / scale), messages[code])
 
 
-def _walk(problem: Problem, x, p, p_end, derivatives, augmented, max_pieces):
-    """Follow a piecewise-linear solution curve of ``R(x, p) = 0`` from ``(x, p)`` to ``p = p_end > p``.
+def _walk(problem: Problem, x, p, p_end, mode, F, r0, max_pieces):
+    """Follow a piecewise-linear solution curve of the DLFT equations (compiled walk).
 
-    ``derivatives(x, p) -> (J, dR/dp)`` and ``augmented(x, p, t) -> (lambda_u,
-    d lambda_u)`` along the tangent ``t``. Each step goes along the null
-    vector of ``[J, dR/dp]`` to the next state change (computed exactly by
-    :func:`fretwear.dlft.boundary_distance`) and just past it. The tangent
-    keeps the sign of ``det [J dR/dp; t]``, the invariant of a regular curve
-    across the kinks. Returns ``(x, p, pieces, arrived)``.
+    Each step goes along the null vector of ``[dR/dx, dR/dp]`` to the next
+    state change, computed exactly by :func:`fretwear.dlft.boundary_distance`,
+    and just past it. The tangent keeps the sign of ``det [J dR/dp; t]``, the
+    invariant of a regular curve across the kinks (a dot product with the
+    previous tangent is not). Returns ``(x, p, pieces, arrived)``.
     """
-    phi, hw = problem.basis.synthesis, problem.basis.half_wave
-    row = np.zeros(x.size + 1)
-    row[-1] = 1.0
-    orientation = 0.0
-    for piece in range(1, max_pieces + 1):
-        J, dR = derivatives(x, p)
-        try:
-            t, orientation = tangent(J, dR, row, orientation)
-        except np.linalg.LinAlgError:
-            return x, p, piece, False
-        reach = (p_end - p) / t[-1] if t[-1] > 0 else np.inf
-        lu, dlu = augmented(x, p, t)
-        tau = dlft.boundary_distance(
-            lu, dlu, problem.eps, problem.kinds, problem.limits, phi, hw, min(reach, 1e300)
-        )
-        if reach <= tau:
-            return x + reach * t[:-1], p_end, piece, True
-        step = tau * (1 + 1e-9) + 1e-13 * (np.abs(np.append(x, p)).max() + 1e-300)
-        x, p = x + step * t[:-1], p + step * t[-1]
-        row = t
-    return x, p, max_pieces, False
+    b = problem.basis
+    try:
+        x, p, pieces, arrived = walk_kernel(
+            np.asarray(x, dtype=float).copy(), float(p), float(p_end), mode, problem.Z, F, r0, problem.eps,
+            problem.kinds, problem.limits, b.synthesis, b.analysis, b.half_wave, max_pieces,
+        )  # fmt: skip
+    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
+        return x, p, 0, False
+    return x, p, int(pieces), bool(arrived)
 
 
 def load_homotopy(
@@ -354,7 +310,6 @@ def load_homotopy(
     which the stuck solution is exact; otherwise at zero load.
     """
     full = problem.force_scale
-    nc, H = problem.n_active, problem.basis.size
     if np.all(problem.kinds == dlft.FRICTION):
         s = full * min(1.0, 1.0 / problem.stick_ratio())
         problem.force_scale = s
@@ -367,19 +322,7 @@ def load_homotopy(
             problem.force_scale = full
             return NewtonResult(start.x, False, start.iterations, start.residual, "no solution at zero load")
         x = start.x
-    F0 = problem.F0
-    eps_diag = np.repeat(problem.eps, H)
-
-    def derivatives(x, s):
-        problem.force_scale = s
-        _, J, A, *_ = problem.evaluate(x)
-        f = F0.reshape(nc, H)
-        return J, -(f - np.einsum("cij,cj->ci", A, f)).reshape(-1)
-
-    def augmented(x, s, t):
-        return s * F0 - problem.Z @ x + eps_diag * x, t[-1] * F0 - problem.Z @ t[:-1] + eps_diag * t[:-1]
-
-    x, s, pieces, _ = _walk(problem, x, s, full, derivatives, augmented, max_pieces)
+    x, s, pieces, _ = _walk(problem, x, s, full, LOAD, problem.F0, np.zeros(0), max_pieces)
     problem.force_scale = full
     final = newton(problem, x, tol, max_iter)  # polish the end point (exact up to round-off already)
     final.iterations += pieces
@@ -400,17 +343,8 @@ def newton_homotopy(
     the solution at a neighbouring frequency this crosses few pieces, and it
     does not fail where Newton's method jumps between stick/slip patterns.
     """
-    H = problem.basis.size
     r0 = problem.evaluate(x0, jacobian=False)[0]
-    eps_diag = np.repeat(problem.eps, H)
-
-    def derivatives(x, sigma):
-        return problem.evaluate(x)[1], r0
-
-    def augmented(x, sigma, t):
-        return problem.F - problem.Z @ x + eps_diag * x, -problem.Z @ t[:-1] + eps_diag * t[:-1]
-
-    x, sigma, pieces, _ = _walk(problem, x0.copy(), 0.0, 1.0, derivatives, augmented, max_pieces)
+    x, sigma, pieces, _ = _walk(problem, x0, 0.0, 1.0, NEWTON, problem.F, r0, max_pieces)
     final = newton(problem, x, tol, 20)
     final.iterations += pieces
     if not final.converged:

@@ -165,16 +165,21 @@ class _Run:
 
     def shift(self, w_new: np.ndarray) -> bool:
         """Move the state with the periodic orbit from the current wear to ``w_new``; False on failure."""
-        self.solves += 1
-        y_old, ok = ti.periodic_state(self.model, self.omega, self.y, wear=self.w)
-        if not ok:
-            return False
-        self.solves += 1
-        y_new, ok = ti.periodic_state(self.model, self.omega, y_old, wear=w_new)
-        if not ok:
+        y_old = self.orbit(self.y, self.w)
+        y_new = None if y_old is None else self.orbit(y_old, w_new)
+        if y_new is None:
             return False
         self.y, self.w = y_new + (self.y - y_old), w_new
         return True
+
+    def orbit(self, y: np.ndarray, w: np.ndarray) -> np.ndarray | None:
+        """Periodic state at wear ``w`` by Newton from ``y``; None if Newton fails."""
+        self.solves += 1
+        try:
+            y_star, ok = ti.periodic_state(self.model, self.omega, y, wear=w)
+        except RuntimeError:  # a Newton trial state the integrator cannot resolve
+            return None
+        return y_star if ok else None
 
     def snapshot(self) -> tuple:
         return self.y.copy(), self.w.copy(), self.N, len(self.rows)
@@ -202,6 +207,45 @@ class _Run:
             warnings=notes,
             info=info,
         )
+
+
+def _largest_step(N: int, nodes: list[float], rates: list[np.ndarray], limit: float) -> int:
+    """Whole jump <= ``limit`` over which the extrapolated rate of ``z`` stays above half its last value."""
+    slope = (rates[-1] - rates[-2]) / (nodes[-1] - nodes[-2])
+    falling = (slope < 0) & (rates[-1] > 0)
+    if falling.any():
+        limit = min(limit, float(np.min(rates[-1][falling] / (2 * -slope[falling]))) - (N - nodes[-1]))
+    return max(math.floor(limit), 0)
+
+
+def _jump(run: _Run, nodes: list[float], rates: list[np.ndarray], step: int, block: int, tol: float):
+    """Jump ``step`` cycles, then integrate a block of ``block`` periods.
+
+    Predictor: integral of the line through the last two rate samples;
+    corrector: of the quadratic through them and the sample of the new block.
+    Returns the error ratio ``max u0 exp(-z) |corrector - predictor| / (tol u0)``:
+    accepted (corrector kept, sample appended) when <= 1, otherwise the run is
+    restored to its state before the jump. Returns None, with the run
+    unchanged, when the periodic orbit could not be followed.
+    """
+    snap = run.snapshot()
+    N0, z0 = run.N, run.z()
+    predicted = np.maximum(_integral(nodes[-2:], rates[-2:], N0, N0 + step), 0.0)
+    z1 = z0 + predicted
+    if not run.shift(run.wear_of(z1)):
+        return None
+    run.N += step
+    row = len(run.rows)
+    mid, rate = run.block(block)
+    corrected = np.maximum(_integral([*nodes[-2:], mid], [*rates[-2:], rate], N0, N0 + step), 0.0)
+    ratio = float(np.max(np.exp(-z1) * np.abs(corrected - predicted))) / tol
+    if ratio > 1:
+        run.restore(snap)
+    else:
+        run.correct(corrected - predicted, row)
+        nodes.append(mid)
+        rates.append(rate)
+    return ratio
 
 
 def integrate_wear(
@@ -357,48 +401,30 @@ def integrate_wear(
     try:
         while run.N < cycles and not np.all(run.w >= stop_fraction * u0):
             room = cycles - run.N - block  # a full block must follow a jump
+            step = 0
             if jumps and len(rates) >= 2 and run.N >= settle_periods and room >= 1:
-                slope = (rates[-1] - rates[-2]) / (nodes[-1] - nodes[-2])
                 if dN is None:
                     top = rates[-1].max()
                     dN = _FIRST_JUMP * tol ** (1 / 3) / top if top > 0 else room
-                limit = min(dN, room, max_jump or room)
-                falling = (slope < 0) & (rates[-1] > 0)  # keep the extrapolated rate above half its value
-                if falling.any():
-                    lag = run.N - nodes[-1]
-                    limit = min(limit, float(np.min(rates[-1][falling] / (2 * -slope[falling]))) - lag)
-                step = math.floor(limit)
-                if step >= 1:
-                    snap = run.snapshot()
-                    N0, z0 = run.N, run.z()
-                    predicted = np.maximum(_integral(nodes[-2:], rates[-2:], N0, N0 + step), 0.0)
-                    z1 = z0 + predicted
-                    if not run.shift(run.wear_of(z1)):
-                        dN = step / 2
-                        continue
-                    run.N += step
-                    row = len(run.rows)
-                    mid, rate = run.block(block)
-                    corrected = np.maximum(
-                        _integral([*nodes[-2:], mid], [*rates[-2:], rate], N0, N0 + step), 0.0
-                    )
-                    ratio = float(np.max(np.exp(-z1) * np.abs(corrected - predicted))) / tol
+                step = _largest_step(run.N, nodes, rates, min(dN, room, max_jump or room))
+            if step >= 1:
+                ratio = _jump(run, nodes, rates, step, block, tol)
+                if ratio is not None:
                     factor = _GROWTH_MAX if ratio == 0 else _SAFETY * ratio ** (-1 / 3)
                     if ratio > 1:
-                        run.restore(snap)
                         info["rejected_jumps"] += 1
                         dN = step * max(factor, _SHRINK_MIN)
-                        continue
-                    run.correct(corrected - predicted, row)
-                    info["jumps"] += 1
-                    info["largest_jump"] = max(info["largest_jump"], step)
-                    nodes.append(mid)
-                    rates.append(rate)
-                    dN = step * min(factor, _GROWTH_MAX)
+                    else:
+                        info["jumps"] += 1
+                        info["largest_jump"] = max(info["largest_jump"], step)
+                        dN = step * min(factor, _GROWTH_MAX)
                     continue
+                dN = step / 2  # the orbit could not be followed: shorter jumps, after a plain block
             mid, rate = run.block(min(length, cycles - run.N))
             nodes.append(mid)
             rates.append(rate)
+            if dN is not None:
+                dN = max(dN, 1.0)
         if np.all(run.w >= stop_fraction * u0):
             status = "worn"
         if not run.rows or run.rows[-1][0] < run.N:
