@@ -40,6 +40,7 @@ __all__ = [
     "newton",
     "load_homotopy",
     "newton_homotopy",
+    "follow_normal_load",
 ]
 
 #: default penalty, as a multiple of the condensed dynamic stiffness scale
@@ -331,6 +332,29 @@ def load_homotopy(
             f"load continuation ended at load factor {s / full:.6g} after {pieces} pieces; " + final.message
         )
     return final
+
+
+def follow_normal_load(problem: Problem, x: np.ndarray, target: Problem, tol: float = 1e-10) -> NewtonResult:
+    """Solve ``target`` from a solution ``x`` of ``problem`` that differs only by the normal load.
+
+    With one friction contact and no unilateral contact, the DLFT equations are
+    positively homogeneous in the forces and the friction limit: the response
+    at limit ``L2`` equals ``L2 / L1`` times the response at limit ``L1`` under the
+    forces scaled by ``L1 / L2``. The exact load walk from force scale 1 to
+    ``L1 / L2`` therefore follows the physical path between the two normal loads
+    (as wear relaxes the load) crossing only the stick/slip changes on the way.
+    """
+    if not (problem.n_active == target.n_active == 1 and problem.kinds[0] == dlft.FRICTION
+            and problem.basis == target.basis):  # fmt: skip
+        raise ValueError("follow_normal_load needs one active friction contact and the same basis")
+    ratio = target.limits[0] / problem.limits[0]
+    x_end, s, pieces, arrived = _walk(problem, x, 1.0, 1.0 / ratio, LOAD, problem.F0 * problem.force_scale,
+                                      np.zeros(0), 100_000)  # fmt: skip
+    res = newton(target, ratio * x_end, tol, 20)
+    res.iterations += pieces
+    if not res.converged:
+        res.message = f"normal-load walk ended at load ratio {s:.6g} ({pieces} pieces); " + res.message
+    return res
 
 
 def newton_homotopy(

@@ -45,7 +45,7 @@ import numpy as np
 
 from . import dlft
 from .model import Model
-from .periodic import Problem, solve_problem
+from .periodic import Problem, follow_normal_load, newton, solve_problem
 from .results import PeriodicSolution
 
 __all__ = ["WearHistory", "wear_stepping", "wear_polynomial", "check_wear_inputs", "TWO_SCALE_LIMIT"]
@@ -201,18 +201,30 @@ class _Dynamics:
         elif dynamics != "shooting":
             raise ValueError(f"dynamics must be 'dlft' or 'shooting', got {dynamics!r}")
 
+    def _solve(self, problem: Problem) -> PeriodicSolution:
+        """Warm start: Newton from the last solution, then the exact normal-load walk, then cold."""
+        last = getattr(self, "last", None)
+        if self.guess is None or last is None or self.guess.shape != (problem.size,):
+            return solve_problem(problem)
+        res = newton(problem, self.guess, 1e-10, 8)
+        path = "dlft"
+        if not res.converged and problem.n_active == 1 and last.n_active == 1:
+            res, path = follow_normal_load(last, self.guess, problem), "dlft-load-walk"
+        if not res.converged:
+            return solve_problem(problem, self.guess)
+        return PeriodicSolution.build(problem, res.x, res, path)
+
     def __call__(self, wear: np.ndarray, keep: bool = True):
         """Return ``(rate dw/dN, sliding distance, solution)`` or ``None`` if the solve fails."""
         self.solves += 1
         loads = self.model.normal_loads(wear)
         if self.kind == "dlft":
             problem = self.problem.with_wear(wear)
-            guess = self.guess if self.guess is not None and self.guess.shape == (problem.size,) else None
-            sol = solve_problem(problem, guess)
+            sol = self._solve(problem)
             if not sol.converged:
                 return None
             if keep:
-                self.guess = sol.unknowns
+                self.guess, self.last = sol.unknowns, problem
             slid = sol.sliding_distance
         else:
             from .time_integration import shooting

@@ -65,7 +65,8 @@ __all__ = ["integrate_wear"]
 _GROWTH_MAX = 3.0  # largest growth of the jump between two jumps
 _SHRINK_MIN = 0.2  # strongest reduction after a rejected jump
 _SAFETY = 0.8
-_FIRST_JUMP = 0.1  # first jump: z changes by about _FIRST_JUMP * tol^(1/3)
+_FIRST_JUMP = 0.1  # first jump: z changes by about _FIRST_JUMP * sqrt(tol)
+_FLOOR = 1e-3  # errors below _FLOOR * tol * u0 on w always pass
 
 
 def _integral(nodes: list[float], values: list[np.ndarray], a: float, b: float) -> np.ndarray:
@@ -238,7 +239,8 @@ def _jump(run: _Run, nodes: list[float], rates: list[np.ndarray], step: int, blo
     row = len(run.rows)
     mid, rate = run.block(block)
     corrected = np.maximum(_integral([*nodes[-2:], mid], [*rates[-2:], rate], N0, N0 + step), 0.0)
-    ratio = float(np.max(np.exp(-z1) * np.abs(corrected - predicted))) / tol
+    scale = np.maximum(corrected, _FLOOR * np.exp(z1))  # the step's increment of z, floored
+    ratio = float(np.max(np.abs(corrected - predicted) / scale)) / tol
     if ratio > 1:
         run.restore(snap)
     else:
@@ -405,12 +407,12 @@ def integrate_wear(
             if jumps and len(rates) >= 2 and run.N >= settle_periods and room >= 1:
                 if dN is None:
                     top = rates[-1].max()
-                    dN = _FIRST_JUMP * tol ** (1 / 3) / top if top > 0 else room
+                    dN = _FIRST_JUMP * math.sqrt(tol) / top if top > 0 else room
                 step = _largest_step(run.N, nodes, rates, min(dN, room, max_jump or room))
             if step >= 1:
                 ratio = _jump(run, nodes, rates, step, block, tol)
                 if ratio is not None:
-                    factor = _GROWTH_MAX if ratio == 0 else _SAFETY * ratio ** (-1 / 3)
+                    factor = _GROWTH_MAX if ratio == 0 else _SAFETY / math.sqrt(ratio)
                     if ratio > 1:
                         info["rejected_jumps"] += 1
                         dN = step * max(factor, _SHRINK_MIN)
