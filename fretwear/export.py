@@ -45,7 +45,7 @@ FIGURE_FORMATS = ("png", "svg", "html")
 FigureFormat = Literal["png", "svg", "html"]
 XY = tuple[Any, Any]
 
-_MPL_SIZE = {"fig_inches": (6.4, 4.0), "aspect": 1.6}
+_MPL_SIZE = {"fig_inches": 7.0, "aspect": 1.7}
 
 
 def _hv():
@@ -280,7 +280,7 @@ def figure_bytes(fig: hv.core.Dimensioned, fmt: FigureFormat, *, title: str = "f
     hv = _hv()
     if fmt in ("png", "svg"):
         load_backend("matplotlib")
-        data = hv.renderer("matplotlib")(fig, fmt=fmt)[0]
+        data = hv.renderer("matplotlib").instance(dpi=120)(fig, fmt=fmt)[0]
         import matplotlib.pyplot as plt
 
         plt.close("all")
@@ -568,7 +568,7 @@ def paper_figures(
                 title=f"Fig. 9{'abc'[i]}: F_ex = {fex:g} N",
             )
         )
-    write("fig09", hv.Layout(panels).cols(3), table)
+    write("fig09", hv.Layout(panels).cols(1), table)
 
     # Fig. 10: harmonic convergence at f_study, 10 N
     hc = harmonic_convergence(m10, f_study, kw=kw, cycles=cycles, tol=tol)
