@@ -1,4 +1,4 @@
-"""Command line interface: ``fretwear frf``, ``linear``, ``point``, ``wear`` and ``map``.
+"""Command line interface: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map`` and ``cost``.
 
 The commands are thin wrappers around the library calls the dashboard and the
 benchmarks use (:func:`fretwear.continuation.sweep`,
@@ -51,6 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .accuracy import QUANTITIES, cost_ladder
 from .continuation import continuation, sweep
 from .linear import linear_frf
 from .model import Model, paper_model
@@ -252,6 +253,24 @@ def build_parser() -> argparse.ArgumentParser:
                       help="number of log-spaced cycle counts (-), >= 2; default 60")  # fmt: skip
     _add_wear_options(wmap)
     wmap.add_argument("--out", required=True, metavar="FILE", help="CSV (long format) or .npz file")
+    cost = commands.add_parser(
+        "cost",
+        help="what accuracy costs: error vs wall time over a ladder of settings (CSV)",
+        description="Runs a ladder of discretisations (Nh, samples, slow-time tolerance, polynomial degree, "
+        "methods) at one frequency against a converged reference (shooting; with --kw and --cycles also "
+        "w(N) against stepping with shooting dynamics) and writes error vs wall time per rung.",
+    )
+    cost.add_argument("--f", type=_number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
+                      help="excitation frequency (Hz), > 0")  # fmt: skip
+    _add_model_options(cost)
+    cost.add_argument(
+        "--kw", type=_number(0.0, unit="1/Pa"), help="Archard coefficient (1/Pa): adds wear rungs"
+    )
+    cost.add_argument("--cycles", type=_number(0.0, strict=True), help="wear horizon (cycles), with --kw")
+    cost.add_argument("--target", type=_number(0.0, strict=True), default=1e-2,
+                      help="target relative error for the recommendation (-), > 0; default 1e-2")  # fmt: skip
+    cost.add_argument("--quick", action="store_true", help="a shorter ladder")
+    cost.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
     return parser
 
 
@@ -530,7 +549,30 @@ def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
     return EXIT_OK if not failed else EXIT_NOT_CONVERGED
 
 
-_COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map}
+def _cost(args: argparse.Namespace, model: Model, names: _Names) -> int:
+    """``fretwear cost``: the cost ladder as CSV, the recommendation on stderr."""
+    if (args.kw is None) != (args.cycles is None):
+        raise UsageError("arguments --kw and --cycles: give both (wear rungs) or neither")
+    ladder = dict(harmonics=(1, 3, 7, 21, 41), sample_factors=(8, 16), tolerances=(1e-1, 1e-2),
+                  degrees=(2, 4), wear_harmonics=(3, 21)) if args.quick else {}  # fmt: skip
+    study = cost_ladder(model, args.f, kw=args.kw, cycles=args.cycles, **ladder)
+    best = study.recommend(args.target)
+    rows = []
+    for r in study.rungs:
+        row = {"method": r.method, "settings": r.label, "wall_time_s": r.wall_time}
+        row.update({f"err_{q}": r.errors.get(q, float("nan")) for q in QUANTITIES})
+        row.update(converged=r.converged, recommended=r is best)
+        rows.append(row)
+    _write_csv(rows, args.out)
+    for name, ref in study.reference.items():
+        print(f"fretwear cost: reference ({name}): {ref}", file=sys.stderr)
+    pick = f"{best.label} ({best.wall_time * 1e3:.1f} ms)" if best else "none of the rungs"
+    print(f"fretwear cost: cheapest rung within {args.target:g} on every quantity: {pick}; wrote {args.out}",
+          file=sys.stderr)  # fmt: skip
+    return EXIT_OK
+
+
+_COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map, "cost": _cost}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
