@@ -20,3 +20,21 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     for item in items:
         if "browser" in item.keywords:
             item.add_marker(skip)
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--slow",
+        action="store_true",
+        help="property-based tests with thousands of draws (hypothesis profile 'thorough')",
+    )
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Hypothesis profiles: a short default run, thousands of draws with --slow."""
+    from hypothesis import HealthCheck, settings
+
+    common = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=False)
+    settings.register_profile("quick", max_examples=12, **common)
+    settings.register_profile("thorough", max_examples=2000, **common)
+    settings.load_profile("thorough" if config.getoption("--slow") else "quick")

@@ -302,3 +302,58 @@ def test_library_value_error_becomes_a_message(capsys, monkeypatch):
     code, out, err = run(capsys, "point", "--f", "1")
     assert (code, out) == (2, "")
     assert err == "fretwear point: error: eps must be finite and > 0 N/m, got -1\n"
+
+
+# -- wear, map and cost ---------------------------------------------------------------
+def test_wear_command_writes_the_history(tmp_path, capsys):
+    out = tmp_path / "wear.csv"
+    assert cli.main(["wear", "--f", "0.7", "--cycles", "2e4", "--harmonics", "3", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(out.open()))
+    assert {"cycles", "w", "w_over_u0", "fn", "dw_dn", "x1_h1", "xr_half_p2p", "sliding_distance"} <= set(
+        rows[0]
+    )
+    w = np.array([float(r["w"]) for r in rows])
+    assert w[0] == 0 and np.all(np.diff(w) >= 0) and w[-1] < 1e-6
+    np.testing.assert_allclose([float(r["fn"]) for r in rows], 1e7 * (1e-6 - w), rtol=1e-9)
+
+
+def test_map_command_long_format_and_npz(tmp_path):
+    out = tmp_path / "map.csv"
+    args = ["map", "--fmin", "0.5", "--fmax", "0.9", "--nf", "3", "--ncycles", "4", "--cycles", "1e4",
+            "--harmonics", "3"]  # fmt: skip
+    assert cli.main([*args, "--out", str(out)]) == 0
+    rows = list(csv.DictReader(out.open()))
+    assert len(rows) == 12 and {"f_hz", "cycles", "w", "w_over_u0"} <= set(rows[0])
+    npz = tmp_path / "map.npz"
+    assert cli.main([*args, "--out", str(npz)]) == 0
+    data = np.load(npz)
+    assert data["wear"].shape == (3, 4, 1)
+    np.testing.assert_allclose(data["wear"].ravel(), [float(r["w"]) for r in rows])
+
+
+def test_cost_command(tmp_path, capsys):
+    out = tmp_path / "cost.csv"
+    assert cli.main(["cost", "--f", "0.7", "--quick", "--target", "0.05", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(out.open()))
+    assert rows[0]["method"] == "shooting" and any(r["method"] == "dlft" for r in rows)
+    assert sum(r["recommended"] == "True" for r in rows) == 1
+    assert "reference" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "argv,fragment",
+    [
+        (["wear", "--f", "0.7", "--kw", "-1", "--out", "x.csv"], "--kw"),
+        (["wear", "--f", "0.7", "--cycles", "0", "--out", "x.csv"], "--cycles"),
+        (["wear", "--f", "0.7", "--method", "polynomial", "--degree", "13", "--out", "x.csv"], "--degree"),
+        (["wear", "--f", "0.7", "--tol", "2", "--out", "x.csv"], "--tol"),
+        (["map", "--fmin", "1", "--fmax", "0.5", "--out", "x.csv"], "--fmax"),
+        (["cost", "--f", "0.7", "--kw", "1e-11", "--out", "x.csv"], "--kw and --cycles"),
+        (["wear", "--f", "0.7", "--fn", "0", "--out", "x.csv"], "u0"),
+    ],
+)
+def test_wear_bad_input(tmp_path, monkeypatch, capsys, argv, fragment):
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err
+    assert fragment in err and "Traceback" not in err

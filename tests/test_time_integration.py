@@ -356,3 +356,38 @@ def test_bad_input():
     )
     with pytest.raises(ValueError, match="linearly independent"):
         ti.period_map(redundant, 1.0, np.zeros(4))
+
+
+# ---------------------------------------------------------------------------
+# 6. additions for the wear reference (fretwear.wear_time)
+# ---------------------------------------------------------------------------
+def test_periodic_state_is_the_shooting_orbit():
+    model, w = paper_model(fex=10), 2 * np.pi * 0.7
+    sol = ti.shooting(model, w, wear=[3e-7])
+    y, converged = ti.periodic_state(model, w, sol.y0 * 1.01, wear=[3e-7])
+    assert converged
+    assert rel(y, sol.y0) < 1e-9
+
+
+@pytest.mark.parametrize("excess", [8.0, 12.0])
+def test_stuck_force_held_at_the_friction_limit(excess):
+    """A stuck contact whose force sits at the limit with zero rate is not an event (regression).
+
+    Mass 2 at rest is held by contact 1 (to ground, slip force 2 N) against its
+    spring and the constant slip force (10 N) of contact 0: its stuck force
+    ``10 - k2 x2`` is at ``+-2 N`` up to ``2e-9`` relative and stays constant
+    while contact 0 slips. Before the fix, an excess beyond the limit small
+    enough for the state selection to keep the contact stuck triggered an
+    event at once, forever (RuntimeError for about half of these states).
+    """
+    base = paper_model(fex=10)
+    model = Model(
+        M=base.M, C=base.C, K=base.K, force_cos=base.force_cos,
+        friction=base.friction + (FrictionContact.from_normal_load(1, None, 1.0, 2.0),),
+    )  # fmt: skip
+    w = 2 * np.pi * 0.7
+    for k in range(-20, 21):
+        y0 = np.array([-0.4, excess / K2 * (1 + k * 1e-11), 0.3, 0.0])
+        run = ti.integrate(model, w, y0, 0.0, 2 * np.pi / w)
+        if abs(k) <= 5:  # within round-off of the limit: contact 1 stays stuck until contact 0 changes
+            assert run.segment_state[0, 1] == ti.STICK and run.events[0].contact == 0
