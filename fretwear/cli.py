@@ -291,9 +291,11 @@ def _add_wear_options(parser: argparse.ArgumentParser) -> None:
                         help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
     parser.add_argument("--cycles", type=_number(0.0, strict=True), default=1e5,
                         help="horizon: number of vibration cycles N (-), > 0; default 1e5")  # fmt: skip
-    parser.add_argument("--method", choices=("stepping", "polynomial", "time"), default="stepping",
-                        help="slow-time method: adaptive stepping (default), polynomial slow-time DLFT, "
-                        "or direct time integration with cycle jumps")  # fmt: skip
+    methods = ("auto", "exact", "stepping", "polynomial", "time")
+    parser.add_argument("--method", choices=methods, default="auto",
+                        help="slow-time method: exact load-path integration (one friction contact), adaptive "
+                        "stepping, polynomial slow-time DLFT, or direct time integration with cycle jumps; "
+                        "auto (default): exact when it applies, else stepping")  # fmt: skip
     parser.add_argument("--dynamics", choices=("dlft", "shooting"), default="dlft",
                         help="periodic solver inside stepping: HBM + DLFT (default) or shooting")  # fmt: skip
     _add_solver_options(parser)
@@ -495,7 +497,7 @@ def _wear_options(args: argparse.Namespace) -> dict:
     if not 0 < args.tol < 1:
         raise UsageError(f"argument --tol: must be in (0, 1), got {args.tol:g}")
     options = dict(kw=args.kw, harmonics=args.harmonics, samples=args.samples, tol=args.tol)
-    if args.method == "stepping":
+    if args.method in ("auto", "stepping"):
         options.update(dynamics=args.dynamics, fixed_step=args.fixed_step)
     elif args.method == "polynomial":
         options.update(degree=args.degree, basis=args.basis)

@@ -276,24 +276,27 @@ def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int =
     return NewtonResult(x, bool(ok), int(it), float(r / scale), messages[code])
 
 
-def _walk(problem: Problem, x, p, p_end, mode, F, r0, max_pieces):
+def _walk(problem: Problem, x, p, p_end, mode, F, r0, max_pieces, record: int = 0):
     """Follow a piecewise-linear solution curve of the DLFT equations (compiled walk).
 
     Each step goes along the null vector of ``[dR/dx, dR/dp]`` to the next
     state change, computed exactly by :func:`fretwear.dlft.boundary_distance`,
     and just past it. The tangent keeps the sign of ``det [J dR/dp; t]``, the
     invariant of a regular curve across the kinks (a dot product with the
-    previous tangent is not). Returns ``(x, p, pieces, arrived)``.
+    previous tangent is not). Returns ``(x, p, pieces, arrived)``, and with
+    ``record > 0`` also the path's breakpoints ``(x_k, p_k, slid_k)`` (at most ``record``).
     """
     b = problem.basis
+    rec = np.empty((record, x.size)), np.empty(record), np.empty(record)
     try:
-        x, p, pieces, arrived = walk_kernel(
+        x, p, pieces, arrived, k = walk_kernel(
             np.asarray(x, dtype=float).copy(), float(p), float(p_end), mode, problem.Z, F, r0, problem.eps,
-            problem.kinds, problem.limits, b.synthesis, b.analysis, b.half_wave, max_pieces,
+            problem.kinds, problem.limits, b.synthesis, b.analysis, b.half_wave, max_pieces, *rec,
         )  # fmt: skip
     except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
-        return x, p, 0, False
-    return x, p, int(pieces), bool(arrived)
+        return (x, p, 0, False) + ((rec[0][:0], rec[1][:0], rec[2][:0]) if record else ())
+    out = (x, p, int(pieces), bool(arrived))
+    return out + ((rec[0][:k], rec[1][:k], rec[2][:k]) if record else ())
 
 
 def load_homotopy(

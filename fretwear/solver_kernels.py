@@ -112,12 +112,18 @@ def _tangent(J, dR, row, orientation):
 
 
 @njit(cache=True, nogil=True)
-def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, half_wave, max_pieces):
+def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, half_wave, max_pieces,
+                rec_x, rec_p, rec_s):  # fmt: skip
     """Follow the piecewise-linear solution curve from ``(x0, p0)`` to ``p = p_end``.
 
     ``mode`` LOAD: the forces are ``p F`` (``F`` at unit load); NEWTON: the
     residual is ``R(x) - (1 - p) r0`` at the forces ``F``. Returns
-    ``(x, p, pieces, arrived)``; see :func:`fretwear.periodic._walk`.
+    ``(x, p, pieces, arrived, recorded)``; see :func:`fretwear.periodic._walk`.
+
+    When ``rec_x`` has rows, the start of every piece is recorded: unknowns
+    ``rec_x``, parameter ``rec_p`` and the distance slid per period by the first
+    contact ``rec_s`` (m), which are linear in ``p`` within a piece; the end
+    point is recorded last. ``recorded`` counts the rows filled.
     """
     n = x0.shape[0]
     nc = kinds.shape[0]
@@ -136,9 +142,16 @@ def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, hal
     row[n] = 1.0
     orientation = 0.0
     dR = np.empty(n)
+    n_rec = rec_x.shape[0]
+    k = 0
     for piece in range(1, max_pieces + 1):
         Fp = p * F if mode == LOAD else F
         evaluate(x, Z, Fp, eps, kinds, limits, Phi, Psi, half_wave, True, R, A, lam, X, state)
+        if k < n_rec - 1:
+            rec_x[k] = x
+            rec_p[k] = p
+            rec_s[k] = _slid(X[0], half_wave)
+            k += 1
         jacobian_from_blocks(Z, eps, A, J)
         if mode == LOAD:
             for c in range(nc):
@@ -156,10 +169,29 @@ def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, hal
             dlu += t[n] * F
         tau = boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, min(reach, 1e300))
         if reach <= tau:
-            return x + reach * tx, p_end, piece, True
+            x = x + reach * tx
+            if n_rec > 0:
+                Fe = p_end * F if mode == LOAD else F
+                evaluate(x, Z, Fe, eps, kinds, limits, Phi, Psi, half_wave, False, R, A, lam, X, state)
+                rec_x[k] = x
+                rec_p[k] = p_end
+                rec_s[k] = _slid(X[0], half_wave)
+                k += 1
+            return x, p_end, piece, True, k
         big = max(np.abs(x).max(), abs(p))
         step = tau * (1 + 1e-9) + 1e-13 * (big + 1e-300)
         x = x + step * tx
         p = p + step * t[n]
         row = t
-    return x, p, max_pieces, False
+    return x, p, max_pieces, False, k
+
+
+@njit(cache=True, nogil=True)
+def _slid(X, half_wave):
+    """Distance slid per period from the slip variable of the march (m)."""
+    n = X.shape[0]
+    total = 0.0
+    for s in range(n):
+        prev = X[s - 1] if s > 0 else (-X[n - 1] if half_wave else X[n - 1])
+        total += abs(X[s] - prev)
+    return 2.0 * total if half_wave else total

@@ -23,7 +23,14 @@ from typing import Literal
 import numpy as np
 
 from .model import Model
-from .wear import WearHistory, check_wear_inputs, wear_polynomial, wear_stepping
+from .wear import (
+    WearHistory,
+    check_wear_inputs,
+    exact_path_applies,
+    wear_exact,
+    wear_polynomial,
+    wear_stepping,
+)
 
 __all__ = [
     "WearMap",
@@ -36,13 +43,13 @@ __all__ = [
     "shooting_sweep",
 ]
 
-Method = Literal["stepping", "polynomial", "time"]
+Method = Literal["auto", "exact", "stepping", "polynomial", "time"]
 
 
 def wear_history(
     model: Model,
     omega: float,
-    method: Method = "stepping",
+    method: Method = "auto",
     *,
     kw: float = 1e-11,
     cycles: float = 1e5,
@@ -56,10 +63,18 @@ def wear_history(
 ) -> WearHistory:
     """Wear evolution at ``omega`` (rad/s) by ``method`` (see :mod:`fretwear.wear`).
 
-    ``tol`` is the local error tolerance on ``w / u0`` of stepping and of the
-    cycle jumps of time integration; ``degree`` and ``basis`` set the
+    ``"exact"`` integrates along the exact load path (one friction contact);
+    ``"auto"`` picks it when it applies and DLFT dynamics are asked for, else
+    stepping. ``tol`` is the local error tolerance on ``w / u0`` of stepping and
+    of the cycle jumps of time integration; ``degree`` and ``basis`` set the
     polynomial method; ``dynamics`` the periodic solver of stepping.
     """
+    if method == "auto":
+        method = (
+            "exact" if exact_path_applies(model) and dynamics == "dlft" and not fixed_step else "stepping"
+        )
+    if method == "exact":
+        return wear_exact(model, omega, kw=kw, cycles=cycles, harmonics=harmonics, samples=samples)
     if method == "stepping":
         return wear_stepping(model, omega, kw=kw, cycles=cycles, harmonics=harmonics, samples=samples,
                              tol=tol, dynamics=dynamics, fixed_step=fixed_step)  # fmt: skip
@@ -70,7 +85,7 @@ def wear_history(
         from .wear_time import integrate_wear
 
         return integrate_wear(model, omega, cycles, kw=kw, tol=tol)
-    raise ValueError(f"method must be 'stepping', 'polynomial' or 'time', got {method!r}")
+    raise ValueError(f"method must be 'auto', 'exact', 'stepping', 'polynomial' or 'time', got {method!r}")
 
 
 @dataclass
@@ -147,10 +162,10 @@ def wear_map(
     frequencies,
     cycles,
     *,
-    method: Method = "stepping",
+    method: Method = "auto",
     kw: float = 1e-11,
     harmonics: int = 21,
-    workers: int = 1,
+    workers: int = 2,
     **options,
 ) -> WearMap:
     """Wear map over ``frequencies`` (Hz) and the cycle grid ``cycles`` (paper Fig. 7).

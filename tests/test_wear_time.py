@@ -126,9 +126,42 @@ def test_slipping_contact_wears_monotonically_to_u0():
 def test_two_contacts_wear_monotonically():
     base = paper_model(fex=10)
     model = replace(base, friction=base.friction + (FrictionContact.from_normal_load(1, None, 1.0, 2.0),))
-    hist = integrate_wear(model, TWO_PI * 0.6, 2e4, kw=1e-11)
+    hist = integrate_wear(model, TWO_PI * 0.6, 2e4, kw=1e-11, tol=1e-2)
     assert hist.status == "horizon" and hist.converged and hist.cycles[-1] == 2e4
     assert np.all(hist.wear[-1] > 0.2 * hist.u0)
+    check_physical(hist)
+
+
+def test_no_wear_coefficient_jumps_to_the_horizon():
+    hist = integrate_wear(paper_model(fex=10), OMEGA_PAPER, 1e6, kw=0.0)
+    assert hist.status == "horizon" and hist.cycles[-1] == 1e6
+    assert np.all(hist.wear == 0) and hist.info["periods"] < 100
+
+
+def test_absurd_wear_coefficient_is_flagged_and_stays_physical():
+    """The paper's K_w = 1e-6 wears the contact through within the first cycle."""
+    with pytest.warns(RuntimeWarning, match="wear per cycle"):
+        hist = integrate_wear(paper_model(fex=10), OMEGA_PAPER, 100, kw=1e-6)
+    assert hist.status == "worn" and hist.warnings
+    assert np.all(hist.wear <= hist.u0) and np.all(hist.normal_load >= 0)
+
+
+def test_failed_integration_keeps_the_history(monkeypatch):
+    from fretwear import wear_time
+
+    calls = {"n": 0}
+    period_map = wear_time.ti.period_map
+
+    def failing(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] > 40:
+            raise RuntimeError("contact states could not be resolved")
+        return period_map(*args, **kwargs)
+
+    monkeypatch.setattr(wear_time.ti, "period_map", failing)
+    hist = integrate_wear(paper_model(fex=10), OMEGA_PAPER, 1e5, kw=1e-11)
+    assert not hist.converged and hist.status.startswith("failed: contact states")
+    assert len(hist.cycles) > 5 and hist.cycles[-1] > 100
     check_physical(hist)
 
 
@@ -141,11 +174,12 @@ def test_wear_depends_on_kw_times_cycles():
     Exact for the slow-time law; the per-period rule (``K_w k_n s`` <= 1e-3
     per cycle) and the lag of the dynamics behind the drifting orbit (its
     relative effect on the rate is about 2e-4 per 1e-11 of ``K_w``) break it
-    slightly, and each run carries its relative jump tolerance 1e-4.
+    slightly (measured: 3.6e-4 on the cycle counts, the same with tol = 1e-4),
+    and each run carries its jump tolerance 1e-3 (measured error 1e-5).
     """
     model = paper_model(fex=10)
-    one = integrate_wear(model, OMEGA_PAPER, 1e5, kw=1e-11, tol=1e-4)
-    two = integrate_wear(model, OMEGA_PAPER, 5e4, kw=2e-11, tol=1e-4)
+    one = integrate_wear(model, OMEGA_PAPER, 1e5, kw=1e-11)
+    two = integrate_wear(model, OMEGA_PAPER, 5e4, kw=2e-11)
     for fraction in (0.1, 0.3, 0.5, 0.7, 0.9):
         assert one.cycles_to(fraction) == pytest.approx(2 * two.cycles_to(fraction), rel=1e-3)
     N = np.linspace(0, one.cycles[-1], 50)
@@ -159,20 +193,22 @@ def test_cycle_jumps_agree_with_every_period_integrated():
     """Paper model, F_ex = 10 N, f = 0.7 Hz, K_w = 1e-10 (wear per cycle 5e-4 u0 at the start), to 0.5 u0.
 
     ``tol`` bounds the relative error of each jump's increment, hence about
-    ``tol`` on the cycle count at which a depth is reached; the error on ``w``
-    is far below ``tol u0``.
+    ``tol`` or less on the cycle count at which a depth is reached, and the
+    error on ``w`` stays below ``tol u0``; the jumps save more periods the
+    slower the wear (56x at K_w = 1e-11 and tol = 1e-3 over the whole history).
     """
     model = paper_model(fex=10)
     exact = integrate_wear(model, OMEGA_PAPER, 520, kw=1e-10, max_jump=0, record_every=1)
     assert exact.info["periods"] == 521 and exact.wear[-1, 0] > 0.5 * exact.u0[0]
     check_physical(exact)
-    for tol in (1e-2, 1e-3):
+    for tol, saving in ((1e-2, 5), (1e-3, 2)):
         jumped = integrate_wear(model, OMEGA_PAPER, 520, kw=1e-10, tol=tol)
-        assert jumped.info["jumps"] > 0 and jumped.info["periods"] < exact.info["periods"] / 3
+        assert jumped.info["jumps"] > 0 and jumped.info["periods"] < exact.info["periods"] / saving
         check_physical(jumped)
-        assert jumped.at(exact.cycles)["wear"] == pytest.approx(exact.wear, abs=tol * exact.u0[0])
+        # measured: 0.05 tol and 0.01 tol on w / u0, 0.06 tol and 0.01 tol on the cycle counts
+        assert jumped.at(exact.cycles)["wear"] == pytest.approx(exact.wear, abs=0.2 * tol * exact.u0[0])
         for fraction in (0.1, 0.3, 0.5):
-            assert jumped.cycles_to(fraction) == pytest.approx(exact.cycles_to(fraction), rel=tol)
+            assert jumped.cycles_to(fraction) == pytest.approx(exact.cycles_to(fraction), rel=0.2 * tol)
 
 
 def test_start_from_rest_settles_before_jumping():
