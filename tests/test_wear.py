@@ -7,7 +7,7 @@ import pytest
 
 from fretwear import FrictionContact, Model, paper_model, solve_periodic
 from fretwear import wear as wear_module
-from fretwear.wear import wear_polynomial, wear_stepping
+from fretwear.wear import wear_exact, wear_polynomial, wear_stepping
 
 TWO_PI = 2 * np.pi
 
@@ -205,3 +205,32 @@ def test_stepping_with_shooting_agrees_with_direct_time_integration():
     direct = integrate_wear(model, omega, 3e4, kw=1e-11, tol=1e-3)
     for fraction in (0.5, 0.9):
         assert direct.cycles_to(fraction) == pytest.approx(stepping.cycles_to(fraction), rel=0.01)
+
+
+# -- exact load-path integration -------------------------------------------------------------
+def test_exact_path_is_the_zero_tolerance_limit_of_stepping():
+    model, omega = paper_model(fex=10), TWO_PI * 0.7
+    exact = wear_exact(model, omega, kw=1e-11, cycles=1e6, harmonics=7)
+    fine = wear_stepping(model, omega, kw=1e-11, cycles=1e6, harmonics=7, tol=1e-6)
+    assert exact.status == "worn" and exact.method == "exact"
+    for fraction in (0.1, 0.5, 0.9, 0.98):
+        assert exact.cycles_to(fraction) == pytest.approx(fine.cycles_to(fraction), rel=2e-4)
+    N = np.linspace(0, exact.cycles[-1], 80)
+    assert np.abs(exact.at(N)["wear"] - fine.at(N)["wear"]).max() < 2e-4 * exact.u0[0]
+    assert np.all(np.diff(exact.wear[:, 0]) > 0) and np.all(exact.wear < exact.u0)
+
+
+def test_exact_path_frozen_dynamics_and_horizon():
+    model, omega = imposed_motion_model(), 0.45
+    hist = wear_exact(model, omega, kw=KW_FROZEN, cycles=2e5, harmonics=21)
+    assert hist.status == "horizon" and hist.cycles[-1] == pytest.approx(2e5)
+    exact = frozen_exact(model, omega, KW_FROZEN, hist.cycles)
+    assert np.abs(hist.wear[:, 0] - exact).max() < 1e-5 * model.friction[0].u0
+
+
+def test_exact_path_stuck_and_applicability():
+    hist = wear_exact(paper_model(fex=6), TWO_PI * 0.3, kw=1e-11, cycles=1e5)
+    assert hist.status == "stuck" and np.all(hist.wear == 0)
+    two = dataclasses.replace(paper_model(), friction=paper_model().friction * 2)
+    with pytest.raises(ValueError, match="one friction contact"):
+        wear_exact(two, 4.0)
