@@ -409,7 +409,7 @@ def wear_exact(
     harmonics: int = 21,
     samples: int | None = None,
     stop_fraction: float = 0.99,
-    max_records: int = 200,
+    max_records: int = 100,
 ) -> WearHistory:
     """Wear evolution with no slow-time discretisation error, for one friction contact.
 
@@ -535,7 +535,7 @@ def _observables(problem: Problem, xs: np.ndarray, sigma: np.ndarray):
                      for e in np.eye(problem.size)])  # fmt: skip
     U = base[None] + np.einsum("kj,jnm->knm", lam, unit)  # (K, n, 2 Nh + 1)
     K = len(sigma)
-    grid = full_synthesis(nh, b.samples)
+    grid = full_synthesis(nh, 8 * nh + 8)  # a start for the exact extrema: 4 samples per shortest period
     dof = U.reshape(-1, U.shape[-1])
     hi, lo = extrema(dof, dof @ grid.T)
     rel = np.einsum("cn,knm->kcm", model.relative_map(), U).reshape(-1, U.shape[-1])
