@@ -7,7 +7,9 @@ Time histories are sampled on the DLFT grid of one full period
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import copy
+from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -51,20 +53,11 @@ class PeriodicSolution:
     unknowns : ndarray
         Solver unknowns (harmonics of the active contact coordinates), reusable
         as the ``guess`` of a neighbouring solve.
-    dof_harmonics : ndarray, shape (n, 2 Nh + 1)
-        Coefficients ``[a0, a1, b1, ...]`` of every DOF (m), eq. 10.
-    time : ndarray, shape (N,)
-        Sample times over one period (s).
-    displacement : ndarray, shape (n, N)
-        DOF displacements on the grid (m).
-    relative_displacement : ndarray, shape (n_contacts, N)
-        ``u_r = B u`` of every contact of the model, friction first (m).
-    contact_force : ndarray, shape (n_contacts, N)
-        Contact force ``lambda`` from the DLFT march (N); zero for open contacts.
-    state : ndarray of int8, shape (n_contacts, N)
-        0 stick (or closed), 1 slip, 2 open/separated.
-    slip : ndarray, shape (n_contacts, N)
-        Slip variable ``X`` of the march (m): it moves only while slipping.
+    problem : Problem
+        The solved problem (condensation, basis, penalties).
+
+    The time histories and harmonics (``dof_harmonics``, ``displacement``,
+    ``contact_force``, ``state``, ``slip``, ...) are computed on first access.
     """
 
     model: Model
@@ -80,40 +73,17 @@ class PeriodicSolution:
     wear: np.ndarray
     normal_loads: np.ndarray
     unknowns: np.ndarray
-    dof_harmonics: np.ndarray
-    time: np.ndarray
-    displacement: np.ndarray
-    relative_displacement: np.ndarray
-    contact_force: np.ndarray
-    state: np.ndarray
-    slip: np.ndarray
+    problem: Problem = field(repr=False, compare=False)
 
     @classmethod
     def build(cls, problem: Problem, x: np.ndarray | None, res: NewtonResult, path: str) -> PeriodicSolution:
-        """Assemble the solution of ``problem`` at unknowns ``x``."""
-        model, basis = problem.model, problem.basis
-        N, Nh = basis.samples, basis.harmonics
-        n_all = len(model.contacts)
-        force = np.zeros((n_all, N))
-        slip = np.zeros((n_all, N))
-        state = np.full((n_all, N), dlft.OPEN, dtype=np.int8)
-        lam_h = np.zeros((problem.n_active, 2 * Nh + 1))
-        if problem.n_active:
-            _, _, _, lam, X, st = problem.evaluate(x, jacobian=False)
-            lam_h = basis.to_full(lam @ basis.analysis.T)
-            if basis.half_wave:
-                lam, X, st = np.hstack([lam, -lam]), np.hstack([X, -X]), np.hstack([st, st])
-            force[problem.active_index], slip[problem.active_index], state[problem.active_index] = lam, X, st
-        U = recover(model, problem.B, problem.omega, Nh, lam_h, problem.force_scale)
-        u = U @ full_synthesis(Nh, N).T
-        rel = model.relative_map() @ u
-        inactive = np.setdiff1d(np.arange(n_all), problem.active_index)
-        slip[inactive] = rel[inactive]
+        """The solution of ``problem`` at unknowns ``x``; time histories are computed on first access."""
+        basis = problem.basis
         return cls(
-            model=model,
+            model=problem.model,
             omega=problem.omega,
-            harmonics=Nh,
-            samples=N,
+            harmonics=basis.harmonics,
+            samples=basis.samples,
             half_wave=basis.half_wave,
             path=path,
             converged=res.converged,
@@ -123,14 +93,67 @@ class PeriodicSolution:
             wear=problem.wear,
             normal_loads=problem.normal_loads,
             unknowns=np.zeros(0) if x is None else x,
-            dof_harmonics=U,
-            time=np.arange(N) * (2 * np.pi / problem.omega / N),
-            displacement=u,
-            relative_displacement=rel,
-            contact_force=force,
-            state=state,
-            slip=slip,
+            problem=copy.copy(problem),  # its load factor may change later; keep this one
         )
+
+    @cached_property
+    def _march(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Contact force, slip variable, state over the full period, and the force harmonics."""
+        problem, basis = self.problem, self.problem.basis
+        n_all, N = len(self.model.contacts), self.samples
+        force = np.zeros((n_all, N))
+        slip = np.zeros((n_all, N))
+        state = np.full((n_all, N), dlft.OPEN, dtype=np.int8)
+        lam_h = np.zeros((problem.n_active, 2 * self.harmonics + 1))
+        if problem.n_active:
+            _, _, _, lam, X, st = problem.evaluate(self.unknowns, jacobian=False)
+            lam_h = basis.to_full(lam @ basis.analysis.T)
+            if basis.half_wave:
+                lam, X, st = np.hstack([lam, -lam]), np.hstack([X, -X]), np.hstack([st, st])
+            force[problem.active_index], slip[problem.active_index], state[problem.active_index] = lam, X, st
+        return force, slip, state, lam_h
+
+    @cached_property
+    def dof_harmonics(self) -> np.ndarray:
+        """Coefficients ``[a0, a1, b1, ...]`` of every DOF (m), shape (n, 2 Nh + 1), eq. 10."""
+        p = self.problem
+        return recover(self.model, p.B, self.omega, self.harmonics, self._march[3], p.force_scale)
+
+    @cached_property
+    def time(self) -> np.ndarray:
+        """Sample times over one period (s), shape (N,)."""
+        return np.arange(self.samples) * (2 * np.pi / self.omega / self.samples)
+
+    @cached_property
+    def displacement(self) -> np.ndarray:
+        """DOF displacements on the grid (m), shape (n, N)."""
+        return self.dof_harmonics @ full_synthesis(self.harmonics, self.samples).T
+
+    @cached_property
+    def relative_displacement(self) -> np.ndarray:
+        """``u_r = B u`` of every contact of the model, friction first (m), shape (n_contacts, N)."""
+        return self.model.relative_map() @ self.displacement
+
+    @property
+    def contact_force(self) -> np.ndarray:
+        """Contact force ``lambda`` from the DLFT march (N), shape (n_contacts, N); zero when open."""
+        return self._march[0]
+
+    @property
+    def state(self) -> np.ndarray:
+        """Sample states, int8 (n_contacts, N): 0 stick (or closed), 1 slip, 2 open/separated."""
+        return self._march[2]
+
+    @cached_property
+    def slip(self) -> np.ndarray:
+        """Slip variable ``X`` of the march (m), shape (n_contacts, N): it moves only while slipping.
+
+        For a contact left out of the solve (open), the relative displacement.
+        """
+        slip = self._march[1].copy()
+        inactive = np.setdiff1d(np.arange(len(self.model.contacts)), self.problem.active_index)
+        slip[inactive] = self.relative_displacement[inactive]
+        return slip
 
     # -- amplitudes -----------------------------------------------------------
     @property
