@@ -27,16 +27,20 @@ from .model import Model
 __all__ = ["Condensed", "condense", "dynamic_stiffness", "forcing", "recover"]
 
 
-def dynamic_stiffness(model: Model, omega: float, orders: np.ndarray) -> np.ndarray:
-    """Complex dynamic stiffness ``D_k`` for each harmonic order, shape (len(orders), n, n)."""
-    w = np.asarray(orders, dtype=float)[:, None, None] * omega
+def dynamic_stiffness(model: Model, omega, orders: np.ndarray) -> np.ndarray:
+    """Complex dynamic stiffness ``D_k`` per harmonic order, shape (..., len(orders), n, n).
+
+    ``omega`` (rad/s) is a scalar, or an array broadcast against the orders.
+    """
+    w = (np.asarray(orders, dtype=float) * np.asarray(omega, dtype=float))[..., None, None]
     return model.K - w**2 * model.M + 1j * w * model.C
 
 
-def _d_dynamic_stiffness(model: Model, omega: float, orders: np.ndarray) -> np.ndarray:
-    """Derivative ``dD_k / d omega``, shape (len(orders), n, n)."""
-    k = np.asarray(orders, dtype=float)[:, None, None]
-    return -2 * k**2 * omega * model.M + 1j * k * model.C
+def _d_dynamic_stiffness(model: Model, omega, orders: np.ndarray) -> np.ndarray:
+    """Derivative ``dD_k / d omega``, shape (..., len(orders), n, n)."""
+    k = np.asarray(orders, dtype=float)
+    k, w = (k + 0 * np.asarray(omega))[..., None, None], np.asarray(omega, dtype=float)[..., None, None]
+    return -2 * k**2 * w * model.M + 1j * k * model.C
 
 
 def forcing(model: Model, orders: np.ndarray, scale: float = 1.0) -> np.ndarray:
@@ -47,44 +51,57 @@ def forcing(model: Model, orders: np.ndarray, scale: float = 1.0) -> np.ndarray:
     return scale * F
 
 
-def _solve(D: np.ndarray, rhs: np.ndarray, omega: float) -> np.ndarray:
+def _solve(D: np.ndarray, rhs: np.ndarray, omega) -> np.ndarray:
     try:
         return np.linalg.solve(D, rhs)
     except np.linalg.LinAlgError:
+        where = np.array2string(np.atleast_1d(np.asarray(omega, dtype=float)), precision=6, threshold=4)
         raise ValueError(
-            f"the dynamic stiffness K - (k omega)^2 M + i k omega C is singular at omega = {omega:g} rad/s "
+            f"the dynamic stiffness K - (k omega)^2 M + i k omega C is singular at omega = {where} rad/s "
             "for some harmonic k (an undamped resonance, or a rigid-body mode when k = 0); "
             "add damping, anchor the structure or change the frequency"
         ) from None
 
 
-def _real_blocks(Z: np.ndarray, basis: HarmonicBasis) -> np.ndarray:
-    """Assemble complex per-order blocks (n_orders, nc, nc) into the real contact-major matrix."""
-    nc, H = Z.shape[1], basis.size
+def _slots(basis: HarmonicBasis) -> tuple[np.ndarray, np.ndarray]:
+    """Cos and sin slot of each distinct order (sin slot -1 for the mean)."""
     orders = _distinct_orders(basis)
-    slot_order = np.searchsorted(orders, basis.orders)  # which complex block each slot uses
-    X, Y = Z.real[slot_order], Z.imag[slot_order]  # (H, nc, nc)
-    same = basis.orders[:, None] == basis.orders[None, :]
-    sin_r, sin_c = basis.is_sine[:, None], basis.is_sine[None, :]
-    # block (r, c) per slot pair: X on the diagonal slots, +Y (cos row, sin col), -Y (sin row, cos col)
-    coef_x = same & (sin_r == sin_c)
-    coef_y = same & ~sin_r & sin_c
-    coef_my = same & sin_r & ~sin_c
-    idx = np.arange(H)
-    blocks = (
-        coef_x[:, :, None, None] * X[idx][:, None]
-        + coef_y[:, :, None, None] * Y[idx][:, None]
-        - coef_my[:, :, None, None] * Y[idx][:, None]
-    )  # (H_row, H_col, nc, nc), block uses the row slot's order (equal to the column's where non-zero)
-    return np.ascontiguousarray(blocks.transpose(2, 0, 3, 1).reshape(nc * H, nc * H))
+    cos = np.array([np.flatnonzero((basis.orders == k) & ~basis.is_sine)[0] for k in orders])
+    sin = np.array(
+        [(np.flatnonzero((basis.orders == k) & basis.is_sine).tolist() or [-1])[0] for k in orders]
+    )
+    return cos, sin
+
+
+def _real_blocks(Z: np.ndarray, basis: HarmonicBasis) -> np.ndarray:
+    """Assemble complex per-order blocks (..., n_orders, nc, nc) into real contact-major matrices.
+
+    A block ``X + iY`` acts on ``(a, b)`` as ``[[X, Y], [-Y, X]]``; the mean slot takes ``X``.
+    """
+    nc, H = Z.shape[-1], basis.size
+    cos, sin = _slots(basis)
+    out = np.zeros(Z.shape[:-3] + (nc * H, nc * H))
+    c = np.arange(nc) * H
+    rows = lambda s: c[None, :, None] + s[:, None, None]  # noqa: E731 - (n_orders, nc, 1)
+    cols = lambda s: c[None, None, :] + s[:, None, None]  # noqa: E731 - (n_orders, 1, nc)
+    X, Y = Z.real, Z.imag
+    out[..., rows(cos), cols(cos)] = X
+    k = sin >= 0
+    out[..., rows(sin[k]), cols(sin[k])] = X[..., k, :, :]
+    out[..., rows(cos[k]), cols(sin[k])] = Y[..., k, :, :]
+    out[..., rows(sin[k]), cols(cos[k])] = -Y[..., k, :, :]
+    return out
 
 
 def _real_vector(v: np.ndarray, basis: HarmonicBasis) -> np.ndarray:
-    """Complex per-order vectors (n_orders, nc) -> real contact-major vector (nc * H)."""
-    orders = _distinct_orders(basis)
-    slot = v[np.searchsorted(orders, basis.orders)]  # (H, nc)
-    real = np.where(basis.is_sine[:, None], -slot.imag, slot.real)
-    return np.ascontiguousarray(real.T.reshape(-1))
+    """Complex per-order vectors (..., n_orders, nc) -> real contact-major vectors (..., nc * H)."""
+    nc, H = v.shape[-1], basis.size
+    cos, sin = _slots(basis)
+    out = np.zeros(v.shape[:-2] + (nc, H))
+    out[..., cos] = np.swapaxes(v.real, -1, -2)
+    k = sin >= 0
+    out[..., sin[k]] = -np.swapaxes(v.imag[..., k, :], -1, -2)
+    return out.reshape(v.shape[:-2] + (nc * H,))
 
 
 def _distinct_orders(basis: HarmonicBasis) -> np.ndarray:
@@ -111,9 +128,7 @@ class Condensed:
     dF: np.ndarray | None = None
 
 
-def condense(
-    model: Model, B: np.ndarray, omega: float, basis: HarmonicBasis, derivative: bool = False
-) -> Condensed:
+def condense(model: Model, B: np.ndarray, omega, basis: HarmonicBasis, derivative: bool = False) -> Condensed:
     """Condense ``model`` on the relative coordinates ``B u`` at ``omega`` (rad/s), eq. 11.
 
     Parameters
@@ -121,30 +136,32 @@ def condense(
     model : Model
     B : ndarray, shape (nc, n)
         Map from DOFs to the active contact coordinates.
-    omega : float
-        Excitation frequency (rad/s).
+    omega : float or ndarray
+        Excitation frequency (rad/s); an array condenses every frequency at
+        once (arrays of the result then have a leading frequency axis).
     basis : HarmonicBasis
     derivative : bool
         Also return ``dZ/d omega`` and ``dF/d omega`` (for continuation).
     """
     orders = _distinct_orders(basis)
-    D = dynamic_stiffness(model, omega, orders)
-    F = forcing(model, orders)
-    rhs = np.concatenate([np.broadcast_to(B.T, D.shape[:1] + B.T.shape), F[:, :, None]], axis=2)
+    omega_arr = np.asarray(omega, dtype=float)
+    D = dynamic_stiffness(model, omega_arr[..., None], orders)  # (..., n_orders, n, n)
+    F = np.broadcast_to(forcing(model, orders), D.shape[:-1])
+    rhs = np.concatenate([np.broadcast_to(B.T, D.shape[:-2] + B.T.shape), F[..., None]], axis=-1)
     sol = _solve(D, rhs.astype(complex), omega)  # D^{-1} [B^T, F]
     nc = B.shape[0]
-    G = B @ sol[:, :, :nc]  # receptance (n_orders, nc, nc)
-    u_lin = (B @ sol[:, :, nc:])[..., 0]  # linear open relative displacement (n_orders, nc)
+    G = B @ sol[..., :nc]  # receptance (..., n_orders, nc, nc)
+    u_lin = (B @ sol[..., nc:])[..., 0]  # linear open relative displacement (..., n_orders, nc)
     Z = np.linalg.inv(G)
-    Fr = np.einsum("kij,kj->ki", Z, u_lin)
+    Fr = np.einsum("...ij,...j->...i", Z, u_lin)
     if not derivative:
         return Condensed(_real_blocks(Z, basis), _real_vector(Fr, basis))
-    dD = _d_dynamic_stiffness(model, omega, orders)
+    dD = _d_dynamic_stiffness(model, omega_arr[..., None], orders)
     dsol = -np.linalg.solve(D, dD @ sol)  # d(D^{-1} [B^T, F]) / d omega
-    dG = B @ dsol[:, :, :nc]
-    du_lin = (B @ dsol[:, :, nc:])[..., 0]
+    dG = B @ dsol[..., :nc]
+    du_lin = (B @ dsol[..., nc:])[..., 0]
     dZ = -Z @ dG @ Z
-    dFr = np.einsum("kij,kj->ki", dZ, u_lin) + np.einsum("kij,kj->ki", Z, du_lin)
+    dFr = np.einsum("...ij,...j->...i", dZ, u_lin) + np.einsum("...ij,...j->...i", Z, du_lin)
     return Condensed(
         _real_blocks(Z, basis), _real_vector(Fr, basis), _real_blocks(dZ, basis), _real_vector(dFr, basis)
     )

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import dlft
 from .arclength import Evaluate, track
+from .condensation import Condensed, condense
 from .model import Model
 from .periodic import NewtonResult, Problem, newton_homotopy, solve_problem
 from .results import PeriodicSolution
@@ -103,8 +104,11 @@ def sweep(
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
     out: list[PeriodicSolution] = []
     previous: dict[tuple, list[tuple[float, np.ndarray]]] = {}  # converged points per active set
-    for omega in omegas:
-        problem = Problem(model, omega, eps=eps, **settings)
+    first = Problem(model, omegas[0], eps=eps, **settings)  # the active set does not depend on omega
+    batch = condense(model, first.B, omegas, first.basis) if first.n_active else None
+    for i, omega in enumerate(omegas):
+        cond = Condensed(batch.Z[i], batch.F[i]) if batch is not None else None
+        problem = Problem(model, omega, eps=eps, condensed=cond, **settings)
         prev = previous.setdefault(tuple(problem.active_index), [])[-2:]
         guess = None
         if len(prev) == 2:  # secant predictor

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import dlft
-from .condensation import condense
+from .condensation import Condensed, condense
 from .harmonics import HarmonicBasis, default_samples
 from .model import Model
 from .results import PeriodicSolution
@@ -81,6 +81,9 @@ class Problem:
         Use odd harmonics and half a period; default: when the model allows it.
     force_scale : float
         Load factor applied to every external force (used by load continuation).
+    condensed : Condensed, optional
+        The condensation at ``omega`` on the active contacts, when already known
+        (sweeps condense every frequency at once).
     """
 
     model: Model
@@ -92,6 +95,7 @@ class Problem:
     half_wave: bool | None = None
     force_scale: float = 1.0
     derivative: bool = False
+    condensed: Condensed | None = field(default=None, repr=False)
     basis: HarmonicBasis = field(init=False)
 
     def __post_init__(self) -> None:
@@ -123,7 +127,7 @@ class Problem:
         )
         self.B = m.relative_map(self.active)
         if self.active:
-            cond = condense(m, self.B, self.omega, self.basis, self.derivative)
+            cond = self.condensed or condense(m, self.B, self.omega, self.basis, self.derivative)
             self.Z, self.F0, self.dZ, self.dF0 = cond.Z, cond.F, cond.dZ, cond.dF
             self.eps = self._penalty(self.eps)
 

@@ -52,3 +52,14 @@ def test_frequency_derivatives():
     up, dn = condense(model, B, 0.9 + h, basis), condense(model, B, 0.9 - h, basis)
     np.testing.assert_allclose(c.dZ, (up.Z - dn.Z) / (2 * h), rtol=1e-5, atol=1e-6 * np.abs(c.dZ).max())
     np.testing.assert_allclose(c.dF, (up.F - dn.F) / (2 * h), rtol=1e-5, atol=1e-6 * np.abs(c.dF).max())
+
+
+def test_batched_frequencies_equal_single_ones():
+    model, basis = random_model(seed=3), HarmonicBasis(5, 64, half_wave=False)
+    B = model.relative_map()
+    omegas = np.array([0.4, 0.9, 1.7])
+    many = condense(model, B, omegas, basis, derivative=True)
+    for i, w in enumerate(omegas):
+        one = condense(model, B, w, basis, derivative=True)
+        for name in ("Z", "F", "dZ", "dF"):
+            np.testing.assert_allclose(getattr(many, name)[i], getattr(one, name), rtol=1e-12, atol=1e-14)
