@@ -37,6 +37,7 @@ __all__ = [
     "line_figure",
     "map_figure",
     "signals_figure",
+    "wear_curve",
     "paper_figures",
 ]
 
@@ -45,7 +46,7 @@ FIGURE_FORMATS = ("png", "svg", "html")
 FigureFormat = Literal["png", "svg", "html"]
 XY = tuple[Any, Any]
 
-_MPL_SIZE = {"fig_inches": 7.0, "aspect": 1.7}
+_MPL_SIZE = {"fig_inches": (7.0, 4.0), "aspect": "auto"}
 
 
 def _hv():
@@ -116,7 +117,7 @@ def _overlay_options(overlay, title: str, xlabel: str, ylabel: str, logx: bool, 
             "logy": logy,
             "show_legend": legend,
         },
-        {"legend_position": "top_right", "responsive": True, "min_height": 300, "toolbar": "right"},
+        {"legend_position": "top_right", "responsive": True, "height": 340, "toolbar": "right"},
         {"legend_position": "right", **_MPL_SIZE},
     )
 
@@ -162,7 +163,7 @@ def line_figure(
         pts = hv.Points([point], [xd, yd], label="selected")
         layers.append(
             _opts(
-                pts, {"color": "red"}, {"size": 10, "marker": "x", "line_width": 3}, {"s": 80, "marker": "x"}
+                pts, {"color": "red"}, {"size": 10, "marker": "x", "line_width": 3}, {"s": 80, "marker": "X"}
             )
         )
     return _overlay_options(hv.Overlay(layers), title, xlabel, ylabel, logx, logy, len(curves) > 1)
@@ -199,7 +200,7 @@ def map_figure(
         image,
         {"cmap": cmap, "colorbar": True, "clim": clim or (np.nan, np.nan), "framewise": True},
         {"tools": ["hover"]},
-        {},
+        {"aspect": "auto"},
     )
     layers = [image]
     if levels:
@@ -230,7 +231,7 @@ def map_figure(
         pts = hv.Points([point], [xd, yd], label="selected")
         layers.append(
             _opts(
-                pts, {"color": "red"}, {"size": 14, "marker": "x", "line_width": 3}, {"s": 100, "marker": "x"}
+                pts, {"color": "red"}, {"size": 14, "marker": "x", "line_width": 3}, {"s": 100, "marker": "X"}
             )
         )
     overlay = hv.Overlay(layers)
@@ -256,7 +257,14 @@ def signals_figure(
     _ensure_backend()
     xd, yd = hv.Dimension("x", label=xlabel), hv.Dimension("y", label=ylabel)
     shade = hv.VSpans(list(spans) or [(np.nan, np.nan)], [xd, yd])
-    layers = [_opts(shade, {"color": "orange", "alpha": 0.25}, {"line_alpha": 0}, {"linewidth": 0})]
+    layers = [
+        _opts(
+            shade,
+            {"alpha": 0.25},
+            {"color": "orange", "line_alpha": 0},
+            {"facecolor": "orange", "linewidth": 0},
+        )
+    ]
     t = np.asarray(t, dtype=float)
     for label, y in signals.items():
         curve = hv.Curve((t, np.asarray(y, dtype=float)), xd, yd, label=label)
@@ -265,6 +273,19 @@ def signals_figure(
         )
     layers += [_marker_line(hv, h, vertical=False) for h in hlines]
     return _overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, len(signals) > 1)
+
+
+def wear_curve(history, cycles) -> tuple[np.ndarray, np.ndarray]:
+    """``(N, w / u0)`` of the first contact of a :class:`~fretwear.wear.WearHistory` at ``cycles``.
+
+    Uses the history's own interpolation (:meth:`~fretwear.wear.WearHistory.at`),
+    which holds the last state past the last record (worn through, or stuck); a
+    history that stopped on a failure is drawn up to its last record only.
+    """
+    cycles = np.asarray(cycles, dtype=float)
+    if not history.converged:
+        cycles = cycles[cycles <= history.cycles[-1]]
+    return cycles, history.at(cycles)["wear"][:, 0] / history.u0[0]
 
 
 # -- export ------------------------------------------------------------------------
@@ -340,6 +361,17 @@ def save_csv(columns: Mapping[str, Any], path: str | Path) -> Path:
 # -- the paper's figure set ---------------------------------------------------------
 
 
+def _layout(panels: list, cols: int):
+    """Panels in a grid of ``cols`` columns, sized for Matplotlib."""
+    hv = _hv()
+    rows = -(-len(panels) // cols)
+    layout = hv.Layout(panels).cols(cols)
+    return _opts(
+        layout,
+        mpl={"fig_inches": (5.5 * cols, 3.8 * rows), "sublabel_format": "", "vspace": 0.6, "hspace": 0.5},
+    )
+
+
 def _wear_map_table(maps: Mapping[float, Any]) -> dict[str, np.ndarray]:
     """Long tables of several wear maps, with a ``fex`` column."""
     tables = []
@@ -370,6 +402,7 @@ def paper_figures(
     fmin: float = 0.3,
     fmax: float = 1.3,
     f_study: float = 0.7,
+    method: str = "auto",
     tol: float = 1e-3,
     degree: int = 4,
     polynomial_harmonics: int = 3,
@@ -385,23 +418,25 @@ def paper_figures(
 
     * fig05, fig06: nonlinear FRFs of mass 1 and of the relative displacement,
       with the linear stuck and open FRFs;
-    * fig07: wear ``w / u0`` over frequency x cycles (a, b, c: 6, 10, 14 N);
+    * fig07: wear ``w / u0`` over frequency x cycles by ``method`` (a, b, c: 6,
+      10, 14 N);
     * fig08: pseudo-FRFs of mass 1 at 6 N: open, stuck, initial and worn;
     * fig09: pseudo-FRFs at five cycle counts (a, b, c: 6, 10, 14 N);
     * fig10: ``w(N)`` at ``f_study`` Hz and 10 N for 1, 3, 7, 15 and 21 harmonics;
     * fig11: stepping, polynomial (``polynomial_harmonics``, ``degree``) and
-      time integration at ``f_study`` Hz and 10 N (a method that fails is
-      left out and reported through ``log``);
+      time integration at ``f_study`` Hz and 10 N, with the exact load path
+      for reference (a method that fails is left out and reported through
+      ``log``);
     * fig12: the wear map by the polynomial method at 10 N;
     * fig13, fig14: half peak-to-peak relative displacement over frequency x
-      cycles at 10 N, by stepping and by the polynomial method.
+      cycles at 10 N, by ``method`` and by the polynomial method.
 
     Parameters
     ----------
     out : str or Path
         Output directory (created if missing).
     harmonics : int
-        Harmonics of the FRFs and of stepping.
+        Harmonics of the FRFs, of the wear maps and of stepping.
     kw : float
         Archard coefficient (1/Pa).
     cycles : float
@@ -409,6 +444,9 @@ def paper_figures(
     frequencies, cycle_points : int
         Sizes of the frequency grid (``fmin``-``fmax`` Hz) and of the
         logarithmic cycle grid of the maps.
+    method : str
+        Slow-time method of the wear maps (see :func:`fretwear.studies.wear_history`;
+        ``"auto"``: the exact load path for this model).
     tol : float
         Tolerance of stepping and of the time integration (fraction of ``u0``).
     formats : sequence of str
@@ -508,11 +546,10 @@ def paper_figures(
         table,
     )
 
-    # Fig. 7, 9, 13: wear maps by stepping
+    # Fig. 7, 9, 13: wear maps by ``method``
     opts = {"kw": kw, "harmonics": harmonics, "tol": tol, "workers": workers}
-    maps = {fex: wear_map(m, f_map, n_grid, method="stepping", **opts) for fex, m in models.items()}
-    say("computed the stepping wear maps")
-    hv = _hv()
+    maps = {fex: wear_map(m, f_map, n_grid, method=method, **opts) for fex, m in models.items()}
+    say(f"computed the wear maps ({method})")
     panels = [
         map_figure(
             f_map,
@@ -527,7 +564,7 @@ def paper_figures(
         )
         for i, (fex, wm) in enumerate(maps.items())
     ]
-    write("fig07", hv.Layout(panels).cols(3), _wear_map_table(maps))
+    write("fig07", _layout(panels, 3), _wear_map_table(maps))
     # Fig. 8: four cases at 6 N
     wm6 = maps[6.0]
     late = snapshots[-2]
@@ -568,11 +605,12 @@ def paper_figures(
                 title=f"Fig. 9{'abc'[i]}: F_ex = {fex:g} N",
             )
         )
-    write("fig09", hv.Layout(panels).cols(1), table)
+    write("fig09", _layout(panels, 1), table)
 
     # Fig. 10: harmonic convergence at f_study, 10 N
     hc = harmonic_convergence(m10, f_study, kw=kw, cycles=cycles, tol=tol)
-    curves = {f"Nh = {nh}": (h.cycles, h.wear_fraction[:, 0]) for nh, h in hc.items()}
+    dense = np.concatenate([[0.0], np.geomspace(cycles * 1e-4, cycles, 200)])
+    curves = {f"Nh = {nh}": wear_curve(h, dense) for nh, h in hc.items()}
     write(
         "fig10",
         line_figure(
@@ -588,6 +626,7 @@ def paper_figures(
     # Fig. 11: three methods at f_study, 10 N
     methods: dict[str, Any] = {}
     settings = {
+        "exact": {"harmonics": harmonics},
         "stepping": {"harmonics": harmonics, "tol": tol},
         "polynomial": {"harmonics": polynomial_harmonics, "degree": degree},
         "time": {"tol": tol},
@@ -598,7 +637,7 @@ def paper_figures(
         except Exception as exc:  # noqa: BLE001 - a failing method is reported and left out
             methods[method] = None
             say(f"fig11: method {method!r} failed: {exc}")
-    curves = {m: (h.cycles, h.wear_fraction[:, 0]) for m, h in methods.items() if h is not None}
+    curves = {m: wear_curve(h, dense) for m, h in methods.items() if h is not None}
     write(
         "fig11",
         line_figure(
@@ -638,8 +677,9 @@ def paper_figures(
         ),
         poly.long_table(),
     )
-    for name, wm, label in (("fig13", maps[10.0], "stepping"), ("fig14", poly, "polynomial")):
+    for name, wm, label in (("fig13", maps[10.0], method), ("fig14", poly, "polynomial")):
         z = np.log10(_positive(wm.relative_half_peak_to_peak[:, 1:, 0].T))
+        top = np.nanmax(z)
         write(
             name,
             map_figure(
@@ -649,6 +689,7 @@ def paper_figures(
                 xlabel="frequency (Hz)",
                 ylabel="log10 cycles",
                 zlabel="log10 |x1 - x2| (m)",
+                clim=(top - 4, top),
                 cmap="magma",
                 title=f"Fig. {name[-2:]}: relative displacement, {label}, 10 N",
             ),

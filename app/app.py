@@ -1,0 +1,27 @@
+"""The fretwear dashboard: ``panel serve app/app.py`` (see the README's "Dashboard" section).
+
+Bokeh executes this file for every new session: it builds a :class:`Session`
+whose runs go to the server's shared threads and whose results come from the
+process-wide cache, and the page around it. The first execution starts the
+warm-up (:mod:`app.warmup`) in the background.
+"""
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:  # Bokeh puts app/ first on the path; the package needs the repository root
+    sys.path.insert(0, str(ROOT))
+
+import panel as pn  # noqa: E402
+
+from app.backend import shared_executor  # noqa: E402
+from app.page import build_page, document_dispatch  # noqa: E402
+from app.session import Session  # noqa: E402
+from app.warmup import warm_in_background  # noqa: E402
+
+pn.extension(notifications=False)
+warm_in_background()
+session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.state.curdoc))
+pn.state.on_session_destroyed(lambda _context, s=session: s.close())
+build_page(session).servable(title="fretwear dashboard")

@@ -1,0 +1,394 @@
+"""The library calls of the dashboard, their shared cache and the worker threads.
+
+Every number the dashboard shows comes from one :class:`Backend` method, a
+thin wrapper of one :mod:`fretwear` function; ``Backend.calls`` counts the
+library calls by name (the tests use it to prove what is recomputed, and a
+backend built with other functions replaces the library in tests).
+
+Results are kept in a :class:`ResultCache` keyed by the parameters they depend
+on; one cache serves every session of the server process. A computation
+asked for while another thread runs it is waited for, not repeated.
+
+The wear map and the regime map are split into chunks (of frequencies, of
+load levels) that run on the backend's thread pool: the compiled kernels
+release the GIL, the chunks give a determinate progress, and a superseded run
+stops at the next chunk (:class:`Cancelled`).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import threading
+from collections import Counter, OrderedDict
+from collections.abc import Callable, Hashable
+from concurrent.futures import Future, ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+
+import fretwear
+from fretwear import continuation, linear, studies
+from fretwear.model import Model
+
+__all__ = [
+    "Backend",
+    "Cancelled",
+    "Failure",
+    "ModelSpec",
+    "ResultCache",
+    "shared_backend",
+    "shared_cache",
+    "shared_executor",
+]
+
+log = logging.getLogger(__name__)
+
+Progress = Callable[[float], None]
+Check = Callable[[], bool]
+
+#: where the default backend finds each library function (looked up at call time)
+LIBRARY: dict[str, tuple[Any, str]] = {
+    "paper_model": (fretwear, "paper_model"),
+    "linear_frf": (linear, "linear_frf"),
+    "sweep": (continuation, "sweep"),
+    "regime_map": (studies, "regime_map"),
+    "wear_map": (studies, "wear_map"),
+    "wear_history": (studies, "wear_history"),
+    "solve_periodic": (fretwear, "solve_periodic"),
+}
+
+
+class Cancelled(Exception):
+    """A newer request superseded the run that was computing this result."""
+
+
+@dataclass(frozen=True)
+class Failure:
+    """A computation that raised: kept in the cache and shown as a message, never as a traceback."""
+
+    message: str
+
+    def __str__(self) -> str:
+        return self.message
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """The paper's 2-DOF model (:func:`fretwear.paper_model`) as a hashable cache key.
+
+    Attributes
+    ----------
+    fex : float
+        Excitation amplitude on mass 1 (N).
+    mu : float
+        Friction coefficient (-).
+    normal_load : float
+        Initial normal load ``F_N`` (N).
+    kn : float
+        Normal contact stiffness (N/m).
+    """
+
+    fex: float
+    mu: float
+    normal_load: float
+    kn: float = 1e7
+
+    @property
+    def r(self) -> float:
+        """Load ratio ``F_ex / (mu F_N)`` (-)."""
+        return self.fex / (self.mu * self.normal_load)
+
+    def at_ratio_one(self) -> ModelSpec:
+        """The same contact with ``F_ex = mu F_N``: scaling its forcing by ``s`` gives ``r = s``."""
+        return ModelSpec(self.mu * self.normal_load, self.mu, self.normal_load, self.kn)
+
+
+class ResultCache:
+    """Bounded least-recently-used cache of results, shared by threads and sessions.
+
+    Keys are tuples whose first item names the kind of result (``"wear_map"``,
+    ``"history"``, ...); each kind has its own bound, so that the many small
+    wear histories a wear map brings along do not push out the maps.
+
+    Parameters
+    ----------
+    max_entries : int
+        Results kept per kind; the least recently used go first.
+    per_kind : mapping, optional
+        Other bounds by kind.
+    """
+
+    def __init__(self, max_entries: int = 48, per_kind: dict[str, int] | None = None) -> None:
+        self.max_entries = max_entries
+        self.per_kind = {"history": 2048, "point": 256} if per_kind is None else dict(per_kind)
+        self._lock = threading.Lock()
+        self._done: dict[Hashable, OrderedDict[Hashable, Any]] = {}
+        self._running: dict[Hashable, Future] = {}
+
+    @staticmethod
+    def _kind(key: Hashable) -> Hashable:
+        return key[0] if isinstance(key, tuple) and key else None
+
+    def _shelf(self, key: Hashable) -> OrderedDict[Hashable, Any]:
+        return self._done.setdefault(self._kind(key), OrderedDict())
+
+    def __contains__(self, key: Hashable) -> bool:
+        with self._lock:
+            return key in self._shelf(key)
+
+    def __len__(self) -> int:
+        with self._lock:
+            return sum(len(shelf) for shelf in self._done.values())
+
+    def get(self, key: Hashable, default: Any = None) -> Any:
+        """The cached result of ``key`` (marked as recently used), or ``default``."""
+        with self._lock:
+            shelf = self._shelf(key)
+            if key not in shelf:
+                return default
+            shelf.move_to_end(key)
+            return shelf[key]
+
+    def put(self, key: Hashable, value: Any) -> None:
+        """Store ``value`` under ``key``, dropping the least recently used results of its kind."""
+        with self._lock:
+            self._store(key, value)
+
+    def _store(self, key: Hashable, value: Any) -> None:
+        shelf = self._shelf(key)
+        shelf[key] = value
+        shelf.move_to_end(key)
+        while len(shelf) > self.per_kind.get(self._kind(key), self.max_entries):
+            shelf.popitem(last=False)
+
+    def get_or_compute(self, key: Hashable, compute: Callable[[], Any]) -> Any:
+        """The result of ``key``: cached, awaited from the thread computing it, or computed here.
+
+        A computation that raises is not cached; when the thread computing it
+        was cancelled, a waiting thread computes it itself.
+        """
+        while True:
+            with self._lock:
+                shelf = self._shelf(key)
+                if key in shelf:
+                    shelf.move_to_end(key)
+                    return shelf[key]
+                future = self._running.get(key)
+                owner = future is None
+                if owner:
+                    future = self._running[key] = Future()
+            if not owner:
+                try:
+                    return future.result()
+                except Cancelled:
+                    continue
+            try:
+                value = compute()
+            except BaseException as exc:
+                with self._lock:
+                    del self._running[key]
+                future.set_exception(exc)
+                raise
+            with self._lock:
+                del self._running[key]
+                self._store(key, value)
+            future.set_result(value)
+            return value
+
+
+def _merge(parts: list, axis_length: Callable[[Any], int]) -> dict[str, Any]:
+    """Join the fields of chunked results along their first axis.
+
+    Arrays whose first axis has the chunk's length and lists are joined; every
+    other field (shared grids, ``u0``) comes from the first chunk.
+    """
+    first = parts[0]
+    items = (
+        first.items()
+        if isinstance(first, dict)
+        else ((f.name, getattr(first, f.name)) for f in fields(first))
+    )
+    merged = {}
+    for name, value in items:
+        values = [p[name] if isinstance(p, dict) else getattr(p, name) for p in parts]
+        if isinstance(value, list):
+            merged[name] = [v for vs in values for v in vs]
+        elif isinstance(value, np.ndarray) and value.ndim and len(value) == axis_length(first):
+            merged[name] = np.concatenate(values, axis=0)
+        else:
+            merged[name] = value
+    return merged
+
+
+def _chunks(n: int, count: int) -> list[slice]:
+    edges = np.linspace(0, n, min(count, n) + 1).round().astype(int)
+    return [slice(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True)]
+
+
+class Backend:
+    """The library calls of the dashboard, counted.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Threads for chunked maps; default the number of CPUs, at most 4.
+    chunks : int
+        Chunks of a wear map or regime map (progress steps).
+    **functions
+        Replacements of library functions by name (keys of ``LIBRARY``).
+    """
+
+    def __init__(self, workers: int | None = None, chunks: int = 8, **functions: Callable) -> None:
+        unknown = set(functions) - set(LIBRARY)
+        if unknown:
+            raise ValueError(f"unknown library functions {sorted(unknown)}; known: {sorted(LIBRARY)}")
+        self.functions = functions
+        self.chunks = chunks
+        self.calls: Counter[str] = Counter()
+        self._calls_lock = threading.Lock()
+        self.workers = workers or max(1, min(4, os.cpu_count() or 1))
+        self._pool: ThreadPoolExecutor | None = None
+
+    @property
+    def pool(self) -> ThreadPoolExecutor:
+        """Worker threads of the chunked computations (created on first use)."""
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(self.workers, thread_name_prefix="fretwear-chunk")
+        return self._pool
+
+    def _call(self, name: str, *args, **kwargs) -> Any:
+        with self._calls_lock:
+            self.calls[name] += 1
+        function = self.functions.get(name) or getattr(*LIBRARY[name])
+        return function(*args, **kwargs)
+
+    def _chunked(
+        self, name: str, jobs: list[tuple[tuple, dict]], progress: Progress, cancelled: Check
+    ) -> list:
+        """Run ``name(*args, **kwargs)`` for each job on the pool; results in order."""
+
+        def run(args, kwargs):
+            if cancelled():
+                raise Cancelled
+            return self._call(name, *args, **kwargs)
+
+        futures = [self.pool.submit(run, *job) for job in jobs]
+        try:
+            for done, future in enumerate(as_completed(futures), 1):
+                future.result()
+                progress(done / len(futures))
+        except BaseException:
+            for future in futures:
+                future.cancel()
+            raise
+        return [future.result() for future in futures]
+
+    # -- the computations -------------------------------------------------------------
+
+    def model(self, spec: ModelSpec) -> Model:
+        """The paper's 2-DOF model of ``spec``."""
+        return self._call("paper_model", fex=spec.fex, mu=spec.mu, normal_load=spec.normal_load, kn=spec.kn)
+
+    def linear(self, spec: ModelSpec, f_hz: np.ndarray, state: str) -> dict[str, np.ndarray]:
+        """Complex amplitudes (m) of every DOF with the contact ``state`` ("stuck" or "open")."""
+        u = self._call("linear_frf", self.model(spec), 2 * np.pi * np.asarray(f_hz), state)
+        return {"f_hz": np.asarray(f_hz), "amplitude": u}
+
+    def frf(self, spec: ModelSpec, f_hz: np.ndarray, harmonics: int) -> dict[str, np.ndarray]:
+        """Nonlinear FRF without wear (a sweep), as arrays over frequency.
+
+        First-harmonic amplitudes only: the exact half peak-to-peak values cost
+        three times the sweep.
+        """
+        sols = self._call("sweep", self.model(spec), 2 * np.pi * np.asarray(f_hz), harmonics).solutions
+        return {
+            "f_hz": np.asarray(f_hz),
+            "amplitude": np.array([s.amplitude for s in sols]),
+            "relative_amplitude": np.array([s.relative_amplitude for s in sols]),
+            "sliding_distance": np.array([s.sliding_distance for s in sols]),
+            "friction_energy": np.array([s.friction_energy for s in sols]),
+            "converged": np.array([s.converged for s in sols]),
+        }
+
+    def regime(
+        self,
+        spec: ModelSpec,
+        f_hz: np.ndarray,
+        ratios: np.ndarray,
+        harmonics: int,
+        progress: Progress = lambda _f: None,
+        cancelled: Check = lambda: False,
+    ) -> dict[str, np.ndarray]:
+        """Stick/slip regime over ``f_hz`` x load ratios ``r`` (:func:`fretwear.studies.regime_map`).
+
+        The model is taken at ``r = 1`` so that load factors are ratios; the
+        result does not depend on ``F_ex``.
+        """
+        model = self.model(spec.at_ratio_one())
+        jobs = [((model, f_hz, ratios[part], harmonics), {}) for part in _chunks(len(ratios), self.chunks)]
+        parts = self._chunked("regime_map", jobs, progress, cancelled)
+        return {
+            "f_hz": np.asarray(f_hz),
+            "ratios": np.asarray(ratios),
+            **_merge(parts, lambda p: len(p["slip_fraction"])),
+        }
+
+    def wear_map(
+        self,
+        spec: ModelSpec,
+        f_hz: np.ndarray,
+        cycles: np.ndarray,
+        method: str,
+        kw: float,
+        options: dict[str, Any],
+        progress: Progress = lambda _f: None,
+        cancelled: Check = lambda: False,
+    ) -> studies.WearMap:
+        """Wear map over ``f_hz`` x ``cycles`` (:func:`fretwear.studies.wear_map`), in frequency chunks."""
+        model = self.model(spec)
+        jobs = [
+            ((model, f_hz[part], cycles), {"method": method, "kw": kw, **options})
+            for part in _chunks(len(f_hz), self.chunks)
+        ]
+        parts = self._chunked("wear_map", jobs, progress, cancelled)
+        return studies.WearMap(**_merge(parts, lambda p: len(p.frequency)))
+
+    def history(
+        self, spec: ModelSpec, f_hz: float, method: str, kw: float, horizon: float, options: dict[str, Any]
+    ) -> studies.WearHistory:
+        """Wear evolution at one frequency (:func:`fretwear.studies.wear_history`)."""
+        return self._call(
+            "wear_history", self.model(spec), 2 * np.pi * f_hz, method, kw=kw, cycles=horizon, **options
+        )
+
+    def point(
+        self, spec: ModelSpec, f_hz: float, harmonics: int, wear: np.ndarray | None
+    ) -> fretwear.PeriodicSolution:
+        """Periodic response at one frequency and wear (``None``: unworn), :func:`fretwear.solve_periodic`."""
+        return self._call("solve_periodic", self.model(spec), 2 * np.pi * f_hz, harmonics, wear=wear)
+
+
+_shared: dict[str, Any] = {}
+_shared_lock = threading.Lock()
+
+
+def shared_backend() -> Backend:
+    """The backend of the server process (one thread pool for every session)."""
+    with _shared_lock:
+        return _shared.setdefault("backend", Backend())
+
+
+def shared_cache() -> ResultCache:
+    """The result cache of the server process, shared by every session."""
+    with _shared_lock:
+        return _shared.setdefault("cache", ResultCache())
+
+
+def shared_executor() -> ThreadPoolExecutor:
+    """Threads running the sessions' requests, off the server's event loop."""
+    with _shared_lock:
+        if "executor" not in _shared:
+            _shared["executor"] = ThreadPoolExecutor(4, thread_name_prefix="fretwear-run")
+        return _shared["executor"]

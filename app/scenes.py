@@ -1,0 +1,584 @@
+"""The scenes: what each computes (:meth:`Scene.needs`), draws, explains and exports.
+
+A scene draws only what its session published into it (:meth:`Scene.publish`):
+results, the settings and the selected point they belong to. Its figures keep
+the same layers whatever the state (empty data while nothing is computed), as
+the dashboard's ``DynamicMap`` objects require. Figures come from the builders
+of :mod:`fretwear.export`, which also renders them to PNG, SVG and HTML.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+import param
+
+from fretwear import export
+
+from .backend import Failure
+from .state import CONVERGENCE_HARMONICS, METHODS, Controls, Settings, Task, Tasks
+
+__all__ = ["Selection", "Scene", "SCENES"]
+
+HZ = "frequency (Hz)"
+X1 = "x1 amplitude, first harmonic (m)"
+EMPTY = (np.zeros(0), np.zeros(0))
+
+
+@dataclass(frozen=True)
+class Selection:
+    """The point picked on the wear map: frequency (Hz) and cycle count."""
+
+    frequency: float
+    cycles: float
+
+
+def _ok(value: Any) -> Any:
+    """``value``, or ``None`` for a missing or failed result."""
+    return None if value is None or isinstance(value, Failure) else value
+
+
+def _failure_note(name: str, value: Any) -> list[str]:
+    return [f"{name}: {value}"] if isinstance(value, Failure) else []
+
+
+class Scene(param.Parameterized):
+    """One tab of the dashboard. Subclasses set the class attributes and the ``_figure_*`` methods."""
+
+    key: ClassVar[str]
+    title: ClassVar[str]
+    explanation: ClassVar[str]
+    figure_names: ClassVar[tuple[str, ...]]
+    dataset_names: ClassVar[tuple[str, ...]]
+    uses_selection: ClassVar[bool] = False
+
+    version = param.Integer(0, doc="Incremented at each publish: the figures redraw")
+    notes = param.List([], doc="Messages about the published results (failures, warnings)")
+
+    def __init__(self, tasks: Tasks, **params: Any) -> None:
+        super().__init__(**params)
+        self.tasks = tasks
+        self.results: dict[str, Any] = {}
+        self.settings: Settings = Controls().settings()
+        self.selection = Selection(0.7, 1e4)
+
+    # -- what to compute ----------------------------------------------------------------
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        """The tasks whose results this scene draws, for settings ``s`` and selection ``sel``."""
+        raise NotImplementedError
+
+    def publish(self, results: dict[str, Any], s: Settings, sel: Selection) -> None:
+        """Show ``results`` computed for ``s`` and ``sel``: the figures redraw."""
+        self.results, self.settings, self.selection = results, s, sel
+        self.notes = [
+            n for name, value in results.items() for n in _failure_note(name, value)
+        ] + self._notes()
+        self.version += 1
+
+    def _notes(self) -> list[str]:
+        return []
+
+    # -- what to show ---------------------------------------------------------------------
+    def figure(self, name: str):
+        """Figure ``name`` of the published results, as a HoloViews overlay."""
+        if name not in self.figure_names:
+            raise ValueError(f"scene {self.key!r} has no figure {name!r}; it has {self.figure_names}")
+        return getattr(self, f"_figure_{name}")()
+
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        """Tables (column name -> values) of the published results, by name."""
+        return {}
+
+    # -- export ---------------------------------------------------------------------------
+    def filename(self, name: str, fmt: str) -> str:
+        """Download file name of figure or dataset ``name``."""
+        return f"fretwear_{self.key}_{name}.{fmt}"
+
+    def export_figure(self, name: str, fmt: str) -> bytes:
+        """Figure ``name`` as ``png``, ``svg`` or standalone ``html`` bytes."""
+        if fmt not in export.FIGURE_FORMATS:
+            raise ValueError(f"fmt must be one of {export.FIGURE_FORMATS}, got {fmt!r}")
+        export.load_backend("bokeh" if fmt == "html" else "matplotlib")
+        return export.figure_bytes(self.figure(name), fmt, title=f"fretwear: {self.title}, {name}")
+
+    def export_csv(self, name: str) -> str:
+        """Dataset ``name`` as CSV text."""
+        tables = self.datasets()
+        if name not in tables:
+            raise ValueError(f"no dataset {name!r} in scene {self.key!r} (yet); available: {sorted(tables)}")
+        return export.csv_text(tables[name])
+
+
+def _linear_curves(scene: Scene) -> dict[str, tuple]:
+    out = {}
+    for state in ("stuck", "open"):
+        lin = _ok(scene.results.get(f"linear_{state}"))
+        out[f"{state} (linear)"] = EMPTY if lin is None else (lin["f_hz"], np.abs(lin["amplitude"][:, 0]))
+    return out
+
+
+def _linear_table(scene: Scene) -> dict[str, dict[str, np.ndarray]]:
+    stuck, free = (_ok(scene.results.get(f"linear_{s}")) for s in ("stuck", "open"))
+    if stuck is None or free is None or len(stuck["f_hz"]) != len(free["f_hz"]):
+        return {}
+    table = {"f_hz": stuck["f_hz"]}
+    for label, lin in (("stuck", stuck), ("open", free)):
+        u = lin["amplitude"]
+        table |= {f"x{i + 1}_{label}": np.abs(u[:, i]) for i in range(u.shape[1])}
+    return {"linear_frf": table}
+
+
+class RegimesScene(Scene):
+    key = "regimes"
+    title = "Regimes"
+    figure_names = ("frf", "regime_map")
+    dataset_names = ("nonlinear_frf", "linear_frf", "regime_map", "stick_boundary")
+    explanation = """
+**What you see.** Left: the response of mass 1 with the contact stuck and with it open (linear,
+dashed), and the nonlinear response without wear (HBM + DLFT). Right: the fraction of the period the
+contact slips, over frequency and the load ratio `r = F_ex / (mu F_N)`; the red line is the exact stick
+boundary (below it the contact never slips, so it never wears), the white line separates mostly stuck
+from mostly slipping periods, the dashed line is the current `r`.
+
+**Try.** Move `F_ex`: the dashed line moves and the nonlinear FRF leaves the stuck curve where the
+line crosses the stick boundary. Raise `Nh` to sharpen the stick-slip transitions."""
+
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        t = self.tasks
+        return [t.linear(s, "stuck"), t.linear(s, "open"), t.frf(s), t.regime(s)]
+
+    def _notes(self) -> list[str]:
+        frf = _ok(self.results.get("frf"))
+        if frf is not None and not frf["converged"].all():
+            bad = int((~frf["converged"]).sum())
+            return [f"{bad} of {len(frf['converged'])} FRF points did not converge (shown as computed)"]
+        return []
+
+    def _figure_frf(self):
+        curves = _linear_curves(self)
+        frf = _ok(self.results.get("frf"))
+        curves["nonlinear, no wear"] = EMPTY if frf is None else (frf["f_hz"], frf["amplitude"][:, 0])
+        return export.line_figure(
+            curves,
+            xlabel=HZ,
+            ylabel=X1,
+            logy=True,
+            dashed=list(curves)[:2],
+            title=f"FRF of mass 1, F_ex = {self.settings.model.fex:g} N",
+        )
+
+    def _figure_regime_map(self):
+        s = self.settings
+        reg = _ok(self.results.get("regime"))
+        f, ratios = (s.frequencies, s.ratios) if reg is None else (reg["f_hz"], reg["ratios"])
+        z = np.zeros((len(ratios), len(f))) if reg is None else reg["slip_fraction"]
+        boundary = (
+            EMPTY
+            if reg is None
+            else (f, np.where(reg["stick_limit"] <= ratios[-1], reg["stick_limit"], np.nan))
+        )
+        return export.map_figure(
+            f,
+            ratios,
+            z,
+            xlabel=HZ,
+            ylabel="r = F_ex / (mu F_N)",
+            zlabel="slip fraction of the period",
+            clim=(0, 1),
+            levels=(0.5,),
+            cmap="magma",
+            curves={"stick boundary": boundary},
+            hline=s.model.r,
+            title=f"Stick/slip regimes (current r = {s.model.r:.3g})",
+        )
+
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        out = _linear_table(self)
+        frf = _ok(self.results.get("frf"))
+        if frf is not None:
+            table = {"f_hz": frf["f_hz"]}
+            for i in range(frf["amplitude"].shape[1]):
+                table[f"x{i + 1}_h1"] = frf["amplitude"][:, i]
+            table |= {
+                "xr_h1": frf["relative_amplitude"][:, 0],
+                "sliding_distance": frf["sliding_distance"][:, 0],
+                "friction_energy": frf["friction_energy"][:, 0],
+                "converged": frf["converged"],
+            }
+            out["nonlinear_frf"] = table
+        reg = _ok(self.results.get("regime"))
+        if reg is not None:
+            f, r = np.meshgrid(reg["f_hz"], reg["ratios"])
+            out["regime_map"] = {
+                "f_hz": f.ravel(),
+                "r": r.ravel(),
+                "slip_fraction": reg["slip_fraction"].ravel(),
+                "sliding_distance": reg["sliding_distance"].ravel(),
+                "x1_h1": reg["amplitude"].ravel(),
+            }
+            out["stick_boundary"] = {"f_hz": reg["f_hz"], "r_stick": reg["stick_limit"]}
+        return out
+
+
+class WearMapScene(Scene):
+    key = "wearmap"
+    title = "Wear map"
+    figure_names = ("wear_map", "history", "pseudo_frf")
+    dataset_names = ("wear_map", "history", "pseudo_frf")
+    uses_selection = True
+    explanation = """
+**What you see.** The wear depth `w / u0` over frequency and the number of cycles `N` (log scale), by
+the selected slow-time method (`exact`: no slow-time error), with contours at 10, 50 and 90 %. Hover
+for values. **Click a point**: beside and below, the wear history `w(N)` at that frequency and the
+pseudo-FRF of mass 1 at that cycle count, next to the one without wear.
+
+**Try.** Click inside the worn band, then near its edges: wear starts where the contact slips and
+spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` matters)."""
+
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        return [self.tasks.wear_map(s)]
+
+    def _map(self):
+        return _ok(self.results.get("wear_map"))
+
+    def _index(self) -> int:
+        wm = self._map()
+        grid = self.settings.frequencies if wm is None else wm.frequency
+        return int(np.argmin(np.abs(grid - self.selection.frequency)))
+
+    def _notes(self) -> list[str]:
+        wm = self._map()
+        if wm is None:
+            return []
+        notes = [f"{h.frequency:.4g} Hz: {h.status}" for h in wm.histories if not h.converged]
+        warnings = sorted({w for h in wm.histories for w in h.warnings})
+        return notes + warnings[:3]
+
+    def _figure_wear_map(self):
+        s, wm, sel = self.settings, self._map(), self.selection
+        f, cycles = (s.frequencies, s.cycles) if wm is None else (wm.frequency, wm.cycles)
+        logn = np.log10(cycles[1:])
+        z = np.zeros((len(logn), len(f))) if wm is None else wm.wear_fraction[:, 1:, 0].T
+        return export.map_figure(
+            f,
+            logn,
+            z,
+            xlabel=HZ,
+            ylabel="log10 cycles N",
+            zlabel="w / u0",
+            clim=(0, 1),
+            levels=(0.1, 0.5, 0.9),
+            point=(sel.frequency, np.log10(sel.cycles)),
+            title=f"Wear map ({s.method}, k_w = {s.kw:.3g} 1/Pa): click a point",
+        )
+
+    def _history(self):
+        wm = self._map()
+        return None if wm is None else wm.histories[self._index()]
+
+    def _figure_history(self):
+        h, sel = self._history(), self.selection
+        curve, point = EMPTY, (np.nan, np.nan)
+        if h is not None:
+            curve = export.wear_curve(h, self.settings.dense_cycles)
+            point = (sel.cycles, float(h.at([sel.cycles])["wear"][0, 0] / h.u0[0]))
+        f = np.nan if h is None else h.frequency
+        return export.line_figure(
+            {"w / u0": curve},
+            xlabel="cycles N",
+            ylabel="w / u0",
+            logx=True,
+            point=point,
+            title=f"Wear history at {f:.4g} Hz",
+        )
+
+    def _pseudo(self) -> tuple[np.ndarray, np.ndarray] | None:
+        wm = self._map()
+        return None if wm is None else wm.pseudo_frf([0.0, self.selection.cycles])[:, :, 0]
+
+    def _figure_pseudo_frf(self):
+        wm, sel, p = self._map(), self.selection, self._pseudo()
+        curves = {"no wear": EMPTY, "selected N": EMPTY}
+        if p is not None:
+            curves = {"no wear": (wm.frequency, p[0]), "selected N": (wm.frequency, p[1])}
+        return export.line_figure(
+            curves,
+            xlabel=HZ,
+            ylabel=X1,
+            logy=True,
+            vline=sel.frequency,
+            title=f"Pseudo-FRF of mass 1 at N = {sel.cycles:.3g}",
+        )
+
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        wm, h, p = self._map(), self._history(), self._pseudo()
+        if wm is None:
+            return {}
+        return {
+            "wear_map": wm.long_table(),
+            "history": {
+                "cycles": h.cycles,
+                "w": h.wear[:, 0],
+                "w_over_u0": h.wear_fraction[:, 0],
+                "normal_load": h.normal_load[:, 0],
+                "rate": h.rate[:, 0],
+                "x1_h1": h.amplitude[:, 0],
+                "xr_half_p2p": h.relative_half_peak_to_peak[:, 0],
+            },
+            "pseudo_frf": {
+                "f_hz": wm.frequency,
+                "x1_h1_N0": p[0],
+                "x1_h1_selected": p[1],
+                "selected_cycles": np.full(len(wm.frequency), self.selection.cycles),
+            },
+        }
+
+
+class EvolutionScene(Scene):
+    key = "evolution"
+    title = "FRF evolution"
+    figure_names = ("evolution",)
+    dataset_names = ("pseudo_frfs", "linear_frf")
+    explanation = """
+**What you see.** Pseudo-FRFs of mass 1 (the response after `N` cycles of wear at each frequency) for
+`N = 0` and four cycle counts up to the horizon `H`, over the linear FRFs with the contact stuck and
+open (paper Fig. 8-9). As the contact wears, the normal load relaxes and the response moves from the
+stuck resonance (1 Hz) towards the free one (0.5 Hz).
+
+**Try.** The paper presets at 6, 10 and 14 N; the wear map of the same settings is shared with the
+*Wear map* scene, so switching between them costs nothing."""
+
+    _labels = ("N = 0", "N = H/1000", "N = H/100", "N = H/10", "N = H")
+
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        t = self.tasks
+        return [t.linear(s, "stuck"), t.linear(s, "open"), t.wear_map(s)]
+
+    def _pseudo(self):
+        wm = _ok(self.results.get("wear_map"))
+        return None if wm is None else wm.pseudo_frf(self.settings.snapshots)[:, :, 0]
+
+    def _figure_evolution(self):
+        curves = _linear_curves(self)
+        wm, p = _ok(self.results.get("wear_map")), self._pseudo()
+        for i, label in enumerate(self._labels):
+            curves[label] = EMPTY if p is None else (wm.frequency, p[i])
+        return export.line_figure(
+            curves,
+            xlabel=HZ,
+            ylabel=X1,
+            logy=True,
+            dashed=list(curves)[:2],
+            title=f"Pseudo-FRFs of mass 1, H = {self.settings.horizon:.3g} cycles",
+        )
+
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        out = _linear_table(self)
+        wm, p = _ok(self.results.get("wear_map")), self._pseudo()
+        if p is not None:
+            out["pseudo_frfs"] = {"f_hz": wm.frequency} | {
+                f"x1_h1_N{n:.6g}": p[i] for i, n in enumerate(self.settings.snapshots)
+            }
+        return out
+
+
+class CycleScene(Scene):
+    key = "cycle"
+    title = "Inside one cycle"
+    figure_names = ("displacements", "force", "loop")
+    dataset_names = ("cycle",)
+    uses_selection = True
+    explanation = """
+**What you see.** One period of the steady response at the selected frequency after `N` cycles of
+wear: the displacements, the friction force and its limits `+-mu F_N(w)`, with the slipping
+intervals shaded, and the hysteresis loop (friction force against relative displacement), whose area
+is the energy dissipated per cycle.
+
+**Try.** Pick a point on the wear map, or type `f` and `N` above: with wear the limits shrink, the
+contact slips longer and the loop flattens."""
+
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        history = self.tasks.history(s, sel.frequency) if sel.cycles > 0 else None
+        return [*([history] if history else []), self.tasks.point(s, sel.frequency, sel.cycles, history)]
+
+    def _point(self):
+        return _ok(self.results.get("point"))
+
+    def _notes(self) -> list[str]:
+        sol = self._point()
+        if sol is None:
+            return []
+        notes = [
+            f"wear w = {sol.wear[0]:.4g} m (w / u0 = {sol.wear[0] / sol.model.friction[0].u0:.3f}), "
+            f"F_N = {sol.normal_loads[0]:.4g} N, "
+            f"slipping {100 * np.mean(sol.state[0] == 1):.0f} % of the period, "
+            f"dissipated energy {sol.friction_energy[0]:.4g} J per cycle"
+        ]
+        if not sol.converged:
+            notes.append(f"the periodic solve did not converge: {sol.message}")
+        return notes
+
+    def _spans(self, sol) -> list[tuple[float, float]]:
+        """Intervals of t / T where the contact slips."""
+        slip = np.concatenate([[False], sol.state[0] == 1, [False]]).astype(int)
+        edges = np.flatnonzero(np.diff(slip))
+        n = sol.samples
+        return [(a / n, b / n) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+    def _title(self) -> str:
+        sel = self.selection
+        return f"f = {sel.frequency:.4g} Hz, N = {sel.cycles:.3g}"
+
+    def _figure_displacements(self):
+        sol = self._point()
+        names = ("x1", "x2", "x1 - x2")
+        if sol is None:
+            return export.signals_figure(
+                [], {n: [] for n in names}, xlabel="t / T", ylabel="displacement (m)", title=self._title()
+            )
+        t = sol.time * sol.omega / (2 * np.pi)
+        signals = dict(zip(names, (*sol.displacement, sol.relative_displacement[0]), strict=True))
+        return export.signals_figure(
+            t,
+            signals,
+            spans=self._spans(sol),
+            xlabel="t / T",
+            ylabel="displacement (m)",
+            title=f"Displacements, {self._title()}",
+        )
+
+    def _figure_force(self):
+        sol = self._point()
+        t, force, limit = [], [], np.nan
+        spans = []
+        if sol is not None:
+            t = sol.time * sol.omega / (2 * np.pi)
+            force, limit, spans = (
+                sol.contact_force[0],
+                sol.model.friction[0].mu * sol.normal_loads[0],
+                self._spans(sol),
+            )
+        return export.signals_figure(
+            t,
+            {"friction force": force},
+            spans=spans,
+            hlines=(limit, -limit),
+            xlabel="t / T",
+            ylabel="friction force (N)",
+            title=f"Friction force and +-mu F_N, {self._title()}",
+        )
+
+    def _figure_loop(self):
+        sol = self._point()
+        curve, energy = EMPTY, np.nan
+        if sol is not None:
+            close = np.r_[np.arange(sol.samples), 0]
+            curve = (sol.relative_displacement[0][close], sol.contact_force[0][close])
+            energy = sol.friction_energy[0]
+        return export.line_figure(
+            {"hysteresis loop": curve},
+            xlabel="x1 - x2 (m)",
+            ylabel="friction force (N)",
+            title=f"Hysteresis loop: dissipated energy {energy:.4g} J per cycle",
+        )
+
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        sol = self._point()
+        if sol is None:
+            return {}
+        return {
+            "cycle": {
+                "t": sol.time,
+                "t_over_T": sol.time * sol.omega / (2 * np.pi),
+                "x1": sol.displacement[0],
+                "x2": sol.displacement[1],
+                "xr": sol.relative_displacement[0],
+                "friction_force": sol.contact_force[0],
+                "state": np.array(["stick", "slip", "open"])[sol.state[0]],
+            }
+        }
+
+
+class MethodsScene(Scene):
+    key = "methods"
+    title = "Methods"
+    figure_names = ("methods", "harmonics")
+    dataset_names = ("methods", "harmonics")
+    uses_selection = True
+    explanation = """
+**What you see.** Left: the wear history at the selected frequency by the four slow-time methods:
+the exact load path (Archard's law integrated along the exact piecewise-linear path of the periodic
+response as the load relaxes: no slow-time error), stepping (HBM + DLFT, adaptive steps in `N`), the
+paper's polynomial method (one nonlinear solve for the whole evolution) and direct time integration
+with cycle jumps (paper Fig. 11). Right: the exact load path with 1, 3, 7, 15 and 21 harmonics, so that
+only the harmonic truncation differs (paper Fig. 10).
+
+**Try.** The paper's case: `F_ex = 10 N`, `f = 0.7 Hz`, `Nh = 3`, degree 4. Raise the degree when
+the polynomial curve misses the plateau; loosen the tolerance to see stepping drift."""
+
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        t, f = self.tasks, sel.frequency
+        methods = [t.history(s, f, m, name=m) for m in METHODS]
+        convergence = [t.history(s, f, "exact", nh, name=f"Nh = {nh}") for nh in CONVERGENCE_HARMONICS]
+        return sorted(methods + convergence, key=lambda task: task.weight)
+
+    def _notes(self) -> list[str]:
+        notes = []
+        for name in METHODS:
+            h = _ok(self.results.get(name))
+            if h is not None:
+                notes += [f"{name}: {w}" for w in h.warnings]
+                if not h.converged:
+                    notes.append(f"{name}: stopped early ({h.status})")
+        return notes
+
+    def _curves(self, names) -> dict[str, tuple]:
+        out = {}
+        for name in names:
+            h = _ok(self.results.get(name))
+            out[name] = EMPTY if h is None else export.wear_curve(h, self.settings.dense_cycles)
+        return out
+
+    def _figure_methods(self):
+        sel = self.selection
+        return export.line_figure(
+            self._curves(METHODS),
+            xlabel="cycles N",
+            ylabel="w / u0",
+            logx=True,
+            title=f"Three methods at {sel.frequency:.4g} Hz",
+        )
+
+    def _figure_harmonics(self):
+        names = [f"Nh = {nh}" for nh in CONVERGENCE_HARMONICS]
+        return export.line_figure(
+            self._curves(names),
+            xlabel="cycles N",
+            ylabel="w / u0",
+            logx=True,
+            title=f"Harmonic convergence (exact load path) at {self.selection.frequency:.4g} Hz",
+        )
+
+    def _long(self, names, column: str) -> dict[str, np.ndarray]:
+        rows = [(n, h) for n in names if (h := _ok(self.results.get(n))) is not None]
+        if not rows:
+            return {}
+        return {
+            column: np.concatenate([np.full(len(h.cycles), n) for n, h in rows]),
+            "cycles": np.concatenate([h.cycles for _, h in rows]),
+            "w": np.concatenate([h.wear[:, 0] for _, h in rows]),
+            "w_over_u0": np.concatenate([h.wear_fraction[:, 0] for _, h in rows]),
+        }
+
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        tables = {
+            "methods": self._long(METHODS, "method"),
+            "harmonics": self._long([f"Nh = {nh}" for nh in CONVERGENCE_HARMONICS], "harmonics"),
+        }
+        return {k: v for k, v in tables.items() if v}
+
+
+#: the scenes in tab order
+SCENES: tuple[type[Scene], ...] = (RegimesScene, WearMapScene, EvolutionScene, CycleScene, MethodsScene)

@@ -1,0 +1,77 @@
+"""Warm-up of a dashboard server: compiled kernels, plotting code and the default scenes' results.
+
+``warm()`` computes the results of the default settings' first scenes into the
+process-wide cache (loading the Numba kernels from their cache, or compiling
+them) and draws their figures once, so that the first page is served from the
+cache. Two ways to run it:
+
+* ``panel serve app/app.py --setup app/warmup.py``: before the server accepts
+  connections (it blocks the start-up for a few seconds);
+* ``panel serve app/app.py --warm``: Panel executes ``app.py`` at start-up,
+  which starts :func:`warm_in_background`; without ``--warm`` that happens when
+  the first session opens.
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+__all__ = ["warm", "warm_in_background"]
+
+log = logging.getLogger(__name__)
+_started = threading.Lock()
+_thread: list[threading.Thread] = []
+
+
+def warm(
+    scenes: tuple[str, ...] = ("regimes", "wearmap"), figures: bool = True, exports: bool = False
+) -> float:
+    """Compute the default ``scenes`` into the shared cache; seconds spent.
+
+    With ``figures``, draw them once too (imports the plotting code); with
+    ``exports``, also load Matplotlib for the PNG and SVG exports (before the
+    server starts only: loading a backend switches HoloViews' current one for
+    a moment).
+    """
+    from app.session import Session
+    from fretwear import export
+
+    start = time.perf_counter()
+    session = Session()
+    for key in scenes:
+        session.scene = key
+        if figures:
+            export.load_backend("bokeh")
+            for name in session.current.figure_names:
+                session.current.figure(name)
+    if exports:
+        export.load_backend("matplotlib")
+    return time.perf_counter() - start
+
+
+def warm_in_background() -> threading.Thread:
+    """Start :func:`warm` in a daemon thread, once per process; the thread."""
+    with _started:
+        if not _thread:
+
+            def run():
+                try:
+                    log.info("fretwear warm-up done in %.1f s", warm())
+                except Exception:  # noqa: BLE001 - a failed warm-up only costs time later
+                    log.exception("fretwear warm-up failed")
+
+            _thread.append(threading.Thread(target=run, name="fretwear-warm-up", daemon=True))
+            _thread[0].start()
+        return _thread[0]
+
+
+if __name__ in ("__main__", "panel_setup_module"):
+    print(f"fretwear: warmed up in {warm(exports=True):.1f} s", flush=True)
