@@ -10,7 +10,7 @@ of :mod:`fretwear.export`, which also renders them to PNG, SVG and HTML.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 import param
@@ -19,6 +19,9 @@ from fretwear import export
 
 from .backend import Failure
 from .state import CONVERGENCE_HARMONICS, METHODS, Controls, Settings, Task, Tasks
+
+if TYPE_CHECKING:
+    import holoviews as hv
 
 __all__ = ["Selection", "Scene", "SCENES"]
 
@@ -81,7 +84,7 @@ class Scene(param.Parameterized):
         return []
 
     # -- what to show ---------------------------------------------------------------------
-    def figure(self, name: str):
+    def figure(self, name: str) -> hv.Overlay:
         """Figure ``name`` of the published results, as a HoloViews overlay."""
         if name not in self.figure_names:
             raise ValueError(f"scene {self.key!r} has no figure {name!r}; it has {self.figure_names}")
@@ -271,7 +274,7 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
             clim=(0, 1),
             levels=(0.1, 0.5, 0.9),
             point=(sel.frequency, np.log10(sel.cycles)),
-            title=f"Wear map ({s.method}, k_w = {s.kw:.3g} 1/Pa): click a point",
+            title=f"Wear map ({s.method}, k_w = {s.kw:.3g} 1/Pa)",
         )
 
     def _history(self):

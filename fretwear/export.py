@@ -308,12 +308,30 @@ def figure_bytes(fig: hv.core.Dimensioned, fmt: FigureFormat, *, title: str = "f
         return data.encode() if isinstance(data, str) else data
     if fmt == "html":
         load_backend("bokeh")
-        from bokeh.resources import INLINE
+        from bokeh.document import Document
+        from bokeh.embed import file_html
 
-        buf = io.BytesIO()
-        hv.save(fig, buf, fmt="html", backend="bokeh", resources=INLINE, title=title)
-        return buf.getvalue()
+        # Bokeh alone, in a new document: Panel's ``save`` (behind ``hv.save``) would draw into a served
+        # document and rewrite the stylesheet links it shares with it to CDN addresses
+        plot = hv.renderer("bokeh").get_plot(fig, doc=Document())
+        return file_html(plot.state, _inline_resources(), title=title).encode()
     raise ValueError(f"fmt must be one of {FIGURE_FORMATS}, got {fmt!r}")
+
+
+def _inline_resources():
+    """BokehJS inline, without the external scripts other imported models (Panel's) declare."""
+    from bokeh.resources import Resources
+
+    class Inline(Resources):
+        def _collect_external_resources(self, resource_attr):
+            return []
+
+        def clone(self, *, components=None):
+            return Inline(
+                mode="inline", components=list(self.components if components is None else components)
+            )
+
+    return Inline(mode="inline")
 
 
 def save_figure(fig: hv.core.Dimensioned, path: str | Path) -> Path:

@@ -208,16 +208,25 @@ def test_clicking_the_wear_map_changes_the_cross_sections(page):
     page.wait_title("Pseudo-FRF of mass 1 at N = 3.16e+04")
 
 
-def test_csv_download(page):
+def download(page: Page, button: str) -> tuple[str, bytes]:
+    with page.page.expect_download() as info:
+        page.page.get_by_role("button", name=button, exact=True).click()
+    return info.value.suggested_filename, Path(info.value.path()).read_bytes()
+
+
+def test_downloads(page):
     page.tab("Wear map")
     page.wait_title("Wear history at")
-    with page.page.expect_download() as info:
-        page.page.get_by_role("button", name="CSV", exact=True).click()
-    download = info.value
-    assert download.suggested_filename == "fretwear_wearmap_wear_map.csv"
-    lines = Path(download.path()).read_text().splitlines()
+    name, data = download(page, "CSV")
+    assert name == "fretwear_wearmap_wear_map.csv"
+    lines = data.decode().splitlines()
     assert lines[0].startswith("f_hz,cycles,w,w_over_u0,x1_h1") and len(lines) == 1 + 41 * 60
     assert float(lines[1].split(",")[0]) == pytest.approx(0.3)
+    name, data = download(page, "HTML")
+    assert name == "fretwear_wearmap_wear_map.html"
+    assert data.startswith(b"<!DOCTYPE html>") and b"<script src=" not in data
+    page.tab("Methods")  # the page the export leaves behind still loads nothing from outside
+    page.wait_title("Three methods at")
 
 
 def test_invalid_input_shows_a_message(page):
