@@ -1,4 +1,4 @@
-"""Command line interface: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map`` and ``cost``.
+"""Command line interface: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map``, ``cost``, ``figures``.
 
 The commands are thin wrappers around the library calls the dashboard and the
 benchmarks use (:func:`fretwear.continuation.sweep`,
@@ -271,6 +271,24 @@ def build_parser() -> argparse.ArgumentParser:
                       help="target relative error for the recommendation (-), > 0; default 1e-2")  # fmt: skip
     cost.add_argument("--quick", action="store_true", help="a shorter ladder")
     cost.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
+
+    figures = commands.add_parser(
+        "figures",
+        help="the paper's figure set (Fig. 5-14 equivalents), headless",
+        description="Computes the paper's figures 5-14 for the 2-DOF example and writes figNN.{png,svg,csv} "
+        "(and .html with --formats) to --out. Needs matplotlib and holoviews (installed with fretwear).",
+    )
+    figures.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
+    figures.add_argument("--harmonics", type=_number(1, integer=True), default=21, metavar="NH",
+                         help="highest harmonic Nh (-), >= 1; default 21")  # fmt: skip
+    figures.add_argument("--kw", type=_number(0.0, unit="1/Pa"), default=1e-11,
+                         help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
+    figures.add_argument("--cycles", type=_number(0.0, strict=True), default=1e5,
+                         help="wear horizon (cycles), > 0; default 1e5")  # fmt: skip
+    figures.add_argument("--nf", type=_number(2, integer=True), default=41,
+                         help="frequencies of the maps (-), >= 2; default 41")  # fmt: skip
+    figures.add_argument("--formats", default="png,svg,csv",
+                         help="formats, comma-separated: png, svg, html, csv")  # fmt: skip
     return parser
 
 
@@ -574,6 +592,20 @@ def _cost(args: argparse.Namespace, model: Model, names: _Names) -> int:
     return EXIT_OK
 
 
+def _figures(args: argparse.Namespace) -> int:
+    """``fretwear figures``: the paper's figure set, written headlessly."""
+    from .export import paper_figures
+
+    formats = tuple(f.strip() for f in args.formats.split(",") if f.strip())
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    written = paper_figures(out, harmonics=args.harmonics, kw=args.kw, cycles=args.cycles,
+                            frequencies=args.nf, formats=formats,
+                            log=lambda msg: print(f"fretwear figures: {msg}", file=sys.stderr))  # fmt: skip
+    print(f"fretwear figures: wrote {len(written)} files to {out}", file=sys.stderr)
+    return EXIT_OK
+
+
 _COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map, "cost": _cost}
 
 
@@ -596,6 +628,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.code if isinstance(exc.code, int) else EXIT_USAGE
     try:
         _check(args)
+        if args.command == "figures":
+            return _figures(args)
         model, names = _model(args)
         return _COMMANDS[args.command](args, model, names)
     except (UsageError, ValueError) as exc:

@@ -2,21 +2,29 @@
 
 ``slow``: long numerical studies; they run by default and in CI, and
 ``-m "not slow"`` leaves them out for a quick local run.
-``browser``: tests that drive Chromium through Playwright; the README's test
-command leaves them out, and they are skipped, with the reason, when
-Playwright is not installed.
+``browser``: tests that drive Debian's Chromium through Playwright; they run
+with the README's test command and are skipped, with the reason, when
+Playwright or /usr/bin/chromium is missing (``.ci/run`` installs both).
 """
 
 import importlib.util
+from pathlib import Path
 
 import pytest
 
 
+CHROMIUM = Path("/usr/bin/chromium")
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Skip ``browser`` tests when Playwright is missing."""
-    if importlib.util.find_spec("playwright") is not None:
+    """Skip ``browser`` tests when Playwright or Debian's chromium is missing."""
+    if importlib.util.find_spec("playwright") is None:
+        reason = "browser test: Playwright is not installed (pip install playwright)"
+    elif not CHROMIUM.exists():
+        reason = f"browser test: {CHROMIUM} is missing (apt-get install chromium)"
+    else:
         return
-    skip = pytest.mark.skip(reason="browser test: Playwright is not installed")
+    skip = pytest.mark.skip(reason=reason)
     for item in items:
         if "browser" in item.keywords:
             item.add_marker(skip)

@@ -357,3 +357,29 @@ def test_wear_bad_input(tmp_path, monkeypatch, capsys, argv, fragment):
     assert cli.main(argv) == 2
     err = capsys.readouterr().err
     assert fragment in err and "Traceback" not in err
+
+
+def test_figures_command_writes_the_paper_set(tmp_path):
+    out = tmp_path / "figs"
+    argv = [
+        "figures",
+        "--out",
+        str(out),
+        "--harmonics",
+        "3",
+        "--nf",
+        "4",
+        "--cycles",
+        "1e4",
+        "--formats",
+        "png,csv",
+    ]
+    assert cli.main(argv) == 0
+    names = sorted(p.name for p in out.iterdir())
+    assert [n for n in names if n.endswith(".png")] == [f"fig{k:02d}.png" for k in range(5, 15)]
+    assert all((out / n).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for n in names if n.endswith(".png"))
+
+
+def test_figures_bad_format(tmp_path, capsys):
+    assert cli.main(["figures", "--out", str(tmp_path), "--formats", "gif"]) == 2
+    assert "gif" in capsys.readouterr().err
