@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 import fretwear
-from fretwear import continuation, linear, studies
+from fretwear import accuracy, continuation, linear, studies
 from fretwear.model import Model
 
 __all__ = [
@@ -57,6 +57,7 @@ LIBRARY: dict[str, tuple[Any, str]] = {
     "wear_map": (studies, "wear_map"),
     "wear_history": (studies, "wear_history"),
     "solve_periodic": (fretwear, "solve_periodic"),
+    "cost_ladder": (accuracy, "cost_ladder"),
 }
 
 
@@ -368,6 +369,32 @@ class Backend:
     ) -> fretwear.PeriodicSolution:
         """Periodic response at one frequency and wear (``None``: unworn), :func:`fretwear.solve_periodic`."""
         return self._call("solve_periodic", self.model(spec), 2 * np.pi * f_hz, harmonics, wear=wear)
+
+    def cost(
+        self,
+        spec: ModelSpec,
+        f_hz: float,
+        ladder: dict[str, Any],
+        kw: float | None = None,
+        cycles: float | None = None,
+        progress: Progress = lambda _f: None,
+        cancelled: Check = lambda: False,
+    ) -> accuracy.CostStudy:
+        """Error against wall time over a ladder of settings (:func:`fretwear.accuracy.cost_ladder`).
+
+        ``ladder`` holds the ladder's keyword arguments; ``kw`` and ``cycles``
+        (both or neither) add the wear rungs. The run stops with
+        :class:`Cancelled` at the first rung after ``cancelled()`` turns true.
+        """
+
+        def step(fraction: float) -> None:
+            if cancelled():
+                raise Cancelled
+            progress(fraction)
+
+        return self._call(
+            "cost_ladder", self.model(spec), f_hz, kw=kw, cycles=cycles, progress=step, **ladder
+        )
 
 
 _shared: dict[str, Any] = {}

@@ -22,9 +22,9 @@ import param
 
 from fretwear import export
 
-from .scenes import Scene
+from .scenes import QUANTITY_LABELS, TARGETS, AccuracyScene, Scene, sidebar_equivalent
 from .session import Session
-from .state import CUSTOM, METHODS, PRESETS
+from .state import CUSTOM, LADDERS, METHODS, PRESETS
 
 __all__ = ["build_page", "document_dispatch"]
 
@@ -97,6 +97,54 @@ class LogInput(pn.Column):
         obj.param.watch(pull, name)
 
 
+class BandInput(pn.Column):
+    """The frequency band: a range slider and two number boxes that keep what was typed.
+
+    Panel's ``EditableRangeSlider`` replaces a typed lower bound above the
+    upper one by the upper one (and the reverse): the message would then name
+    values the user did not type. Here each box sets its own control, and an
+    inverted band is reported by :meth:`Controls.problems`.
+    """
+
+    def __init__(self, controls: param.Parameterized, start: float, end: float) -> None:
+        self._slider = pn.widgets.RangeSlider(
+            label="Frequency band (Hz)",
+            start=start,
+            end=end,
+            step=0.01,
+            value=(controls.fmin, controls.fmax),
+            sizing_mode="stretch_width",
+        )
+        self._low, self._high = (
+            pn.widgets.FloatInput(label=label, value=value, step=0.01, sizing_mode="stretch_width")
+            for label, value in (("f min (Hz)", controls.fmin), ("f max (Hz)", controls.fmax))
+        )
+        super().__init__(
+            self._slider,
+            pn.Row(self._low, self._high, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
+            margin=0,
+        )
+        self._slider.param.watch(
+            lambda e: controls.param.update(fmin=e.new[0], fmax=e.new[1]), "value_throttled"
+        )
+        self._low.param.watch(lambda e: setattr(controls, "fmin", e.new), "value")
+        self._high.param.watch(lambda e: setattr(controls, "fmax", e.new), "value")
+
+        def pull(*_events):
+            low, high = controls.fmin, controls.fmax
+            self._low.value, self._high.value = low, high
+            valid = all(isinstance(v, (int, float)) and math.isfinite(v) for v in (low, high)) and low < high
+            if (
+                valid
+            ):  # an invalid band stays in the boxes, with its message; the slider keeps the last valid one
+                self._slider.param.update(
+                    start=min(self._slider.start, low), end=max(self._slider.end, high), value=(low, high)
+                )
+
+        controls.param.watch(pull, ["fmin", "fmax"])
+
+
 def _sidebar(session: Session) -> list:
     c = session.controls
     preset = pn.widgets.Select(label="Preset", options=[CUSTOM, *PRESETS], value=c.preset)
@@ -119,16 +167,7 @@ def _sidebar(session: Session) -> list:
     mu = slider(pn.widgets.EditableFloatSlider, "mu", "mu: friction coefficient", 0.05, 2, 0.01)
     harmonics = slider(pn.widgets.EditableIntSlider, "harmonics", "Nh: harmonics", 1, 41)
     degree = slider(pn.widgets.EditableIntSlider, "degree", "Degree of the polynomial method", 0, 12)
-    band = pn.widgets.EditableRangeSlider(
-        label="Frequency band (Hz)",
-        start=0.05,
-        end=3.0,
-        step=0.01,
-        value=(c.fmin, c.fmax),
-        sizing_mode="stretch_width",
-    )
-    band.param.watch(lambda e: c.param.update(fmin=e.new[0], fmax=e.new[1]), "value_throttled")
-    c.param.watch(lambda e: setattr(band, "value", (c.fmin, c.fmax)), ["fmin", "fmax"])
+    band = BandInput(c, 0.05, 3.0)
     method = pn.widgets.RadioButtonGroup(
         label="Slow-time method", options=list(METHODS), value=c.method, color="primary", variant="outline"
     )
@@ -230,6 +269,50 @@ def _export_card(scene: Scene) -> pn.Card:
     )
 
 
+def _accuracy_controls(scene: AccuracyScene, session: Session) -> pn.Column:
+    """The accuracy scene's own controls, its recommendation and the button that applies it."""
+    quantity = pn.widgets.Select(
+        label="Error on", options={v: k for k, v in QUANTITY_LABELS.items()}, value=scene.quantity, width=250
+    )
+    _link(quantity, scene, "quantity", event="value")
+    target = pn.widgets.DiscreteSlider(
+        label="Target error", options={f"{t:g}": t for t in TARGETS}, value=scene.target, width=300
+    )
+    _link(target, scene, "target")
+    ladder = pn.widgets.RadioButtonGroup(
+        label="Ladder", options=list(LADDERS), value=scene.ladder, variant="outline", align="end"
+    )
+    _link(ladder, scene, "ladder", event="value")
+    wear = pn.widgets.Checkbox(
+        label="wear rungs: w(N) (several seconds)",
+        value=scene.wear,
+        align="end",
+    )
+    _link(wear, scene, "wear", event="value")
+    advice = pn.pane.Markdown("", sizing_mode="stretch_width")
+    apply = pn.widgets.Button(label="Apply", color="primary", disabled=True, width=120, align="center")
+
+    def show(*_events):
+        advice.object = scene.advice()
+        rung = scene.applicable()
+        apply.disabled = rung is None
+        apply.label = "Apply" if rung is None else f"Apply: {sidebar_equivalent(rung)[1]}"
+
+    def click(_event):
+        rung = scene.applicable()
+        if rung is not None:
+            session.apply(sidebar_equivalent(rung)[0])
+
+    scene.param.watch(show, "version")
+    apply.on_click(click)
+    show()
+    return pn.Column(
+        pn.Row(quantity, target, pn.pane.Markdown("Ladder", align="end"), ladder, wear),
+        pn.Row(advice, apply, sizing_mode="stretch_width"),
+        sizing_mode="stretch_width",
+    )
+
+
 def _scene_tab(scene: Scene, session: Session) -> pn.Column:
     panes = [_figure_pane(scene, name, session) for name in scene.figure_names]
     grid = pn.GridBox(*panes, ncols=min(2, len(panes)), sizing_mode="stretch_width")
@@ -242,8 +325,15 @@ def _scene_tab(scene: Scene, session: Session) -> pn.Column:
     scene.param.watch(show_notes, "notes")
     show_notes()
     explanation = pn.pane.Markdown(scene.explanation.strip(), sizing_mode="stretch_width")
+    controls = [_accuracy_controls(scene, session)] if isinstance(scene, AccuracyScene) else []
     return pn.Column(
-        explanation, grid, notes, _export_card(scene), name=scene.title, sizing_mode="stretch_width"
+        explanation,
+        *controls,
+        grid,
+        notes,
+        _export_card(scene),
+        name=scene.title,
+        sizing_mode="stretch_width",
     )
 
 

@@ -16,14 +16,16 @@ import numpy as np
 import param
 
 from fretwear import export
+from fretwear.accuracy import QUANTITIES, CostStudy, Rung
+from fretwear.harmonics import default_samples
 
 from .backend import Failure
-from .state import CONVERGENCE_HARMONICS, METHODS, Controls, Settings, Task, Tasks
+from .state import CONVERGENCE_HARMONICS, LADDERS, METHODS, Controls, Settings, Task, Tasks
 
 if TYPE_CHECKING:
     import holoviews as hv
 
-__all__ = ["Selection", "Scene", "SCENES"]
+__all__ = ["Selection", "Scene", "SCENES", "sidebar_equivalent"]
 
 HZ = "frequency (Hz)"
 X1 = "x1 amplitude, first harmonic (m)"
@@ -56,6 +58,8 @@ class Scene(param.Parameterized):
     figure_names: ClassVar[tuple[str, ...]]
     dataset_names: ClassVar[tuple[str, ...]]
     uses_selection: ClassVar[bool] = False
+    #: parameters of the scene that change what it computes (the session refreshes when they change)
+    inputs: ClassVar[tuple[str, ...]] = ()
 
     version = param.Integer(0, doc="Incremented at each publish: the figures redraw")
     notes = param.List([], doc="Messages about the published results (failures, warnings)")
@@ -75,8 +79,12 @@ class Scene(param.Parameterized):
     def publish(self, results: dict[str, Any], s: Settings, sel: Selection) -> None:
         """Show ``results`` computed for ``s`` and ``sel``: the figures redraw."""
         self.results, self.settings, self.selection = results, s, sel
+        self.redraw()
+
+    def redraw(self) -> None:
+        """Redraw the published results (after a change of how they are shown)."""
         self.notes = [
-            n for name, value in results.items() for n in _failure_note(name, value)
+            n for name, value in self.results.items() for n in _failure_note(name, value)
         ] + self._notes()
         self.version += 1
 
@@ -583,5 +591,321 @@ the polynomial curve misses the plateau; loosen the tolerance to see stepping dr
         return {k: v for k, v in tables.items() if v}
 
 
+#: error measure of the accuracy scene that takes, for each rung, the largest error it measures
+WORST = "worst"
+#: error measures of the accuracy scene and how they are named
+QUANTITY_LABELS = {
+    WORST: "worst of all",
+    "x1_h1": "x1 amplitude (first harmonic)",
+    "xr_half_p2p": "x1 - x2, half peak-to-peak",
+    "sliding_distance": "sliding distance per cycle",
+    "wear": "w(N) (largest error over N, / u0)",
+}
+assert set(QUANTITY_LABELS) == {WORST, *QUANTITIES}
+#: target errors of the accuracy scene, 1-2-5 per decade from 1e-1 down to 1e-6
+TARGETS = (*(float(f"{m}e-{e}") for e in range(2, 7) for m in (10, 5, 2)), 1e-6)
+#: colour of each kind of rung
+FAMILY_COLORS = {
+    "shooting": "black",
+    "dlft": "#1f77b4",
+    "dlft, samples": "#17becf",
+    "exact": "#2ca02c",
+    "stepping": "#ff7f0e",
+    "stepping-shooting": "#d62728",
+    "polynomial": "#9467bd",
+    "time": "#8c564b",
+}
+
+
+def _family(rung: Rung) -> str:
+    if rung.method == "dlft" and rung.settings["N"] != default_samples(rung.settings["Nh"]):
+        return "dlft, samples"
+    return rung.method
+
+
+def sidebar_equivalent(rung: Rung) -> tuple[dict[str, Any] | None, str]:
+    """The sidebar settings that reproduce ``rung``: ``(changes, description)``.
+
+    ``changes`` maps control names (:class:`~app.state.Controls`) to values, or
+    is ``None`` when no sidebar setting reproduces the rung; the description
+    says then why.
+    """
+    p = rung.settings
+    if rung.method == "dlft":
+        nh, n = p["Nh"], p["N"]
+        if n != default_samples(nh):
+            return None, (
+                f"N = {n} samples per period has no sidebar control (the app takes the default "
+                f"{default_samples(nh)} at Nh = {nh})"
+            )
+        return {"harmonics": nh}, f"Nh = {nh}"
+    if rung.method == "shooting":
+        return None, "shooting is the reference solver; the app's scenes solve by HBM + DLFT"
+    if rung.method == "stepping-shooting":
+        return None, "stepping with shooting dynamics: the app's stepping solves by HBM + DLFT"
+    changes: dict[str, Any] = {"method": rung.method}
+    names = {"Nh": "harmonics", "tol": "tol", "degree": "degree"}
+    if rung.method not in METHODS or set(p) - set(names):
+        return None, f"the sidebar has no setting for {_name(rung)}"
+    changes |= {names[k]: v for k, v in p.items()}
+    labels = {"method": "method", "harmonics": "Nh", "tol": "tolerance", "degree": "degree"}
+    return changes, ", ".join(f"{labels[k]} = {v:g}" if k != "method" else f"method = {v}"
+                              for k, v in changes.items())  # fmt: skip
+
+
+def _name(rung: Rung) -> str:
+    """``rung.label`` without the trailing space of a rung without settings (the reference)."""
+    return rung.label.strip()
+
+
+def _short(rung: Rung) -> str:
+    """Text label of ``rung`` on the figure (DLFT rungs: ``N`` only when it is not the default)."""
+    if rung.method == "shooting":
+        return "shooting (reference)"
+    p = dict(rung.settings)
+    if rung.method == "dlft" and p["N"] == default_samples(p["Nh"]):
+        del p["N"]
+    text = " ".join(f"{k}={v:g}" for k, v in p.items())
+    return text if rung.method == "dlft" else f"{rung.method} {text}"
+
+
+class AccuracyScene(Scene):
+    key = "accuracy"
+    title = "Accuracy vs cost"
+    figure_names = ("pareto",)
+    dataset_names = ("ladder", "reference")
+    inputs = ("ladder", "wear")
+    explanation = """
+**What you see.** Each point is one discretisation (a *rung*) at the selected frequency `f`: its wall
+time on this server against its relative error on the chosen quantity, measured against a converged
+reference (shooting on the exact event-driven time integration for the periodic quantities; stepping
+with shooting dynamics at tolerance 1e-5 for `w(N)`). DLFT rungs vary `Nh` (and the samples per period
+N), the wear rungs the slow-time method, tolerance and degree. The dashed line is the Pareto front, the
+ring marks the current sidebar settings, the star the cheapest rung that reaches the target error;
+**Apply** sets the sidebar to it.
+
+**Try.** Move the target: the star moves along the front. Tick *wear rungs* (a few seconds more) and
+choose `w(N)` to compare the slow-time methods. Wall times are measured while the server works for
+every session: compare them within one ladder."""
+
+    quantity = param.Selector(default=WORST, objects=list(QUANTITY_LABELS), doc="Error measure")
+    target = param.Selector(default=1e-2, objects=list(TARGETS), doc="Target relative error")
+    ladder = param.Selector(default="quick", objects=list(LADDERS), doc="Ladder of settings")
+    wear = param.Boolean(False, doc="Include the wear rungs (w(N); k_w and the horizon of the sidebar)")
+
+    def __init__(self, tasks: Tasks, **params: Any) -> None:
+        super().__init__(tasks, **params)
+        self.param.watch(lambda *_events: self.redraw(), ["quantity", "target"])
+
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        return [self.tasks.cost(s, sel.frequency, self.ladder, self.wear)]
+
+    def study(self) -> CostStudy | None:
+        """The published cost ladder (``None`` while there is none)."""
+        return _ok(self.results.get("cost"))
+
+    def _measure(self) -> str | None:
+        return None if self.quantity == WORST else self.quantity
+
+    def error(self, rung: Rung) -> float:
+        """Error of ``rung`` on the selected quantity (NaN when the rung does not measure it)."""
+        return rung.error(self._measure())
+
+    def is_current(self, rung: Rung) -> bool:
+        """Whether the sidebar's settings are those of ``rung``."""
+        changes, _ = sidebar_equivalent(rung)
+        return changes is not None and all(getattr(self.settings, k) == v for k, v in changes.items())
+
+    def recommended(self) -> Rung | None:
+        """The cheapest converged rung within the target error on the selected quantity."""
+        study = self.study()
+        return None if study is None else study.recommend(self.target, self._measure())
+
+    def applicable(self) -> Rung | None:
+        """The cheapest converged rung within the target that the sidebar can reproduce."""
+        study = self.study()
+        ok = [
+            r
+            for r in (study.rungs if study else [])
+            if r.converged and self.error(r) <= self.target and sidebar_equivalent(r)[0] is not None
+        ]
+        return min(ok, key=lambda r: r.wall_time) if ok else None
+
+    def advice(self) -> str:
+        """What the scene recommends for the target, in Markdown (empty while nothing is computed)."""
+        study = self.study()
+        if study is None:
+            return ""
+        name, target = QUANTITY_LABELS[self.quantity], self.target
+        measured = [r for r in study.rungs if np.isfinite(self.error(r))]
+        if not measured:
+            return f"No rung measures {name}: tick *wear rungs* to compute `w(N)`."
+        best, settable = self.recommended(), self.applicable()
+        if best is None:
+            top = min(measured, key=self.error)
+            return (
+                f"No rung reaches {target:g} on {name}; the most accurate is `{_name(top)}` "
+                f"(error {self.error(top):.2g})."
+            )
+        text = (
+            f"**Cheapest within {target:g}** on {name}: `{_name(best)}` "
+            f"({_seconds(best.wall_time)}, error {self.error(best):.2g})."
+        )
+        changes, why = sidebar_equivalent(best)
+        if changes is not None:
+            return f"{text} **Apply** sets {why}."
+        text += f" It has no sidebar equivalent: {why}."
+        if settable is None:
+            return f"{text} No setting the sidebar can reproduce reaches {target:g}."
+        return (
+            f"{text} The cheapest the sidebar can reproduce: `{_name(settable)}` "
+            f"({_seconds(settable.wall_time)}, error {self.error(settable):.2g}); **Apply** sets "
+            f"{sidebar_equivalent(settable)[1]}."
+        )
+
+    def _notes(self) -> list[str]:
+        study = self.study()
+        if study is None:
+            return []
+        notes = [f"{_name(r)} did not converge (left out)" for r in study.rungs if not r.converged]
+        if not any(self.is_current(r) for r in study.rungs):
+            s = self.settings
+            notes.append(
+                f"the current settings (Nh = {s.harmonics}, method {s.method}) are not on this ladder"
+                + ("" if self.wear else "; the wear rungs are off")
+            )
+        return notes
+
+    def _figure_pareto(self):
+        hv = _holoviews()
+        study, name = self.study(), QUANTITY_LABELS[self.quantity]
+        rungs = [r for r in (study.rungs if study else []) if np.isfinite(self.error(r))]
+        errors = np.array([self.error(r) for r in rungs])
+        times = np.array([r.wall_time for r in rungs])
+        # errors of zero (the reference; rungs exact to round-off) are drawn at the bottom of the axis
+        floor = min([*errors[errors > 0], self.target]) / 10
+        # ranges with room for the text labels right of the points, valid without points too
+        xlim = (times.min() / 2, times.max() * 30) if len(rungs) else (1e-4, 1.0)
+        ylim = (floor / 2, max([*errors, self.target]) * 3)
+        xd = hv.Dimension("x", label="wall time (s)", range=xlim)
+        yd = hv.Dimension("y", label=f"relative error: {name}", range=ylim)
+        vdims = ["rung", "family", "error", "converged"]
+
+        def points(items: list[Rung], label: str, style: dict, bokeh: dict, mpl: dict):
+            table = {
+                "x": np.array([r.wall_time for r in items], dtype=float),
+                "y": np.array([max(self.error(r), floor) for r in items], dtype=float),
+                "rung": [_name(r) for r in items],
+                "family": [_family(r) for r in items],
+                "error": np.array([self.error(r) for r in items], dtype=float),
+                "converged": [str(r.converged) for r in items],
+            }
+            layer = hv.Points(table, [xd, yd], vdims, label=label)
+            return export._opts(layer, {"framewise": True, **style}, {"tools": ["hover"], **bokeh}, mpl)
+
+        front = [r for r in (study.pareto(self._measure()) if study else []) if r in rungs]
+        curve = hv.Curve(
+            ([r.wall_time for r in front], [max(self.error(r), floor) for r in front]),
+            xd,
+            yd,
+            label="Pareto front",
+        )
+        labels = hv.Labels(
+            (
+                [r.wall_time for r in rungs],
+                [max(self.error(r), floor) for r in rungs],
+                [f" {_short(r)}" for r in rungs],
+            ),
+            [xd, yd],
+            "text",
+        )
+        best = self.recommended()
+        layers = [
+            points(
+                rungs,
+                "rungs",
+                {"color": hv.dim("family").categorize(FAMILY_COLORS, default="gray")},
+                {"size": 9, "line_color": "white"},
+                {"s": 40},
+            ),
+            export._opts(curve, {"color": "gray"}, {"line_dash": "dashed"}, {"linestyle": "--"}),
+            export._opts(
+                labels,
+                {"show_legend": False},
+                {
+                    "text_font_size": "8pt",
+                    "text_align": "left",
+                    "text_baseline": "middle",
+                    "text_color": "#333",
+                },
+                {"size": 7, "horizontalalignment": "left", "verticalalignment": "center", "color": "#333"},
+            ),
+            points(
+                [r for r in rungs if self.is_current(r)],
+                "current settings",
+                {"color": "red"},
+                {"size": 20, "fill_alpha": 0, "line_width": 2.5},
+                {"s": 250, "facecolors": "none", "edgecolors": "red", "linewidth": 2},
+            ),
+            points(
+                [best] if best in rungs else [],
+                "recommended",
+                {"color": "gold"},
+                {"size": 22, "marker": "star", "line_color": "black"},
+                {"s": 300, "marker": "*", "edgecolors": "black"},
+            ),
+            export._marker_line(hv, self.target, vertical=False),
+        ]
+        f = self.selection.frequency if study is None else study.frequency
+        title = f"{name} vs wall time at {f:.4g} Hz (target {self.target:g})"
+        overlay = export._overlay_options(hv.Overlay(layers), title, xd.label, yd.label, True, True, True)
+        return export._opts(overlay, mpl={"fig_inches": (9.0, 5.0)})
+
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        study = self.study()
+        if study is None:
+            return {}
+        front, best = set(map(id, study.pareto(self._measure()))), self.recommended()
+        rungs = study.rungs
+        table = {
+            "method": np.array([r.method for r in rungs]),
+            "settings": np.array([_name(r) for r in rungs]),
+            "wall_time_s": np.array([r.wall_time for r in rungs]),
+            **{f"err_{q}": np.array([r.errors.get(q, np.nan) for r in rungs]) for q in QUANTITIES},
+            "converged": np.array([r.converged for r in rungs]),
+            "pareto": np.array([id(r) in front for r in rungs]),
+            "recommended": np.array([r is best for r in rungs]),
+            "current": np.array([self.is_current(r) for r in rungs]),
+            "sidebar": np.array([sidebar_equivalent(r)[1] for r in rungs]),
+            "quantity": np.full(len(rungs), self.quantity),
+            "target": np.full(len(rungs), self.target),
+        }
+        names = sorted(study.reference)
+        reference = {
+            "item": np.array([*names, *study.reference_values]),
+            "description": np.array([study.reference[n] for n in names] + [""] * len(study.reference_values)),
+            "value": np.array([np.nan] * len(names) + list(study.reference_values.values()), dtype=float),
+            "frequency_hz": np.full(len(names) + len(study.reference_values), study.frequency),
+        }
+        return {"ladder": table, "reference": reference}
+
+
+def _seconds(t: float) -> str:
+    return f"{t * 1e3:.3g} ms" if t < 1 else f"{t:.3g} s"
+
+
+def _holoviews():
+    import holoviews as hv
+
+    return hv
+
+
 #: the scenes in tab order
-SCENES: tuple[type[Scene], ...] = (RegimesScene, WearMapScene, EvolutionScene, CycleScene, MethodsScene)
+SCENES: tuple[type[Scene], ...] = (
+    RegimesScene,
+    WearMapScene,
+    EvolutionScene,
+    CycleScene,
+    MethodsScene,
+    AccuracyScene,
+)

@@ -89,6 +89,9 @@ class Session(param.Parameterized):
         self._reported: tuple[int, int, str] = (0, -1, "")
         self.controls.param.watch(self.refresh, [p for p in self.controls.param if p != "name"])
         self.param.watch(self.refresh, ["scene", "frequency", "cycles"])
+        for scene in self.scenes.values():
+            if scene.inputs:
+                scene.param.watch(self.refresh, list(scene.inputs))
         self.refresh()
 
     @property
@@ -107,6 +110,10 @@ class Session(param.Parameterized):
         grid = s.cycles
         n = float(np.clip(10.0**log10_cycles, grid[1], grid[-1]))
         self.param.update(frequency=s.snap(f_hz), cycles=float(f"{n:.3g}"))
+
+    def apply(self, changes: dict[str, Any]) -> None:
+        """Set the sidebar controls ``changes`` (name -> value) in one update: one request."""
+        self.controls.param.update(**changes)
 
     def _selection_problems(self) -> list[str]:
         out = []

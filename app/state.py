@@ -25,7 +25,17 @@ import param
 
 from .backend import Backend, Cancelled, Failure, ModelSpec, Progress, ResultCache
 
-__all__ = ["METHODS", "PRESETS", "Controls", "Settings", "Task", "Tasks", "Job", "CONVERGENCE_HARMONICS"]
+__all__ = [
+    "METHODS",
+    "PRESETS",
+    "LADDERS",
+    "Controls",
+    "Settings",
+    "Task",
+    "Tasks",
+    "Job",
+    "CONVERGENCE_HARMONICS",
+]
 
 log = logging.getLogger(__name__)
 
@@ -35,6 +45,19 @@ METHODS = ("exact", "stepping", "polynomial", "time")
 CONVERGENCE_HARMONICS = (1, 3, 7, 15, 21)
 #: load ratios r = F_ex / (mu F_N) of the regime map
 RATIOS = (0.08, 2.0, 25)
+#: ladders of the accuracy scene: keyword arguments of :func:`fretwear.accuracy.cost_ladder`; ``quick``
+#: keeps the sidebar's defaults (Nh = 7, tolerance 1e-2, degree 4) and computes in well under a second
+#: without the wear rungs, ``full`` is the library's ladder (Nh up to 64)
+LADDERS: dict[str, dict[str, Any]] = {
+    "quick": {
+        "harmonics": (1, 3, 5, 7, 11, 15, 21, 31, 41),
+        "sample_factors": (8, 16),
+        "tolerances": (1e-1, 1e-2),
+        "degrees": (2, 4),
+        "wear_harmonics": (3, 7),
+    },
+    "full": {},
+}
 
 _PAPER = {"mu": 1.0, "normal_load": 10.0, "kw": 1e-11, "horizon": 1e5, "fmin": 0.3, "fmax": 1.3}
 #: presets: the paper's three excitation levels (section 2.1) and teaching cases
@@ -56,7 +79,7 @@ _RANGES = {
     "mu": ("mu", 0.0, 10.0, False, ""),
     "normal_load": ("F_N", 0.0, 1e4, False, "N"),
     "kw": ("k_w", 0.0, 1e-4, False, "1/Pa"),
-    "harmonics": ("Nh", 1, 61, True, ""),
+    "harmonics": ("Nh", 1, 64, True, ""),
     "degree": ("polynomial degree", 0, 12, True, ""),
     "fmin": ("f min", 0.0, 20.0, False, "Hz"),
     "fmax": ("f max", 0.0, 20.0, False, "Hz"),
@@ -385,3 +408,25 @@ class Tasks:
             "periodic response",
             0.3,
         )
+
+    def cost(self, s: Settings, f_hz: float, ladder: str, wear: bool) -> Task:
+        """Cost ladder at ``f_hz`` (:data:`LADDERS`): not ``Nh``, the method or the tolerances.
+
+        With ``wear``, the ladder has the wear rungs too and depends on ``k_w``
+        and the horizon; without, it does not.
+        """
+        if ladder not in LADDERS:
+            raise ValueError(f"ladder must be one of {sorted(LADDERS)}, got {ladder!r}")
+        horizon = (s.kw, s.horizon) if wear else None
+
+        def run(job: Job):
+            kw, cycles = horizon or (None, None)
+            return _guard(
+                lambda: self.backend.cost(
+                    s.model, f_hz, LADDERS[ladder], kw, cycles, job.progress, job.cancelled
+                )
+            )
+
+        label = f"cost ladder ({ladder}{', with wear' if wear else ''})"
+        key = ("cost", s.model, _digits(f_hz), ladder, horizon)
+        return Task("cost", key, run, label, 10.0 if wear else 1.0)

@@ -2,8 +2,8 @@
 
 :func:`cost_ladder` runs, for one case (model, frequency, optional wear horizon),
 a ladder of settings — harmonic count ``Nh``, samples per period, slow-time
-tolerance, polynomial degree, and the methods (DLFT, shooting, stepping,
-polynomial, time integration) — measures the wall time of each rung and its
+tolerance, polynomial degree, and the methods (DLFT, shooting, exact load path,
+stepping, polynomial, time integration) — measures the wall time of each rung and its
 error against a reference, on the quantities users look at: the first-harmonic
 amplitude of ``x1``, the half peak-to-peak relative displacement, the sliding
 distance per cycle and, with a wear horizon, ``w(N)``. :meth:`CostStudy.recommend`
@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import partial
 
@@ -29,6 +30,7 @@ from .model import Model
 from .periodic import solve_periodic
 from .studies import wear_history
 from .time_integration import shooting
+from .wear import exact_path_applies
 
 __all__ = ["Rung", "CostStudy", "cost_ladder", "QUANTITIES"]
 
@@ -107,6 +109,7 @@ def cost_ladder(
     degrees=(2, 4, 6, 8),
     wear_harmonics=(3, 7, 21),
     include_time_integration: bool = True,
+    progress: Callable[[float], None] | None = None,
 ) -> CostStudy:
     """Error against wall time for a ladder of discretisations at ``frequency`` (Hz).
 
@@ -122,15 +125,51 @@ def cost_ladder(
         Samples per period as multiples of ``Nh`` at ``Nh = 21`` (power of two above).
     kw, cycles : float, optional
         Archard coefficient (1/Pa) and horizon (cycles): adds the wear rungs
-        (stepping with DLFT dynamics at ``wear_harmonics`` x ``tolerances``,
-        stepping with shooting dynamics, the polynomial method at ``degrees``,
-        time integration at ``tolerances``), judged on ``w(N)``.
+        (the exact load path at ``wear_harmonics`` when it applies, stepping
+        with DLFT dynamics at ``wear_harmonics`` x ``tolerances``, stepping
+        with shooting dynamics, the polynomial method at ``degrees``, time
+        integration at ``tolerances``), judged on ``w(N)``.
+    tolerances, degrees, wear_harmonics : sequence
+        Slow-time tolerances (fraction of ``u0``), polynomial degrees and
+        ``Nh`` of the wear rungs.
+    include_time_integration : bool
+        Include the time-integration wear rungs.
+    progress : callable, optional
+        ``progress(fraction)`` after the reference and after each rung, outside
+        the timed calls, with the fraction of the computations done (0 to 1);
+        an exception it raises stops the ladder and propagates (a caller's
+        cancellation).
+
+    Returns
+    -------
+    CostStudy
+        The reference first, then the rungs in the order above.
     """
     if not np.isfinite(frequency) or frequency <= 0:
         raise ValueError(f"frequency must be > 0 Hz, got {frequency!r}")
     if (kw is None) != (cycles is None):
         raise ValueError("kw and cycles go together: give both for the wear rungs, or neither")
     omega = 2 * np.pi * frequency
+    wear_runs = []
+    if kw is not None:
+        if exact_path_applies(model):
+            wear_runs += [("exact", {"Nh": nh}, dict(harmonics=nh)) for nh in wear_harmonics]
+        wear_runs += [("stepping", {"Nh": nh, "tol": tol}, dict(harmonics=nh, tol=tol))
+                      for nh in wear_harmonics for tol in tolerances]  # fmt: skip
+        wear_runs += [
+            ("stepping-shooting", {"tol": tol}, dict(dynamics="shooting", tol=tol)) for tol in tolerances
+        ]
+        wear_runs += [("polynomial", {"Nh": 3, "degree": d}, dict(harmonics=3, degree=d)) for d in degrees]
+        if include_time_integration:
+            wear_runs += [("time", {"tol": tol}, dict(tol=tol)) for tol in tolerances]
+    total = 1 + len(harmonics) + len(sample_factors) + (1 + len(wear_runs) if kw is not None else 0)
+    done = [0]
+
+    def advance() -> None:
+        done[0] += 1
+        if progress is not None:
+            progress(done[0] / total)
+
     solve_periodic(model, omega, 3)  # compile and warm the kernels before timing
     t_ref, ref = _timed(lambda: shooting(model, omega))
     if not ref.converged:
@@ -143,6 +182,7 @@ def cost_ladder(
     }
     reference = {"periodic": f"shooting (residual {ref.residual:.1e}, {t_ref * 1e3:.0f} ms)"}
     rungs = [Rung("shooting", {}, t_ref, {k: 0.0 for k in ref_values})]
+    advance()
 
     def periodic_errors(sol) -> dict[str, float]:
         rel_p2p = sol.relative_half_peak_to_peak[0] if len(B) else np.nan
@@ -158,10 +198,12 @@ def cost_ladder(
         t, sol = _timed(lambda nh=nh: solve_periodic(model, omega, int(nh)))
         rungs.append(Rung("dlft", {"Nh": int(nh), "N": default_samples(int(nh))}, t, periodic_errors(sol),
                           sol.converged))  # fmt: skip
+        advance()
     for factor in sample_factors:
         n = max(43, 1 << int(np.ceil(np.log2(factor * 21))))
         t, sol = _timed(lambda n=n: solve_periodic(model, omega, 21, samples=n))
         rungs.append(Rung("dlft", {"Nh": 21, "N": n}, t, periodic_errors(sol), sol.converged))
+        advance()
     if kw is not None:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
@@ -169,21 +211,15 @@ def cost_ladder(
                                                      dynamics="shooting", tol=1e-5))  # fmt: skip
             reference["wear"] = f"stepping with shooting dynamics, tol 1e-5 ({t_w:.2f} s)"
             u0 = exact.u0[0]
+            advance()
 
             def werr(h) -> float:
                 return float(np.max(np.abs(h.at(exact.cycles)["wear"][:, 0] - exact.wear[:, 0])) / u0)
 
-            runs = [("stepping", {"Nh": nh, "tol": tol}, dict(harmonics=nh, tol=tol))
-                    for nh in wear_harmonics for tol in tolerances]  # fmt: skip
-            runs += [
-                ("stepping-shooting", {"tol": tol}, dict(dynamics="shooting", tol=tol)) for tol in tolerances
-            ]
-            runs += [("polynomial", {"Nh": 3, "degree": d}, dict(harmonics=3, degree=d)) for d in degrees]
-            if include_time_integration:
-                runs += [("time", {"tol": tol}, dict(tol=tol)) for tol in tolerances]
-            for name, settings, opts in runs:
+            for name, settings, opts in wear_runs:
                 method = "stepping" if name.startswith("stepping") else name
                 run = partial(wear_history, model, omega, method, kw=kw, cycles=cycles, **opts)
                 t, h = _timed(run)
                 rungs.append(Rung(name, settings, t, {"wear": werr(h)}, h.converged))
+                advance()
     return CostStudy(frequency, rungs, reference, ref_values)

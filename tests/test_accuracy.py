@@ -41,3 +41,28 @@ def test_bad_input(kwargs, match):
 def test_nan_free_errors():
     study = cost_ladder(paper_model(fex=10), 0.7, harmonics=(3,), sample_factors=(8,))
     assert all(np.isfinite(r.error()) for r in study.rungs)
+
+
+def test_progress_and_the_exact_load_path_rungs():
+    seen = []
+    study = cost_ladder(
+        paper_model(fex=10), 0.7, harmonics=(3,), sample_factors=(), kw=1e-11, cycles=1e3, tolerances=(1e-1,),
+        degrees=(2,), wear_harmonics=(3,), include_time_integration=False, progress=seen.append,
+    )  # fmt: skip
+    assert [r.label.strip() for r in study.rungs] == [
+        "shooting", "dlft Nh=3 N=64", "exact Nh=3", "stepping Nh=3 tol=0.1", "stepping-shooting tol=0.1",
+        "polynomial Nh=3 degree=2",
+    ]  # fmt: skip
+    # one report per rung and one for the w(N) reference
+    assert seen == sorted(seen) and seen[-1] == 1 and len(seen) == len(study.rungs) + 1
+    assert all(np.isfinite(r.error("wear")) for r in study.rungs[2:])
+
+    class Stop(Exception):
+        pass
+
+    def stop(fraction):
+        if fraction > 0.5:
+            raise Stop
+
+    with pytest.raises(Stop):  # a caller's cancellation stops the ladder
+        cost_ladder(paper_model(fex=10), 0.7, harmonics=(1, 3, 5), sample_factors=(), progress=stop)

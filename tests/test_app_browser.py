@@ -11,6 +11,8 @@ The figures are Bokeh canvases: the tests read the plots' titles and axes
 from BokehJS (``Bokeh.index``) to know what is drawn and where to click.
 """
 
+import csv
+import io
 import os
 import socket
 import subprocess
@@ -67,12 +69,14 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-@pytest.fixture(scope="module")
-def server(tmp_path_factory):
+def start_server(log_path: Path) -> tuple[subprocess.Popen, str]:
+    """``panel serve app/app.py`` on 127.0.0.1 and a free port, warmed up, logging to ``log_path``.
+
+    Returns the server process and the app's address once it answers.
+    """
     if not Path(CHROMIUM).exists():
         pytest.skip(f"browser test: {CHROMIUM} is missing (apt-get install chromium)")
     port = free_port()
-    log_path = tmp_path_factory.mktemp("server") / "panel.log"
     env = {
         **os.environ,
         "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
@@ -100,13 +104,16 @@ def server(tmp_path_factory):
         try:
             with urllib.request.urlopen(url, timeout=5) as response:
                 if response.status == 200:
-                    break
+                    return proc, url
         except OSError:
             if proc.poll() is not None or time.monotonic() > deadline:
                 proc.kill()
                 pytest.fail(f"the server did not start:\n{log_path.read_text()}")
             time.sleep(0.5)
-    yield url
+
+
+def stop_server(proc: subprocess.Popen, log_path: Path) -> None:
+    """Stop the server and check that its log has no traceback (other than ``BENIGN`` ones)."""
     proc.terminate()
     try:
         proc.wait(15)
@@ -114,6 +121,14 @@ def server(tmp_path_factory):
         proc.kill()
     unexpected = [t for t in log_path.read_text().split("Traceback")[1:] if not any(b in t for b in BENIGN)]
     assert unexpected == [], "Traceback".join(["", *unexpected])
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    log_path = tmp_path_factory.mktemp("server") / "panel.log"
+    proc, url = start_server(log_path)
+    yield url
+    stop_server(proc, log_path)
 
 
 @pytest.fixture(scope="module")
@@ -248,3 +263,49 @@ def test_a_wear_map_computes_within_seconds(page):
     seconds = page.wait_title("k_w = 3e-11")
     print(f"\nnew wear map (k_w changed): {seconds:.2f} s")
     assert seconds < 30
+
+
+def test_accuracy_scene_recommends_and_applies(page):
+    start = time.perf_counter()
+    page.tab("Accuracy vs cost")
+    page.page.get_by_text("Cheapest within 0.01").wait_for()
+    print(f"\naccuracy scene (quick ladder, no wear): {time.perf_counter() - start:.2f} s")
+    assert any(t.startswith("worst of all vs wall time at 0.7 Hz") for t in page.titles())
+    quantity = page.page.locator("select", has=page.page.locator("option", has_text="worst of all"))
+    quantity.select_option(label="x1 amplitude (first harmonic)")
+    handle = page.page.locator(".noUi-handle").last  # the target slider: 1e-2 -> 2e-2 -> 5e-2
+    handle.focus()
+    handle.press("ArrowLeft")
+    handle.press("ArrowLeft")
+    page.page.get_by_text("Cheapest within 0.05").wait_for()
+    apply = page.page.get_by_role("button", name="Apply: Nh = ")
+    nh = apply.inner_text().split("=")[1].strip()
+    assert nh != "7"
+    apply.click()
+    boxes = page.page.locator("input[type=text]")
+    deadline = time.monotonic() + 30
+    while boxes.evaluate_all(f"els => els.findIndex(e => e.value === {nh!r})") < 0:  # the sidebar's Nh box
+        assert time.monotonic() < deadline, f"the sidebar does not show Nh = {nh}"
+        time.sleep(0.1)
+    page.wait_title("x1 amplitude (first harmonic) vs wall time at 0.7 Hz (target 0.05)")
+    name, data = download(page, "CSV")
+    assert name == "fretwear_accuracy_ladder.csv"
+    rows = list(csv.DictReader(io.StringIO(data.decode())))
+    current = [r["settings"] for r in rows if r["current"] == "True"]
+    assert current and all(s.startswith(f"dlft Nh={nh} ") for s in current)
+    assert [r for r in rows if r["recommended"] == "True"][0]["quantity"] == "x1_h1"
+    # the wear rungs: opt-in, with a determinate progress
+    page.page.get_by_text("wear rungs: w(N)").click()
+    seen = set()
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        text = page.page.get_by_text("Computing cost ladder (quick, with wear)").all_inner_texts()
+        if text:
+            seen.add(int(text[0].rsplit("(", 1)[1].split()[0]))
+        elif seen:
+            break
+        time.sleep(0.1)
+    assert len(seen) >= 3, seen
+    quantity.select_option(label="w(N) (largest error over N, / u0)")
+    page.wait_title("w(N) (largest error over N, / u0) vs wall time")
+    page.page.get_by_text("Cheapest within 0.05 on w(N)").wait_for()

@@ -16,6 +16,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
+import param
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -23,11 +24,14 @@ if str(ROOT) not in sys.path:  # the dashboard package lives at the repository r
     sys.path.insert(0, str(ROOT))
 
 from app.backend import Backend, Failure, ResultCache  # noqa: E402
+from app.scenes import TARGETS, sidebar_equivalent  # noqa: E402
 from app.session import Session  # noqa: E402
-from app.state import CUSTOM, PRESETS, Controls  # noqa: E402
+from app.state import CUSTOM, LADDERS, PRESETS, Controls  # noqa: E402
 from fretwear import continuation, studies  # noqa: E402
+from fretwear.accuracy import CostStudy, Rung  # noqa: E402
+from fretwear.harmonics import default_samples  # noqa: E402
 
-SOLVERS = ("linear_frf", "sweep", "regime_map", "wear_map", "wear_history", "solve_periodic")
+SOLVERS = ("linear_frf", "sweep", "regime_map", "wear_map", "wear_history", "solve_periodic", "cost_ladder")
 SMALL = {"n_frequencies": 9, "n_cycles": 12, "harmonics": 3, "fmin": 0.4, "fmax": 1.2}
 
 
@@ -132,24 +136,60 @@ def test_selection_snaps_to_the_map_and_redraws_without_solving(session):
     assert np.all(table["selected_cycles"] == 1e5)
 
 
+#: (control, invalid value, the message): every numeric control, below, above and outside its range
+INVALID = [
+    ("fex", -3.0, "F_ex must be a number > 0 and <= 1000 N, got -3.0"),
+    ("fex", 2e3, "F_ex must be a number > 0 and <= 1000 N, got 2000.0"),
+    ("fex", None, "F_ex must be a number > 0 and <= 1000 N, got None"),  # an emptied box
+    ("mu", 0.0, "mu must be a number > 0 and <= 10, got 0.0"),
+    ("normal_load", math.inf, "F_N must be a number > 0 and <= 10000 N, got inf"),
+    ("kw", 0.0, "k_w must be a number > 0 and <= 0.0001 1/Pa, got 0.0"),
+    ("kw", -1e-11, "k_w must be a number > 0 and <= 0.0001 1/Pa, got -1e-11"),
+    ("kw", math.nan, "k_w must be a number > 0 and <= 0.0001 1/Pa, got nan"),
+    ("horizon", 0.0, "cycle horizon must be a whole number >= 10 and <= 1e+09 cycles, got 0.0"),
+    ("horizon", -5e4, "cycle horizon must be a whole number >= 10 and <= 1e+09 cycles, got -50000.0"),
+    ("horizon", 1e10, "cycle horizon must be a whole number >= 10 and <= 1e+09 cycles, got 10000000000.0"),
+    ("harmonics", 0, "Nh must be a whole number >= 1 and <= 64, got 0"),
+    ("harmonics", 65, "Nh must be a whole number >= 1 and <= 64, got 65"),
+    ("harmonics", 2.5, "Nh must be a whole number >= 1 and <= 64, got 2.5"),
+    ("degree", -1, "polynomial degree must be a whole number >= 0 and <= 12, got -1"),
+    ("degree", 13, "polynomial degree must be a whole number >= 0 and <= 12, got 13"),
+    ("fmin", 0.0, "f min must be a number > 0 and <= 20 Hz, got 0.0"),
+    ("fmax", 25.0, "f max must be a number > 0 and <= 20 Hz, got 25.0"),
+    ("fmin", 1.5, "f min must be below f max, got 1.5 >= 1.2 Hz"),
+    ("fmax", 0.4, "f min must be below f max, got 0.4 >= 0.4 Hz"),
+    ("tol", 0.0, "tolerance must be a number > 0 and <= 0.5 u0, got 0.0"),
+    ("tol", 0.7, "tolerance must be a number > 0 and <= 0.5 u0, got 0.7"),
+    ("n_frequencies", 2, "frequencies must be a whole number >= 3 and <= 401, got 2"),
+    ("n_cycles", 1000, "cycle points must be a whole number >= 4 and <= 400, got 1000"),
+]
+
+
+@pytest.mark.parametrize("name,value,message", INVALID, ids=[f"{n}={v}" for n, v, _ in INVALID])
+def test_invalid_input_names_the_parameter_and_its_range(name, value, message):
+    backend = Backend(workers=1, chunks=1)
+    session = Session(controls=small_controls(**{name: value}), backend=backend, cache=ResultCache())
+    assert session.error == "Invalid input: " + message and backend.calls == {}
+    for scene in ("wearmap", "accuracy"):
+        session.scene = scene
+        assert session.error == "Invalid input: " + message and backend.calls == {}
+
+
 def test_invalid_input_gives_a_message_and_no_computation(session):
     before = calls(session)
     session.controls.fmin = 1.5
-    assert "f min must be below f max" in session.error
+    assert session.error == "Invalid input: f min must be below f max, got 1.5 >= 1.2 Hz"
     session.controls.fmin = 0.4
     assert session.error == ""
-    session.controls.kw = math.nan
-    assert "k_w must be a number > 0" in session.error
-    session.controls.kw = 1e-11
-    session.controls.harmonics = 2.5
-    assert "Nh must be a whole number" in session.error
-    session.controls.harmonics = 3
-    session.controls.fex = None  # an emptied number box
-    assert "F_ex must be a number" in session.error
-    session.controls.fex = 10.0
+    session.controls.param.update(kw=0.0, harmonics=70)  # both reported
+    assert "k_w must be a number > 0" in session.error and "Nh must be a whole number" in session.error
+    session.controls.param.update(kw=1e-11, harmonics=3)
     session.frequency = -1.0
-    assert "selected frequency" in session.error
+    assert session.error == "Invalid input: selected frequency must be a number > 0 and <= 20 Hz, got -1.0"
     session.frequency = 0.7
+    session.cycles = None
+    assert session.error == "Invalid input: selected N must be a number >= 0 and <= 1e12 cycles, got None"
+    session.cycles = 1e4
     assert session.error == "" and calls(session) == before
 
 
@@ -278,8 +318,6 @@ def test_figure_exports_are_valid_files(computed):
 
 
 def test_page_widgets_drive_the_session():
-    import param
-
     from app.page import LogInput, build_page
 
     session = new_session()
@@ -294,3 +332,291 @@ def test_page_widgets_drive_the_session():
         log_kw._slider.value_throttled = -10.0
     assert session.controls.kw == pytest.approx(1e-10)
     assert log_kw._text.value == "1e-10"
+
+
+def type_into(box, value) -> None:
+    """What typing ``value`` and Enter in a number box does in the browser."""
+    with param.edit_constant(box):
+        box.param.update(value=value, value_throttled=value)
+
+
+def test_values_typed_into_the_page_are_checked_and_shown(session):
+    import panel as pn
+
+    from app.page import BandInput, LogInput, build_page
+
+    page = build_page(session)
+    side, main = page.sidebar[0], page.main[0]
+    error = next(a for a in main.select(pn.pane.Alert) if a.alert_type == "danger")
+    sliders = {w.label: w for w in side.select(pn.widgets.base.CompositeWidget) if hasattr(w, "_value_edit")}
+    logs = {w._slider.label.split(":")[0]: w for w in side if isinstance(w, LogInput)}
+    band = next(w for w in side if isinstance(w, BandInput))
+    f_box = next(w for w in side.select(pn.widgets.FloatInput) if w.label == "f (Hz)")
+    before = calls(session)
+
+    def shows(message: str) -> bool:
+        return error.visible and error.object == "Invalid input: " + message == session.error
+
+    type_into(sliders["F_ex: excitation on mass 1 (N)"]._value_edit, -3.0)
+    assert shows("F_ex must be a number > 0 and <= 1000 N, got -3.0")
+    type_into(sliders["F_ex: excitation on mass 1 (N)"]._value_edit, 10.0)
+    assert not error.visible
+    type_into(sliders["Nh: harmonics"]._value_edit, 65)
+    assert shows("Nh must be a whole number >= 1 and <= 64, got 65")
+    type_into(sliders["Nh: harmonics"]._value_edit, 3)
+    for text, message in [
+        ("0", "k_w must be a number > 0 and <= 0.0001 1/Pa, got 0.0"),
+        ("-1e-11", "k_w must be a number > 0 and <= 0.0001 1/Pa, got -1e-11"),
+        ("1e-11 1/Pa", "k_w must be a number > 0 and <= 0.0001 1/Pa, got nan"),
+    ]:
+        logs["log10 k_w"]._text.value = text
+        assert shows(message), session.error
+    logs["log10 k_w"]._text.value = "1e-11"
+    logs["log10 cycle horizon"]._text.value = "0"
+    assert shows("cycle horizon must be a whole number >= 10 and <= 1e+09 cycles, got 0.0")
+    logs["log10 cycle horizon"]._text.value = "1e5"
+    band._low.value = 2.0  # above f max: kept as typed, and named in the message
+    assert shows("f min must be below f max, got 2 >= 1.2 Hz") and band._low.value == 2.0
+    assert band._slider.value == (0.4, 1.2)  # the slider keeps the last valid band
+    assert calls(session) == before  # no invalid value reached the library
+    band._high.value = 2.5
+    assert session.error == "" and band._slider.value == (2.0, 2.5)
+    band._low.value, band._high.value = 0.4, 1.2
+    f_box.value = None
+    assert shows("selected frequency must be a number > 0 and <= 20 Hz, got None")
+    f_box.value = 0.7
+    assert not error.visible
+
+
+# -- the accuracy scene -------------------------------------------------------------------------------
+
+
+def dlft(nh: int, seconds: float, error: float, samples: int | None = None) -> Rung:
+    errors = dict.fromkeys(("x1_h1", "xr_half_p2p", "sliding_distance"), error)
+    return Rung("dlft", {"Nh": nh, "N": samples or default_samples(nh)}, seconds, errors)
+
+
+#: a ladder with known times and errors: the cheapest rung within 1e-2 has non-default samples
+PERIODIC = [
+    Rung("shooting", {}, 0.02, dict.fromkeys(("x1_h1", "xr_half_p2p", "sliding_distance"), 0.0)),
+    dlft(3, 0.001, 0.3),
+    dlft(7, 0.002, 0.05),
+    dlft(21, 0.010, 0.004),
+    dlft(41, 0.100, 0.002),
+    dlft(21, 0.005, 0.004, samples=128),
+]
+WEAR = [
+    Rung("exact", {"Nh": 3}, 0.003, {"wear": 0.02}),
+    Rung("stepping", {"Nh": 7, "tol": 0.01}, 0.010, {"wear": 0.01}),
+    Rung("stepping-shooting", {"tol": 0.01}, 0.200, {"wear": 1e-4}),
+    Rung("polynomial", {"Nh": 3, "degree": 4}, 0.300, {"wear": 0.05}),
+    Rung("time", {"tol": 0.01}, 0.400, {"wear": 5e-4}),
+]
+
+
+def fake_ladder(seen: list):
+    """A ``cost_ladder`` returning the rungs above (the wear rungs with ``kw``), recording its calls."""
+
+    def cost_ladder(model, frequency, *, kw=None, cycles=None, progress, **ladder):
+        seen.append({"fex": model.force_cos[0], "f": frequency, "kw": kw, "cycles": cycles, **ladder})
+        for step in range(1, 5):
+            progress(step / 4)
+        rungs = PERIODIC + (WEAR if kw is not None else [])
+        return CostStudy(frequency, rungs, {"periodic": "fake reference"}, {"x1_h1": 1e-3})
+
+    return cost_ladder
+
+
+@pytest.fixture
+def ladder_session():
+    seen: list = []
+    session = new_session(Backend(cost_ladder=fake_ladder(seen)))
+    session.scene = "accuracy"
+    return session, seen
+
+
+def labels(rungs) -> list[str]:
+    return [r.label.strip() for r in rungs]
+
+
+def test_accuracy_scene_recommends_the_cheapest_rung_within_the_target(ladder_session):
+    session, seen = ladder_session
+    scene = session.current
+    assert len(seen) == 1 and seen[0]["kw"] is None and seen[0]["harmonics"] == LADDERS["quick"]["harmonics"]
+    assert seen[0]["f"] == 0.7 and not session.busy and session.error == ""
+    assert scene.quantity == "worst" and scene.target == 1e-2
+    assert TARGETS[:4] == (1e-1, 5e-2, 2e-2, 1e-2) and TARGETS[-1] == 1e-6 and len(TARGETS) == 16
+    assert labels([r for r in scene.study().rungs if scene.is_current(r)]) == ["dlft Nh=3 N=64"]  # Nh = 3
+    assert scene.recommended().label == "dlft Nh=21 N=128"  # the cheapest within 1e-2: no sidebar control
+    assert scene.applicable().label == "dlft Nh=21 N=512"  # the cheapest the sidebar can set
+    advice = scene.advice()
+    assert "no sidebar equivalent: N = 128 samples per period has no sidebar control" in advice
+    assert "**Apply** sets Nh = 21" in advice
+    version = scene.version
+    scene.target = 5e-2  # the target and the quantity redraw, never recompute
+    assert scene.recommended().label == "dlft Nh=7 N=128" and scene.applicable() is scene.recommended()
+    assert scene.advice().endswith("**Apply** sets Nh = 7.")
+    scene.target = 1e-3
+    assert scene.recommended().label == "shooting " and scene.applicable() is None
+    assert "shooting is the reference solver" in scene.advice()
+    assert "No setting the sidebar can reproduce reaches 0.001" in scene.advice()
+    scene.quantity = "wear"
+    assert scene.recommended() is None and "tick *wear rungs*" in scene.advice()
+    assert scene.version == version + 3 and len(seen) == 1
+    overlay = scene.figure("pareto")
+    assert [len(layer) for layer in overlay][:5] == [0, 0, 0, 0, 0]  # nothing measures w(N) yet
+    assert list(overlay)[0].kdims[1].label == "relative error: w(N) (largest error over N, / u0)"
+
+
+def test_pareto_figure_and_csv_show_every_rung(ladder_session):
+    session, _ = ladder_session
+    scene = session.current
+    scene.param.update(quantity="x1_h1", target=5e-2)
+    points, front, text, current, pick, target = scene.figure("pareto")
+    assert len(points) == len(PERIODIC) and len(text) == len(PERIODIC)
+    assert list(text.dimension_values("text")) == [
+        " shooting (reference)",
+        " Nh=3",
+        " Nh=7",
+        " Nh=21",
+        " Nh=41",
+        " Nh=21 N=128",
+    ]
+    assert points.dimension_values("y")[0] == pytest.approx(2e-4)  # zero error: a decade under the rest
+    assert list(current.dimension_values("rung")) == ["dlft Nh=3 N=64"]
+    assert list(pick.dimension_values("rung")) == ["dlft Nh=7 N=128"]
+    assert list(front.dimension_values("x")) == [0.001, 0.002, 0.005, 0.02]  # Pareto front, by time
+    assert target.data == 5e-2
+    rows = list(csv.DictReader(io.StringIO(scene.export_csv("ladder"))))
+    assert [r["settings"] for r in rows] == labels(PERIODIC)
+    by_name = {r["settings"]: r for r in rows}
+    assert (
+        by_name["dlft Nh=7 N=128"]["recommended"] == "True" and by_name["dlft Nh=3 N=64"]["current"] == "True"
+    )
+    assert by_name["shooting"]["sidebar"].startswith("shooting is the reference solver")
+    assert (
+        float(by_name["dlft Nh=41 N=1024"]["err_x1_h1"]) == 0.002 and by_name["shooting"]["err_wear"] == "nan"
+    )
+    assert rows[0]["quantity"] == "x1_h1" and float(rows[0]["target"]) == 0.05
+    reference = list(csv.DictReader(io.StringIO(scene.export_csv("reference"))))
+    assert reference[0]["description"] == "fake reference" and float(reference[1]["value"]) == 1e-3
+
+
+def test_apply_sets_the_sidebar_in_one_click_without_recomputing(ladder_session):
+    session, seen = ladder_session
+    scene = session.current
+    scene.param.update(quantity="x1_h1", target=1e-2)
+    rung, version = scene.applicable(), scene.version
+    session.apply(sidebar_equivalent(rung)[0])
+    assert session.controls.harmonics == 21 and scene.version == version + 1  # one request
+    assert scene.is_current(rung) and len(seen) == 1  # the ladder does not depend on Nh
+    assert labels([r for r in scene.study().rungs if scene.is_current(r)]) == ["dlft Nh=21 N=512"]
+    assert calls(session)["sweep"] == 1  # the other scenes compute only when shown
+
+
+def test_wear_rungs_are_opt_in_and_depend_on_kw_and_the_horizon(ladder_session):
+    session, seen = ladder_session
+    scene, c = session.current, session.controls
+    c.kw = 3e-11  # no wear rungs: nothing to recompute
+    assert len(seen) == 1
+    scene.wear = True
+    assert len(seen) == 2 and (seen[1]["kw"], seen[1]["cycles"]) == (3e-11, 1e5)
+    assert scene.study().rungs[-1].method == "time"
+    scene.param.update(quantity="wear", target=1e-2)
+    assert scene.recommended().label == "stepping Nh=7 tol=0.01"
+    assert scene.advice().endswith("**Apply** sets method = stepping, Nh = 7, tolerance = 0.01.")
+    scene.target = 1e-3  # stepping-shooting is cheapest, time integration is what the sidebar can set
+    assert scene.recommended().method == "stepping-shooting" and scene.applicable().method == "time"
+    session.apply(sidebar_equivalent(scene.applicable())[0])
+    assert (c.method, c.tol) == ("time", 0.01) and len(seen) == 2
+    c.horizon = 2e4
+    assert len(seen) == 3 and seen[2]["cycles"] == 2e4
+    scene.ladder = "full"
+    assert len(seen) == 4 and "harmonics" not in seen[3]  # the library's ladder
+    scene.param.update(ladder="quick", wear=False)
+    c.horizon = 1e5
+    assert len(seen) == 4  # all cached
+    session.frequency = 0.9
+    assert len(seen) == 5 and seen[4]["f"] == 0.9
+
+
+def test_accuracy_progress_is_determinate_and_a_stale_ladder_stops():
+    started, release = threading.Event(), threading.Event()
+    seen: list = []
+    fake = fake_ladder(seen)
+
+    def cost_ladder(model, frequency, **kw):
+        if frequency == 0.8:  # the request that will be stale: blocks in its first rung
+            started.set()
+            release.wait(10)
+        return fake(model, frequency, **kw)
+
+    session = new_session(Backend(cost_ladder=cost_ladder))
+    progress = []
+    session.param.watch(lambda e: progress.append(e.new), "progress")
+    session.scene = "accuracy"
+    assert progress[-1] == 100 and [p for p in progress if 0 < p < 100] == [25, 50, 75]
+    scene = session.current
+    with ThreadPoolExecutor(2) as pool:
+        session.executor = pool
+        session.frequency = 0.8
+        assert started.wait(10) and session.busy
+        session.frequency = 0.9
+        session.wait(10)
+        release.set()
+    assert scene.study().frequency == 0.9 and not session.busy
+    key = scene.tasks.cost(session.controls.settings(), 0.8, "quick", False).key
+    assert key not in session.cache  # cancelled at its first progress report: nothing cached
+
+
+def test_accuracy_scene_with_the_library():
+    session = new_session()
+    session.scene = "accuracy"
+    scene = session.current
+    study = scene.study()
+    quick = LADDERS["quick"]
+    assert calls(session)["cost_ladder"] == 1
+    assert len(study.rungs) == 1 + len(quick["harmonics"]) + len(quick["sample_factors"])
+    assert "shooting" in study.reference["periodic"] and all(r.converged for r in study.rungs)
+    errors = {r.settings["Nh"]: r.error("x1_h1") for r in study.rungs if r.method == "dlft"}
+    assert errors[41] < errors[7] < errors[1]
+    scene.param.update(quantity="x1_h1", target=1e-1)
+    best = scene.recommended()
+    assert best.error("x1_h1") <= 0.1 and all(
+        r.wall_time >= best.wall_time for r in study.rungs if r.error("x1_h1") <= 0.1
+    )
+    session.controls.param.update(kw=1e-11, horizon=1e3)
+    scene.wear = True  # the wear rungs, on a short horizon
+    methods = {r.method for r in scene.study().rungs}
+    assert {"exact", "stepping", "stepping-shooting", "polynomial", "time"} <= methods
+    assert "stepping with shooting dynamics" in scene.study().reference["wear"]
+    scene.quantity = "wear"
+    assert len(list(scene.figure("pareto"))[0]) == len([r for r in scene.study().rungs if "wear" in r.errors])
+
+
+def test_accuracy_controls_on_the_page(ladder_session):
+    import panel as pn
+
+    from app.page import build_page
+
+    session, seen = ladder_session
+    page = build_page(session)
+    main = page.main[0]
+    quantity = next(w for w in main.select(pn.widgets.Select) if w.label == "Error on")
+    target = next(w for w in main.select(pn.widgets.DiscreteSlider))
+    wear = next(w for w in main.select(pn.widgets.Checkbox) if w.label.startswith("wear rungs"))
+    apply = next(w for w in main.select(pn.widgets.Button) if w.label.startswith("Apply"))
+    scene = session.current
+    quantity.value = "x1_h1"
+    with param.edit_constant(target):
+        target.value_throttled = 5e-2
+    assert (scene.quantity, scene.target) == ("x1_h1", 5e-2)
+    assert apply.label == "Apply: Nh = 7" and not apply.disabled
+    apply.clicks += 1
+    assert session.controls.harmonics == 7 and len(seen) == 1
+    target.value = 1e-3
+    with param.edit_constant(target):
+        target.value_throttled = 1e-3
+    assert apply.disabled and apply.label == "Apply"  # only the reference reaches 1e-3
+    wear.value = True
+    assert len(seen) == 2 and seen[1]["kw"] == 1e-11
