@@ -601,7 +601,6 @@ QUANTITY_LABELS = {
     "sliding_distance": "sliding distance per cycle",
     "wear": "w(N) (largest error over N, / u0)",
 }
-assert set(QUANTITY_LABELS) == {WORST, *QUANTITIES}
 #: target errors of the accuracy scene, 1-2-5 per decade from 1e-1 down to 1e-6
 TARGETS = (*(float(f"{m}e-{e}") for e in range(2, 7) for m in (10, 5, 2)), 1e-6)
 #: colour of each kind of rung
@@ -680,13 +679,15 @@ class AccuracyScene(Scene):
 time on this server against its relative error on the chosen quantity, measured against a converged
 reference (shooting on the exact event-driven time integration for the periodic quantities; stepping
 with shooting dynamics at tolerance 1e-5 for `w(N)`). DLFT rungs vary `Nh` (and the samples per period
-N), the wear rungs the slow-time method, tolerance and degree. The dashed line is the Pareto front, the
-ring marks the current sidebar settings, the star the cheapest rung that reaches the target error;
-**Apply** sets the sidebar to it.
+N), the wear rungs the slow-time method, `Nh`, tolerance and degree; *worst of all* takes each rung's
+largest error over what it measures. The dashed line is the Pareto front, the ring marks the sidebar's
+current settings, the star the cheapest rung within the target error. **Apply** sets the sidebar to the
+cheapest rung within the target that the sidebar can reproduce: the shooting reference, stepping with
+shooting dynamics and DLFT with other than the default samples have no sidebar setting.
 
-**Try.** Move the target: the star moves along the front. Tick *wear rungs* (a few seconds more) and
-choose `w(N)` to compare the slow-time methods. Wall times are measured while the server works for
-every session: compare them within one ladder."""
+**Try.** Move the target: the star moves along the front. Tick *wear rungs* (the slow-time methods
+with `k_w` and the horizon of the sidebar: several seconds) and choose `w(N)`. Wall times are single
+runs on a server that works for every session: compare them within one ladder."""
 
     quantity = param.Selector(default=WORST, objects=list(QUANTITY_LABELS), doc="Error measure")
     target = param.Selector(default=1e-2, objects=list(TARGETS), doc="Target relative error")
@@ -763,6 +764,13 @@ every session: compare them within one ladder."""
             f"{sidebar_equivalent(settable)[1]}."
         )
 
+    def export_figure(self, name: str, fmt: str) -> bytes:
+        """Figure ``name`` as ``png``, ``svg`` or ``html`` bytes; ``ValueError`` when no rung is drawn."""
+        study = self.study()
+        if study is None or not any(np.isfinite(self.error(r)) for r in study.rungs):
+            raise ValueError(f"no rung measures {QUANTITY_LABELS[self.quantity]} (yet)")
+        return super().export_figure(name, fmt)
+
     def _notes(self) -> list[str]:
         study = self.study()
         if study is None:
@@ -777,7 +785,7 @@ every session: compare them within one ladder."""
         return notes
 
     def _figure_pareto(self):
-        hv = _holoviews()
+        hv = export._hv()
         study, name = self.study(), QUANTITY_LABELS[self.quantity]
         rungs = [r for r in (study.rungs if study else []) if np.isfinite(self.error(r))]
         errors = np.array([self.error(r) for r in rungs])
@@ -892,12 +900,6 @@ every session: compare them within one ladder."""
 
 def _seconds(t: float) -> str:
     return f"{t * 1e3:.3g} ms" if t < 1 else f"{t:.3g} s"
-
-
-def _holoviews():
-    import holoviews as hv
-
-    return hv
 
 
 #: the scenes in tab order

@@ -1,11 +1,12 @@
 """One browser session: the visible scene, the selected point, the runs and their progress.
 
-:meth:`Session.refresh` runs whenever a control, the scene or the selection
-changes. It asks the visible scene for its tasks; when every result is
-cached the scene is redrawn at once, otherwise a run computes the missing
-ones off the UI thread (``executor``) and publishes them when it ends. Each
-request has a generation number: a newer request makes the older run stale,
-so it stops at its next task or chunk and never publishes.
+:meth:`Session.refresh` runs whenever a control, the scene, the selection or
+an input of a scene (``Scene.inputs``: the accuracy scene's ladder) changes.
+It asks the visible scene for its tasks; when every result is cached the
+scene is redrawn at once, otherwise a run computes the missing ones off the
+UI thread (``executor``) and publishes them when it ends. Each request has a
+generation number: a newer request makes the older run stale, so it stops at
+its next task, chunk or rung and never publishes.
 
 Results are published through ``dispatch``, which the page sets to schedule
 the update on the session's event loop (Bokeh's ``add_next_tick_callback``);

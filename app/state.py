@@ -415,8 +415,6 @@ class Tasks:
         With ``wear``, the ladder has the wear rungs too and depends on ``k_w``
         and the horizon; without, it does not.
         """
-        if ladder not in LADDERS:
-            raise ValueError(f"ladder must be one of {sorted(LADDERS)}, got {ladder!r}")
         horizon = (s.kw, s.horizon) if wear else None
 
         def run(job: Job):

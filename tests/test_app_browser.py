@@ -295,7 +295,7 @@ def test_accuracy_scene_recommends_and_applies(page):
     assert current and all(s.startswith(f"dlft Nh={nh} ") for s in current)
     assert [r for r in rows if r["recommended"] == "True"][0]["quantity"] == "x1_h1"
     # the wear rungs: opt-in, with a determinate progress
-    page.page.get_by_text("wear rungs: w(N)").click()
+    page.page.locator("input[type=checkbox]").check()  # the only check box: the wear rungs
     seen = set()
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:

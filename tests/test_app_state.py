@@ -620,3 +620,19 @@ def test_accuracy_controls_on_the_page(ladder_session):
     assert apply.disabled and apply.label == "Apply"  # only the reference reaches 1e-3
     wear.value = True
     assert len(seen) == 2 and seen[1]["kw"] == 1e-11
+
+
+def test_a_failing_ladder_is_a_message_and_nothing_to_export():
+    def cost_ladder(model, frequency, **_kw):
+        raise RuntimeError(f"the shooting reference did not converge at {frequency:g} Hz")
+
+    session = new_session(Backend(cost_ladder=cost_ladder))
+    session.scene = "accuracy"
+    scene = session.current
+    assert scene.notes == ["cost: RuntimeError: the shooting reference did not converge at 0.7 Hz"]
+    assert scene.study() is None and scene.advice() == "" and scene.applicable() is None
+    assert [len(layer) for layer in scene.figure("pareto")][:5] == [0, 0, 0, 0, 0]
+    with pytest.raises(ValueError, match="no rung measures worst of all"):
+        scene.export_figure("pareto", "png")
+    with pytest.raises(ValueError, match="no dataset 'ladder'"):
+        scene.export_csv("ladder")
