@@ -134,10 +134,8 @@ class BandInput(pn.Column):
         def pull(*_events):
             low, high = controls.fmin, controls.fmax
             self._low.value, self._high.value = low, high
-            valid = all(isinstance(v, (int, float)) and math.isfinite(v) for v in (low, high)) and low < high
-            if (
-                valid
-            ):  # an invalid band stays in the boxes, with its message; the slider keeps the last valid one
+            # an invalid band stays in the boxes, with its message; the slider keeps the last valid one
+            if all(isinstance(v, (int, float)) and math.isfinite(v) for v in (low, high)) and low < high:
                 self._slider.param.update(
                     start=min(self._slider.start, low), end=max(self._slider.end, high), value=(low, high)
                 )
@@ -283,14 +281,10 @@ def _accuracy_controls(scene: AccuracyScene, session: Session) -> pn.Column:
         label="Ladder", options=list(LADDERS), value=scene.ladder, variant="outline", align="end"
     )
     _link(ladder, scene, "ladder", event="value")
-    wear = pn.widgets.Checkbox(
-        label="wear rungs: w(N) (several seconds)",
-        value=scene.wear,
-        align="end",
-    )
+    wear = pn.widgets.Checkbox(label="wear rungs: w(N) (several seconds)", value=scene.wear, align="end")
     _link(wear, scene, "wear", event="value")
     advice = pn.pane.Markdown("", sizing_mode="stretch_width")
-    apply = pn.widgets.Button(label="Apply", color="primary", disabled=True, width=120, align="center")
+    apply = pn.widgets.Button(label="Apply", color="primary", disabled=True, min_width=120, align="center")
 
     def show(*_events):
         advice.object = scene.advice()

@@ -617,6 +617,7 @@ FAMILY_COLORS = {
 
 
 def _family(rung: Rung) -> str:
+    """Kind of ``rung`` (its colour): its method, DLFT with other than the default samples apart."""
     if rung.method == "dlft" and rung.settings["N"] != default_samples(rung.settings["Nh"]):
         return "dlft, samples"
     return rung.method
@@ -642,14 +643,11 @@ def sidebar_equivalent(rung: Rung) -> tuple[dict[str, Any] | None, str]:
         return None, "shooting is the reference solver; the app's scenes solve by HBM + DLFT"
     if rung.method == "stepping-shooting":
         return None, "stepping with shooting dynamics: the app's stepping solves by HBM + DLFT"
-    changes: dict[str, Any] = {"method": rung.method}
-    names = {"Nh": "harmonics", "tol": "tol", "degree": "degree"}
+    names = {"Nh": ("harmonics", "Nh"), "tol": ("tol", "tolerance"), "degree": ("degree", "degree")}
     if rung.method not in METHODS or set(p) - set(names):
         return None, f"the sidebar has no setting for {_name(rung)}"
-    changes |= {names[k]: v for k, v in p.items()}
-    labels = {"method": "method", "harmonics": "Nh", "tol": "tolerance", "degree": "degree"}
-    return changes, ", ".join(f"{labels[k]} = {v:g}" if k != "method" else f"method = {v}"
-                              for k, v in changes.items())  # fmt: skip
+    changes = {"method": rung.method} | {names[k][0]: v for k, v in p.items()}
+    return changes, ", ".join([f"method = {rung.method}", *(f"{names[k][1]} = {v:g}" for k, v in p.items())])
 
 
 def _name(rung: Rung) -> str:
@@ -740,6 +738,8 @@ runs on a server that works for every session: compare them within one ladder.""
         name, target = QUANTITY_LABELS[self.quantity], self.target
         measured = [r for r in study.rungs if np.isfinite(self.error(r))]
         if not measured:
+            if self.wear:  # the ladder shown is the one without them
+                return f"No rung measures {name} yet: the wear rungs are being computed."
             return f"No rung measures {name}: tick *wear rungs* to compute `w(N)`."
         best, settable = self.recommended(), self.applicable()
         if best is None:
@@ -776,11 +776,12 @@ runs on a server that works for every session: compare them within one ladder.""
         if study is None:
             return []
         notes = [f"{_name(r)} did not converge (left out)" for r in study.rungs if not r.converged]
-        if not any(self.is_current(r) for r in study.rungs):
+        measured = [r for r in study.rungs if np.isfinite(self.error(r))]
+        if measured and not any(self.is_current(r) for r in measured):
             s = self.settings
             notes.append(
-                f"the current settings (Nh = {s.harmonics}, method {s.method}) are not on this ladder"
-                + ("" if self.wear else "; the wear rungs are off")
+                f"the current settings (Nh = {s.harmonics}, method {s.method}) are not among the rungs "
+                f"that measure {QUANTITY_LABELS[self.quantity]}"
             )
         return notes
 

@@ -636,3 +636,19 @@ def test_a_failing_ladder_is_a_message_and_nothing_to_export():
         scene.export_figure("pareto", "png")
     with pytest.raises(ValueError, match="no dataset 'ladder'"):
         scene.export_csv("ladder")
+
+
+def test_settings_off_the_ladder_are_said(ladder_session):
+    session, _ = ladder_session
+    scene = session.current
+    session.controls.harmonics = 9
+    assert scene.notes == [
+        "the current settings (Nh = 9, method exact) are not among the rungs that measure worst of all"
+    ]
+    scene.wear = True
+    scene.quantity = "wear"
+    session.controls.harmonics = 3  # the exact load path at Nh = 3 is a wear rung
+    assert scene.notes == [] and labels([r for r in scene.study().rungs if scene.is_current(r)]) == [
+        "dlft Nh=3 N=64",
+        "exact Nh=3",
+    ]
