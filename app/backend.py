@@ -1,9 +1,10 @@
 """The library calls of the dashboard, their shared cache and the worker threads.
 
 Every number the dashboard shows comes from one :class:`Backend` method, a
-thin wrapper of one :mod:`fretwear` function; ``Backend.calls`` counts the
-library calls by name (the tests use it to prove what is recomputed, and a
-backend built with other functions replaces the library in tests).
+thin wrapper of one :mod:`fretwear` front function held by its :class:`Library`;
+``Backend.calls`` counts the library calls by name (the tests use it to prove
+what is recomputed, and a backend built with other functions replaces the
+library in tests).
 
 Results are kept in a :class:`ResultCache` keyed by the parameters they depend
 on; one cache serves every session of the server process. A computation
@@ -29,8 +30,9 @@ from typing import Any
 import numpy as np
 
 import fretwear
-from fretwear import accuracy, continuation, linear, studies
 from fretwear.model import Model
+from fretwear.studies import CostStudy, WearMap
+from fretwear.wear import WearHistory
 
 __all__ = [
     "Backend",
@@ -48,17 +50,32 @@ log = logging.getLogger(__name__)
 Progress = Callable[[float], None]
 Check = Callable[[], bool]
 
-#: where the default backend finds each library function (looked up at call time)
-LIBRARY: dict[str, tuple[Any, str]] = {
-    "paper_model": (fretwear, "paper_model"),
-    "linear_frf": (linear, "linear_frf"),
-    "sweep": (continuation, "sweep"),
-    "regime_map": (studies, "regime_map"),
-    "wear_map": (studies, "wear_map"),
-    "wear_history": (studies, "wear_history"),
-    "solve_periodic": (fretwear, "solve_periodic"),
-    "cost_ladder": (accuracy, "cost_ladder"),
-}
+
+class Library:
+    """The library functions the dashboard calls, one attribute each (the test seam).
+
+    The defaults are :mod:`fretwear`'s front functions; keyword arguments replace
+    some of them (tests inject slow, failing or counting versions).
+    """
+
+    paper_model = staticmethod(fretwear.paper_model)
+    linear_frf = staticmethod(fretwear.linear_frf)
+    sweep = staticmethod(fretwear.sweep)
+    regime_map = staticmethod(fretwear.regime_map)
+    wear_map = staticmethod(fretwear.wear_map)
+    wear_history = staticmethod(fretwear.wear_history)
+    solve_periodic = staticmethod(fretwear.solve_periodic)
+    cost_ladder = staticmethod(fretwear.cost_ladder)
+
+    def __init__(self, **replacements: Callable) -> None:
+        unknown = sorted(set(replacements) - set(_LIBRARY_NAMES))
+        if unknown:
+            raise ValueError(f"unknown library functions {unknown}; known: {sorted(_LIBRARY_NAMES)}")
+        for name, function in replacements.items():
+            setattr(self, name, function)
+
+
+_LIBRARY_NAMES = tuple(k for k, v in vars(Library).items() if isinstance(v, staticmethod))
 
 
 class Cancelled(Exception):
@@ -98,12 +115,12 @@ class ModelSpec:
 
     @property
     def r(self) -> float:
-        """Load ratio ``F_ex / (mu F_N)`` (-)."""
-        return self.fex / (self.mu * self.normal_load)
+        """Load ratio ``r = F_ex / (mu F_N)`` (-), :attr:`fretwear.Model.load_ratio`."""
+        return fretwear.paper_model(self.fex, self.mu, self.normal_load, self.kn).load_ratio
 
-    def at_ratio_one(self) -> ModelSpec:
-        """The same contact with ``F_ex = mu F_N``: scaling its forcing by ``s`` gives ``r = s``."""
-        return ModelSpec(self.mu * self.normal_load, self.mu, self.normal_load, self.kn)
+    def unit_forcing(self) -> ModelSpec:
+        """The same contact under ``F_ex = 1 N``: the key of results drawn over ``r``, whatever ``F_ex``."""
+        return ModelSpec(1.0, self.mu, self.normal_load, self.kn)
 
 
 class ResultCache:
@@ -237,15 +254,12 @@ class Backend:
         Threads for chunked maps; default the number of CPUs, at most 4.
     chunks : int
         Chunks of a wear map or regime map (progress steps).
-    **functions
-        Replacements of library functions by name (keys of ``LIBRARY``).
+    **replacements
+        Replacements of library functions by name (attributes of :class:`Library`).
     """
 
-    def __init__(self, workers: int | None = None, chunks: int = 8, **functions: Callable) -> None:
-        unknown = set(functions) - set(LIBRARY)
-        if unknown:
-            raise ValueError(f"unknown library functions {sorted(unknown)}; known: {sorted(LIBRARY)}")
-        self.functions = functions
+    def __init__(self, workers: int | None = None, chunks: int = 8, **replacements: Callable) -> None:
+        self.library = Library(**replacements)
         self.chunks = chunks
         self.calls: Counter[str] = Counter()
         self._calls_lock = threading.Lock()
@@ -259,21 +273,22 @@ class Backend:
             self._pool = ThreadPoolExecutor(self.workers, thread_name_prefix="fretwear-chunk")
         return self._pool
 
-    def _call(self, name: str, *args, **kwargs) -> Any:
+    def _tally(self, name: str) -> None:
+        """Count one call of the library function ``name`` in :attr:`calls`."""
         with self._calls_lock:
             self.calls[name] += 1
-        function = self.functions.get(name) or getattr(*LIBRARY[name])
-        return function(*args, **kwargs)
 
     def _chunked(
-        self, name: str, jobs: list[tuple[tuple, dict]], progress: Progress, cancelled: Check
+        self, function: Callable, jobs: list[tuple[tuple, dict]], progress: Progress, cancelled: Check
     ) -> list:
-        """Run ``name(*args, **kwargs)`` for each job on the pool; results in order."""
+        """Run ``function(*args, **kwargs)`` (a :class:`Library` function) for each job on the pool."""
+        name = next(n for n in _LIBRARY_NAMES if getattr(self.library, n) is function)
 
         def run(args, kwargs):
             if cancelled():
                 raise Cancelled
-            return self._call(name, *args, **kwargs)
+            self._tally(name)
+            return function(*args, **kwargs)
 
         futures = [self.pool.submit(run, *job) for job in jobs]
         try:
@@ -290,11 +305,13 @@ class Backend:
 
     def model(self, spec: ModelSpec) -> Model:
         """The paper's 2-DOF model of ``spec``."""
-        return self._call("paper_model", fex=spec.fex, mu=spec.mu, normal_load=spec.normal_load, kn=spec.kn)
+        self._tally("paper_model")
+        return self.library.paper_model(fex=spec.fex, mu=spec.mu, normal_load=spec.normal_load, kn=spec.kn)
 
     def linear(self, spec: ModelSpec, f_hz: np.ndarray, state: str) -> dict[str, np.ndarray]:
         """Complex amplitudes (m) of every DOF with the contact ``state`` ("stuck" or "open")."""
-        u = self._call("linear_frf", self.model(spec), 2 * np.pi * np.asarray(f_hz), state)
+        self._tally("linear_frf")
+        u = self.library.linear_frf(self.model(spec), 2 * np.pi * np.asarray(f_hz), state)
         return {"f_hz": np.asarray(f_hz), "amplitude": u}
 
     def frf(self, spec: ModelSpec, f_hz: np.ndarray, harmonics: int) -> dict[str, np.ndarray]:
@@ -303,7 +320,9 @@ class Backend:
         First-harmonic amplitudes only: the exact half peak-to-peak values cost
         three times the sweep.
         """
-        sols = self._call("sweep", self.model(spec), 2 * np.pi * np.asarray(f_hz), harmonics).solutions
+        model = self.model(spec)
+        self._tally("sweep")
+        sols = self.library.sweep(model, 2 * np.pi * np.asarray(f_hz), harmonics).solutions
         return {
             "f_hz": np.asarray(f_hz),
             "amplitude": np.array([s.amplitude for s in sols]),
@@ -324,12 +343,11 @@ class Backend:
     ) -> dict[str, np.ndarray]:
         """Stick/slip regime over ``f_hz`` x load ratios ``r`` (:func:`fretwear.studies.regime_map`).
 
-        The model is taken at ``r = 1`` so that load factors are ratios; the
-        result does not depend on ``F_ex``.
+        The result does not depend on ``F_ex``: the model is taken at ``F_ex = 1 N``.
         """
-        model = self.model(spec.at_ratio_one())
+        model = self.model(spec.unit_forcing())
         jobs = [((model, f_hz, ratios[part], harmonics), {}) for part in _chunks(len(ratios), self.chunks)]
-        parts = self._chunked("regime_map", jobs, progress, cancelled)
+        parts = self._chunked(self.library.regime_map, jobs, progress, cancelled)
         return {
             "f_hz": np.asarray(f_hz),
             "ratios": np.asarray(ratios),
@@ -346,29 +364,31 @@ class Backend:
         options: dict[str, Any],
         progress: Progress = lambda _f: None,
         cancelled: Check = lambda: False,
-    ) -> studies.WearMap:
+    ) -> WearMap:
         """Wear map over ``f_hz`` x ``cycles`` (:func:`fretwear.studies.wear_map`), in frequency chunks."""
         model = self.model(spec)
         jobs = [
             ((model, f_hz[part], cycles), {"method": method, "kw": kw, **options})
             for part in _chunks(len(f_hz), self.chunks)
         ]
-        parts = self._chunked("wear_map", jobs, progress, cancelled)
-        return studies.WearMap(**_merge(parts, lambda p: len(p.frequency)))
+        parts = self._chunked(self.library.wear_map, jobs, progress, cancelled)
+        return WearMap(**_merge(parts, lambda p: len(p.frequency)))
 
     def history(
         self, spec: ModelSpec, f_hz: float, method: str, kw: float, horizon: float, options: dict[str, Any]
-    ) -> studies.WearHistory:
-        """Wear evolution at one frequency (:func:`fretwear.studies.wear_history`)."""
-        return self._call(
-            "wear_history", self.model(spec), 2 * np.pi * f_hz, method, kw=kw, cycles=horizon, **options
-        )
+    ) -> WearHistory:
+        """Wear evolution at one frequency (:func:`fretwear.wear.wear_history`)."""
+        model = self.model(spec)
+        self._tally("wear_history")
+        return self.library.wear_history(model, 2 * np.pi * f_hz, method, kw=kw, cycles=horizon, **options)
 
     def point(
         self, spec: ModelSpec, f_hz: float, harmonics: int, wear: np.ndarray | None
     ) -> fretwear.PeriodicSolution:
         """Periodic response at one frequency and wear (``None``: unworn), :func:`fretwear.solve_periodic`."""
-        return self._call("solve_periodic", self.model(spec), 2 * np.pi * f_hz, harmonics, wear=wear)
+        model = self.model(spec)
+        self._tally("solve_periodic")
+        return self.library.solve_periodic(model, 2 * np.pi * f_hz, harmonics, wear=wear)
 
     def cost(
         self,
@@ -379,8 +399,8 @@ class Backend:
         cycles: float | None = None,
         progress: Progress = lambda _f: None,
         cancelled: Check = lambda: False,
-    ) -> accuracy.CostStudy:
-        """Error against wall time over a ladder of settings (:func:`fretwear.accuracy.cost_ladder`).
+    ) -> CostStudy:
+        """Error against wall time over a ladder of settings (:func:`fretwear.studies.accuracy.cost_ladder`).
 
         ``ladder`` holds the ladder's keyword arguments; ``kw`` and ``cycles``
         (both or neither) add the wear rungs. The run stops with
@@ -392,9 +412,9 @@ class Backend:
                 raise Cancelled
             progress(fraction)
 
-        return self._call(
-            "cost_ladder", self.model(spec), f_hz, kw=kw, cycles=cycles, progress=step, **ladder
-        )
+        model = self.model(spec)
+        self._tally("cost_ladder")
+        return self.library.cost_ladder(model, f_hz, kw=kw, cycles=cycles, progress=step, **ladder)
 
 
 _shared: dict[str, Any] = {}

@@ -1,4 +1,4 @@
-"""The Panel page of one session: sidebar controls, one tab per scene, progress and export.
+"""The Panel page of one session: sidebar controls, one tab per scene, progress and figures.
 
 Every figure is a ``hv.DynamicMap`` that redraws when its scene publishes
 (``Scene.version``); the wear map's tap stream selects the point the other
@@ -20,7 +20,7 @@ import numpy as np
 import panel as pn
 import param
 
-from fretwear import export
+from fretwear import figures
 
 from .scenes import QUANTITY_LABELS, TARGETS, AccuracyScene, Scene, sidebar_equivalent
 from .session import Session
@@ -239,7 +239,7 @@ def _export_card(scene: Scene) -> pn.Card:
     figure = pn.widgets.Select(label="Figure", options=list(scene.figure_names), width=220)
     dataset = pn.widgets.Select(label="Dataset", options=list(scene.dataset_names), width=220)
     buttons: list[tuple[pn.widgets.FileDownload, pn.widgets.Select, str]] = []
-    for select, fmt in [(figure, f) for f in export.FIGURE_FORMATS] + [(dataset, "csv")]:
+    for select, fmt in [(figure, f) for f in figures.FIGURE_FORMATS] + [(dataset, "csv")]:
         button = pn.widgets.FileDownload(
             label=fmt.upper(),
             callback=partial(_download, scene, select, fmt),
@@ -259,7 +259,7 @@ def _export_card(scene: Scene) -> pn.Card:
     dataset.param.watch(rename, "value")
     by_format = {fmt: b for b, _, fmt in buttons}
     return pn.Card(
-        pn.Row(figure, *(by_format[f] for f in export.FIGURE_FORMATS)),
+        pn.Row(figure, *(by_format[f] for f in figures.FIGURE_FORMATS)),
         pn.Row(dataset, by_format["csv"]),
         title="Export (PNG and SVG via Matplotlib, standalone HTML, CSV)",
         collapsed=False,
@@ -351,7 +351,7 @@ def _status(session: Session) -> pn.Column:
 
 def build_page(session: Session) -> pn.template.BootstrapTemplate:
     """The page of ``session``: sidebar, status line and one tab per scene."""
-    export.load_backend("bokeh")
+    figures.load_backend("bokeh")
     keys = list(session.scenes)
     tabs = pn.Tabs(
         *(_scene_tab(session.scenes[k], session) for k in keys),

@@ -4,7 +4,7 @@ A scene draws only what its session published into it (:meth:`Scene.publish`):
 results, the settings and the selected point they belong to. Its figures keep
 the same layers whatever the state (empty data while nothing is computed), as
 the dashboard's ``DynamicMap`` objects require. Figures come from the builders
-of :mod:`fretwear.export`, which also renders them to PNG, SVG and HTML.
+of :mod:`fretwear.figures`, which also renders them to PNG, SVG and HTML.
 """
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 import param
 
-from fretwear import export
-from fretwear.accuracy import QUANTITIES, CostStudy, Rung
-from fretwear.harmonics import default_samples
+from fretwear import figures
+from fretwear.hbm.harmonics import default_samples
+from fretwear.studies.accuracy import QUANTITIES, CostStudy, Rung
 
 from .backend import Failure
 from .state import CONVERGENCE_HARMONICS, LADDERS, METHODS, Controls, Settings, Task, Tasks
@@ -109,17 +109,17 @@ class Scene(param.Parameterized):
 
     def export_figure(self, name: str, fmt: str) -> bytes:
         """Figure ``name`` as ``png``, ``svg`` or standalone ``html`` bytes."""
-        if fmt not in export.FIGURE_FORMATS:
-            raise ValueError(f"fmt must be one of {export.FIGURE_FORMATS}, got {fmt!r}")
-        export.load_backend("bokeh" if fmt == "html" else "matplotlib")
-        return export.figure_bytes(self.figure(name), fmt, title=f"fretwear: {self.title}, {name}")
+        if fmt not in figures.FIGURE_FORMATS:
+            raise ValueError(f"fmt must be one of {figures.FIGURE_FORMATS}, got {fmt!r}")
+        figures.load_backend("bokeh" if fmt == "html" else "matplotlib")
+        return figures.figure_bytes(self.figure(name), fmt, title=f"fretwear: {self.title}, {name}")
 
     def export_csv(self, name: str) -> str:
         """Dataset ``name`` as CSV text."""
         tables = self.datasets()
         if name not in tables:
             raise ValueError(f"no dataset {name!r} in scene {self.key!r} (yet); available: {sorted(tables)}")
-        return export.csv_text(tables[name])
+        return figures.csv_text(tables[name])
 
 
 def _linear_curves(scene: Scene) -> dict[str, tuple]:
@@ -171,7 +171,7 @@ line crosses the stick boundary. Raise `Nh` to sharpen the stick-slip transition
         curves = _linear_curves(self)
         frf = _ok(self.results.get("frf"))
         curves["nonlinear, no wear"] = EMPTY if frf is None else (frf["f_hz"], frf["amplitude"][:, 0])
-        return export.line_figure(
+        return figures.line_figure(
             curves,
             xlabel=HZ,
             ylabel=X1,
@@ -190,7 +190,7 @@ line crosses the stick boundary. Raise `Nh` to sharpen the stick-slip transition
             if reg is None
             else (f, np.where(reg["stick_limit"] <= ratios[-1], reg["stick_limit"], np.nan))
         )
-        return export.map_figure(
+        return figures.map_figure(
             f,
             ratios,
             z,
@@ -272,7 +272,7 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
         f, cycles = (s.frequencies, s.cycles) if wm is None else (wm.frequency, wm.cycles)
         logn = np.log10(cycles[1:])
         z = np.zeros((len(logn), len(f))) if wm is None else wm.wear_fraction[:, 1:, 0].T
-        return export.map_figure(
+        return figures.map_figure(
             f,
             logn,
             z,
@@ -293,10 +293,10 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
         h, sel = self._history(), self.selection
         curve, point = EMPTY, (np.nan, np.nan)
         if h is not None:
-            curve = export.wear_curve(h, self.settings.dense_cycles)
+            curve = figures.wear_curve(h, self.settings.dense_cycles)
             point = (sel.cycles, float(h.at([sel.cycles])["wear"][0, 0] / h.u0[0]))
         f = np.nan if h is None else h.frequency
-        return export.line_figure(
+        return figures.line_figure(
             {"w / u0": curve},
             xlabel="cycles N",
             ylabel="w / u0",
@@ -314,7 +314,7 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
         curves = {"no wear": EMPTY, "selected N": EMPTY}
         if p is not None:
             curves = {"no wear": (wm.frequency, p[0]), "selected N": (wm.frequency, p[1])}
-        return export.line_figure(
+        return figures.line_figure(
             curves,
             xlabel=HZ,
             ylabel=X1,
@@ -376,7 +376,7 @@ stuck resonance (1 Hz) towards the free one (0.5 Hz).
         wm, p = _ok(self.results.get("wear_map")), self._pseudo()
         for i, label in enumerate(self._labels):
             curves[label] = EMPTY if p is None else (wm.frequency, p[i])
-        return export.line_figure(
+        return figures.line_figure(
             curves,
             xlabel=HZ,
             ylabel=X1,
@@ -446,12 +446,12 @@ contact slips longer and the loop flattens."""
         sol = self._point()
         names = ("x1", "x2", "x1 - x2")
         if sol is None:
-            return export.signals_figure(
+            return figures.signals_figure(
                 [], {n: [] for n in names}, xlabel="t / T", ylabel="displacement (m)", title=self._title()
             )
         t = sol.time * sol.omega / (2 * np.pi)
         signals = dict(zip(names, (*sol.displacement, sol.relative_displacement[0]), strict=True))
-        return export.signals_figure(
+        return figures.signals_figure(
             t,
             signals,
             spans=self._spans(sol),
@@ -468,10 +468,10 @@ contact slips longer and the loop flattens."""
             t = sol.time * sol.omega / (2 * np.pi)
             force, limit, spans = (
                 sol.contact_force[0],
-                sol.model.friction[0].mu * sol.normal_loads[0],
+                sol.model.slip_forces(sol.wear)[0],
                 self._spans(sol),
             )
-        return export.signals_figure(
+        return figures.signals_figure(
             t,
             {"friction force": force},
             spans=spans,
@@ -488,7 +488,7 @@ contact slips longer and the loop flattens."""
             close = np.r_[np.arange(sol.samples), 0]
             curve = (sol.relative_displacement[0][close], sol.contact_force[0][close])
             energy = sol.friction_energy[0]
-        return export.line_figure(
+        return figures.line_figure(
             {"hysteresis loop": curve},
             xlabel="x1 - x2 (m)",
             ylabel="friction force (N)",
@@ -549,12 +549,12 @@ the polynomial curve misses the plateau; loosen the tolerance to see stepping dr
         out = {}
         for name in names:
             h = _ok(self.results.get(name))
-            out[name] = EMPTY if h is None else export.wear_curve(h, self.settings.dense_cycles)
+            out[name] = EMPTY if h is None else figures.wear_curve(h, self.settings.dense_cycles)
         return out
 
     def _figure_methods(self):
         sel = self.selection
-        return export.line_figure(
+        return figures.line_figure(
             self._curves(METHODS),
             xlabel="cycles N",
             ylabel="w / u0",
@@ -564,7 +564,7 @@ the polynomial curve misses the plateau; loosen the tolerance to see stepping dr
 
     def _figure_harmonics(self):
         names = [f"Nh = {nh}" for nh in CONVERGENCE_HARMONICS]
-        return export.line_figure(
+        return figures.line_figure(
             self._curves(names),
             xlabel="cycles N",
             ylabel="w / u0",
@@ -786,7 +786,7 @@ runs on a server that works for every session: compare them within one ladder.""
         return notes
 
     def _figure_pareto(self):
-        hv = export._hv()
+        hv = figures.holoviews()
         study, name = self.study(), QUANTITY_LABELS[self.quantity]
         rungs = [r for r in (study.rungs if study else []) if np.isfinite(self.error(r))]
         errors = np.array([self.error(r) for r in rungs])
@@ -810,7 +810,7 @@ runs on a server that works for every session: compare them within one ladder.""
                 "converged": [str(r.converged) for r in items],
             }
             layer = hv.Points(table, [xd, yd], vdims, label=label)
-            return export._opts(layer, {"framewise": True, **style}, {"tools": ["hover"], **bokeh}, mpl)
+            return figures.styled(layer, {"framewise": True, **style}, {"tools": ["hover"], **bokeh}, mpl)
 
         front = [r for r in (study.pareto(self._measure()) if study else []) if r in rungs]
         curve = hv.Curve(
@@ -837,8 +837,8 @@ runs on a server that works for every session: compare them within one ladder.""
                 {"size": 9, "line_color": "white"},
                 {"s": 40},
             ),
-            export._opts(curve, {"color": "gray"}, {"line_dash": "dashed"}, {"linestyle": "--"}),
-            export._opts(
+            figures.styled(curve, {"color": "gray"}, {"line_dash": "dashed"}, {"linestyle": "--"}),
+            figures.styled(
                 labels,
                 {"show_legend": False},
                 {
@@ -863,12 +863,12 @@ runs on a server that works for every session: compare them within one ladder.""
                 {"size": 22, "marker": "star", "line_color": "black"},
                 {"s": 300, "marker": "*", "edgecolors": "black"},
             ),
-            export._marker_line(hv, self.target, vertical=False),
+            figures.marker_line(hv, self.target, vertical=False),
         ]
         f = self.selection.frequency if study is None else study.frequency
         title = f"{name} vs wall time at {f:.4g} Hz (target {self.target:g})"
-        overlay = export._overlay_options(hv.Overlay(layers), title, xd.label, yd.label, True, True, True)
-        return export._opts(overlay, mpl={"fig_inches": (9.0, 5.0)})
+        overlay = figures.overlay_options(hv.Overlay(layers), title, xd.label, yd.label, True, True, True)
+        return figures.styled(overlay, mpl={"fig_inches": (9.0, 5.0)})
 
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
         study = self.study()

@@ -39,13 +39,13 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-#: slow-time methods (:func:`fretwear.studies.wear_history`); ``exact`` follows the exact load path
+#: slow-time methods (:func:`fretwear.wear.wear_history`); ``exact`` follows the exact load path
 METHODS = ("exact", "stepping", "polynomial", "time")
 #: harmonic counts of the convergence study (paper Fig. 10)
 CONVERGENCE_HARMONICS = (1, 3, 7, 15, 21)
 #: load ratios r = F_ex / (mu F_N) of the regime map
 RATIOS = (0.08, 2.0, 25)
-#: ladders of the accuracy scene: keyword arguments of :func:`fretwear.accuracy.cost_ladder`; ``quick``
+#: ladders of the accuracy scene: keyword arguments of :func:`fretwear.cost_ladder`; ``quick``
 #: keeps the sidebar's defaults (Nh = 7, tolerance 1e-2, degree 4) and computes in well under a second
 #: without the wear rungs, ``full`` is the library's ladder (Nh up to 64)
 LADDERS: dict[str, dict[str, Any]] = {
@@ -331,7 +331,7 @@ class Tasks:
 
     def regime(self, s: Settings) -> Task:
         """Regime map over frequency x ``r``: not ``F_ex`` (the map is over ``r``), ``k_w`` or the method."""
-        spec = s.model.at_ratio_one()
+        spec = s.model.unit_forcing()
         key = ("regime", spec, _grid(s.fmin, s.fmax, s.n_frequencies), RATIOS, s.harmonics)
 
         def run(job: Job):

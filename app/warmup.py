@@ -31,29 +31,27 @@ _started = threading.Lock()
 _thread: list[threading.Thread] = []
 
 
-def warm(
-    scenes: tuple[str, ...] = ("regimes", "wearmap"), figures: bool = True, exports: bool = False
-) -> float:
+def warm(scenes: tuple[str, ...] = ("regimes", "wearmap"), draw: bool = True, exports: bool = False) -> float:
     """Compute the default ``scenes`` into the shared cache; seconds spent.
 
-    With ``figures``, draw them once too (imports the plotting code); with
+    With ``draw``, draw their figures once too (imports the plotting code); with
     ``exports``, also load Matplotlib for the PNG and SVG exports (before the
     server starts only: loading a backend switches HoloViews' current one for
     a moment).
     """
     from app.session import Session
-    from fretwear import export
+    from fretwear import figures
 
     start = time.perf_counter()
     session = Session()
     for key in scenes:
         session.scene = key
-        if figures:
-            export.load_backend("bokeh")
+        if draw:
+            figures.load_backend("bokeh")
             for name in session.current.figure_names:
                 session.current.figure(name)
     if exports:
-        export.load_backend("matplotlib")
+        figures.load_backend("matplotlib")
     return time.perf_counter() - start
 
 

@@ -9,7 +9,7 @@ Prints three tables:
 
 1. warm timings (median over repeats, after a warm-up call that compiles the
    kernels): one cold single-frequency solve (:func:`fretwear.solve_periodic`)
-   and a 101-point frequency sweep (:func:`fretwear.continuation.sweep`) at
+   and a 101-point frequency sweep (:func:`fretwear.hbm.continuation.sweep`) at
    ``Nh = 7`` and ``21``, for (a) the paper's 2-DOF model at ``F_ex = 10 N``
    over 0.3-1.3 Hz (single solve at 0.7 Hz) and (b) the 1-DOF oscillator with
    a Jenkins element (:func:`fretwear.jenkins_oscillator`, omega 0.5-2.5 rad/s,
@@ -41,9 +41,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from fretwear import jenkins_oscillator, paper_model, solve_periodic  # noqa: E402
-from fretwear.continuation import sweep  # noqa: E402
-from fretwear.harmonics import HarmonicBasis, default_samples  # noqa: E402
-from fretwear.periodic import Problem, solve_problem  # noqa: E402
+from fretwear.hbm.continuation import sweep  # noqa: E402
+from fretwear.hbm.harmonics import HarmonicBasis, default_samples  # noqa: E402
+from fretwear.hbm.periodic import Problem, solve_problem  # noqa: E402
 
 #: warm 101-point sweep targets of the paper model (s), by Nh
 SWEEP_TARGETS = {7: 2e-3, 21: 10e-3}

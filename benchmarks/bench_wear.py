@@ -13,8 +13,7 @@ import warnings
 
 import numpy as np
 
-from fretwear import paper_model
-from fretwear.studies import wear_history, wear_map
+from fretwear import paper_model, wear_history, wear_map
 
 warnings.filterwarnings("ignore", category=RuntimeWarning)
 TWO_PI = 2 * np.pi

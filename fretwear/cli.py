@@ -1,14 +1,17 @@
 """Command line interface: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map``, ``cost``, ``figures``.
 
-The commands are thin wrappers around the library calls the dashboard and the
-benchmarks use (:func:`fretwear.continuation.sweep`,
-:func:`fretwear.continuation.continuation`, :func:`fretwear.linear.linear_frf`
-and :func:`fretwear.solve_periodic`). Frequencies are given and written in Hz
-(the library works in rad/s); every other quantity is SI (m, N, N/m, J).
+The commands are thin wrappers around the library's front functions, the same
+the dashboard and the benchmarks call (:func:`fretwear.sweep`,
+:func:`fretwear.continuation`, :func:`fretwear.linear_frf`,
+:func:`fretwear.solve_periodic`, :func:`fretwear.shooting`,
+:func:`fretwear.wear_history`, :func:`fretwear.wear_map`,
+:func:`fretwear.cost_ladder`; ``figures`` draws with :mod:`fretwear.figures`).
+Frequencies are given and written in Hz (the library works in rad/s); every
+other quantity is SI (m, N, N/m, J).
 
 The model is the 2-DOF example of the paper (:func:`fretwear.paper_model`,
 options ``--fex --mu --fn --kn --u0``) or a TOML model file (``--model``, see
-:mod:`fretwear.modelfile`).
+:mod:`fretwear.model.modelfile`).
 
 Output columns (CSV) and keys (JSON)
 ------------------------------------
@@ -51,15 +54,16 @@ from pathlib import Path
 
 import numpy as np
 
-from .accuracy import QUANTITIES, cost_ladder
-from .continuation import continuation, sweep
-from .linear import linear_frf
+from .hbm.continuation import continuation, sweep
+from .hbm.linear import linear_frf
+from .hbm.periodic import solve_periodic
+from .hbm.solution import PeriodicSolution
 from .model import Model, paper_model
-from .modelfile import example_names, example_path, read_model_file
-from .periodic import solve_periodic
-from .results import PeriodicSolution
-from .studies import shooting_sweep, wear_history, wear_map
-from .time_integration import ShootingSolution, shooting
+from .model.modelfile import example_names, example_path, read_model_file
+from .studies import wear_map
+from .studies.accuracy import QUANTITIES, cost_ladder
+from .time import ShootingSolution, shooting, shooting_sweep
+from .wear import METHODS, method_options, resolve_method, wear_history
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USAGE", "EXIT_NOT_CONVERGED"]
 
@@ -109,7 +113,7 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--model",
         metavar="FILE",
-        help="TOML model file (format: fretwear.modelfile) or a bundled example: "
+        help="TOML model file (format: fretwear.model.modelfile) or a bundled example: "
         + ", ".join(example_names())
         + "; excludes the paper-model options",
     )
@@ -167,7 +171,7 @@ def _add_band_options(parser: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``fretwear`` argument parser with its three subcommands."""
+    """The ``fretwear`` argument parser and its subcommands."""
     parser = _Parser(
         prog="fretwear",
         description="Periodic response of structures with dry-friction contacts (HBM + DLFT). "
@@ -309,21 +313,20 @@ def _add_wear_options(parser: argparse.ArgumentParser) -> None:
                         help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
     parser.add_argument("--cycles", type=_number(0.0, strict=True), default=1e5,
                         help="horizon: number of vibration cycles N (-), > 0; default 1e5")  # fmt: skip
-    methods = ("auto", "exact", "stepping", "polynomial", "time")
-    parser.add_argument("--method", choices=methods, default="auto",
-                        help="slow-time method: exact load-path integration (one friction contact), adaptive "
-                        "stepping, polynomial slow-time DLFT, or direct time integration with cycle jumps; "
-                        "auto (default): exact when it applies, else stepping")  # fmt: skip
-    parser.add_argument("--dynamics", choices=("dlft", "shooting"), default="dlft",
-                        help="periodic solver inside stepping: HBM + DLFT (default) or shooting")  # fmt: skip
+    parser.add_argument("--method", choices=("auto", *METHODS), default="auto",
+                        help="slow-time method: "
+                        + "; ".join(f"{m.name}: {m.title}" for m in METHODS.values())
+                        + "; auto (default): exact when it applies, else stepping")  # fmt: skip
+    parser.add_argument("--dynamics", choices=("dlft", "shooting"),
+                        help="periodic solver of stepping: HBM + DLFT (default) or shooting")  # fmt: skip
     _add_solver_options(parser)
-    parser.add_argument("--degree", type=_number(0, integer=True), default=4,
+    parser.add_argument("--degree", type=_number(0, integer=True),
                         help="degree m of the polynomial method (-), in [0, 12]; default 4")  # fmt: skip
-    parser.add_argument("--basis", choices=("legendre", "monomial"), default="legendre",
+    parser.add_argument("--basis", choices=("legendre", "monomial"),
                         help="slow-time basis of the polynomial method; default legendre")  # fmt: skip
-    parser.add_argument("--tol", type=_number(0.0, strict=True), default=1e-3,
-                        help="local error tolerance on w/u0 of stepping and cycle jumps (-), in (0, 1); "
-                        "default 1e-3")  # fmt: skip
+    parser.add_argument("--tol", type=_number(0.0, strict=True),
+                        help="local error tolerance on w/u0 of stepping and of the cycle jumps of time "
+                        "integration (-), in (0, 1); default 1e-3")  # fmt: skip
     parser.add_argument("--fixed-step", type=_number(0.0, strict=True), metavar="DN",
                         help="stepping with a fixed step of DN cycles (explicit Euler; 1 = the paper's "
                         "per-period update, eq. 24) instead of the adaptive pair")  # fmt: skip
@@ -509,22 +512,31 @@ def _point(args: argparse.Namespace, model: Model, names: _Names) -> int:
     return EXIT_OK if sol.converged else EXIT_NOT_CONVERGED
 
 
-def _wear_options(args: argparse.Namespace) -> dict:
-    if args.method == "polynomial" and args.degree > 12:
+#: slow-time options of ``wear`` and ``map`` that only some methods take (registry: fretwear.wear.METHODS)
+_METHOD_OPTIONS = ("dynamics", "degree", "basis", "tol", "fixed_step")
+
+
+def _wear_options(args: argparse.Namespace, model: Model) -> tuple[str, dict]:
+    """The slow-time method that will run and its options; a given option it does not take is an error."""
+    if args.degree is not None and args.degree > 12:
         raise UsageError(f"argument --degree: must be an integer in [0, 12], got {args.degree}")
-    if not 0 < args.tol < 1:
+    if args.tol is not None and not 0 < args.tol < 1:
         raise UsageError(f"argument --tol: must be in (0, 1), got {args.tol:g}")
-    options = dict(kw=args.kw, harmonics=args.harmonics, samples=args.samples, tol=args.tol)
-    if args.method in ("auto", "stepping"):
-        options.update(dynamics=args.dynamics, fixed_step=args.fixed_step)
-    elif args.method == "polynomial":
-        options.update(degree=args.degree, basis=args.basis)
-    return options
+    method = resolve_method(model, args.method, args.dynamics or "dlft", args.fixed_step)
+    given = {k: getattr(args, k) for k in _METHOD_OPTIONS if getattr(args, k) is not None}
+    unused = [k for k in given if k not in METHODS[method].options]
+    if unused:
+        flags = ", ".join("--" + k.replace("_", "-") for k in unused)
+        raise UsageError(f"argument {flags}: not taken by method {method!r} "
+                         f"(it takes {', '.join(METHODS[method].options)})")  # fmt: skip
+    settings = {"harmonics": args.harmonics, "samples": args.samples, **given}
+    return method, method_options(method, settings)
 
 
 def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
     """``fretwear wear``: one wear history as CSV, one row per record."""
-    hist = wear_history(model, 2 * np.pi * args.f, args.method, cycles=args.cycles, **_wear_options(args))
+    method, options = _wear_options(args, model)
+    hist = wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
     rows = []
     for k, N in enumerate(hist.cycles):
         row: dict = {"cycles": float(N)}
@@ -543,7 +555,7 @@ def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
     _write_csv(rows, args.out)
     for note in hist.warnings:
         print(f"fretwear wear: warning: {note}", file=sys.stderr)
-    print(f"fretwear wear: {args.method}, {len(rows)} records to N = {hist.cycles[-1]:g}, "
+    print(f"fretwear wear: {hist.method}, {len(rows)} records to N = {hist.cycles[-1]:g}, "
           f"status {hist.status}, "
           f"{hist.solves} solves, {hist.wall_time:.2f} s; wrote {args.out}", file=sys.stderr)  # fmt: skip
     return EXIT_OK if hist.converged else EXIT_NOT_CONVERGED
@@ -553,7 +565,8 @@ def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
     """``fretwear map``: wear map as a long CSV table or NPZ arrays."""
     freqs = np.linspace(args.fmin, args.fmax, args.nf)
     cycles = np.geomspace(1.0, max(args.cycles, 1.0 + 1e-9), args.ncycles)
-    wmap = wear_map(model, freqs, cycles, method=args.method, **_wear_options(args))
+    method, options = _wear_options(args, model)
+    wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
     if args.out.endswith(".npz"):
         np.savez_compressed(args.out, frequency_hz=wmap.frequency, cycles=wmap.cycles, wear=wmap.wear,
                             wear_fraction=wmap.wear_fraction, amplitude=wmap.amplitude,
@@ -564,8 +577,8 @@ def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
         keys = list(table)
         _write_csv(({k: float(table[k][r]) for k in keys} for r in range(len(table["f_hz"]))), args.out)
     failed = int(np.sum(~wmap.converged))
-    print(f"fretwear map: {args.nf} frequencies x {args.ncycles} cycle counts, {failed} incomplete; "
-          f"wrote {args.out}", file=sys.stderr)  # fmt: skip
+    print(f"fretwear map: {method}, {args.nf} frequencies x {args.ncycles} cycle counts, "
+          f"{failed} incomplete; wrote {args.out}", file=sys.stderr)  # fmt: skip
     return EXIT_OK if not failed else EXIT_NOT_CONVERGED
 
 
@@ -594,7 +607,7 @@ def _cost(args: argparse.Namespace, model: Model, names: _Names) -> int:
 
 def _figures(args: argparse.Namespace) -> int:
     """``fretwear figures``: the paper's figure set, written headlessly."""
-    from .export import paper_figures
+    from .figures import paper_figures
 
     formats = tuple(f.strip() for f in args.formats.split(",") if f.strip())
     out = Path(args.out)

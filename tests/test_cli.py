@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from fretwear import cli, paper_model, solve_periodic
-from fretwear.continuation import sweep
-from fretwear.linear import linear_frf
+from fretwear.hbm.continuation import sweep
+from fretwear.hbm.linear import linear_frf
 from fretwear.model import jenkins_oscillator
 
 ROOT = Path(__file__).resolve().parents[1]

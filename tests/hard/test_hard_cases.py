@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from fretwear import FrictionContact, Model, paper_model, solve_periodic
-from fretwear.continuation import sweep
-from fretwear.linear import linear_frf
-from fretwear.periodic import Problem
-from fretwear.time_integration import shooting
-from fretwear.wear import wear_stepping
+from fretwear.hbm.continuation import sweep
+from fretwear.hbm.linear import linear_frf
+from fretwear.hbm.periodic import Problem
+from fretwear.time.shooting import shooting
+from fretwear.wear.stepping import wear_stepping
 
 TWO_PI = 2 * np.pi
 

@@ -11,7 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from fretwear import paper_model, solve_periodic
-from fretwear.wear import wear_stepping
+from fretwear.wear.stepping import wear_stepping
 
 TWO_PI = 2 * np.pi
 

@@ -1,0 +1,341 @@
+"""The paper's figure set (Fig. 5-14 of Salles et al., 2-DOF example), computed and written headlessly."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..hbm import linear_frf, sweep
+from ..model import paper_model
+from ..studies import compare_methods, harmonic_convergence, wear_map
+from .export import FIGURE_FORMATS, save_csv, save_figure
+from .plots import holoviews, line_figure, load_backend, map_figure, positive, styled, wear_curve
+
+__all__ = ["paper_figures"]
+
+
+def _layout(panels: list, cols: int):
+    """Panels in a grid of ``cols`` columns, sized for Matplotlib."""
+    hv = holoviews()
+    rows = -(-len(panels) // cols)
+    layout = hv.Layout(panels).cols(cols)
+    return styled(
+        layout,
+        mpl={"fig_inches": (5.5 * cols, 3.8 * rows), "sublabel_format": "", "vspace": 0.6, "hspace": 0.5},
+    )
+
+
+def _wear_map_table(maps: Mapping[float, Any]) -> dict[str, np.ndarray]:
+    """Long tables of several wear maps, with a ``fex`` column."""
+    tables = []
+    for fex, wm in maps.items():
+        t = wm.long_table()
+        tables.append({"fex": np.full(len(t["f_hz"]), fex), **t})
+    return {k: np.concatenate([t[k] for t in tables]) for k in tables[0]}
+
+
+def _history_table(histories: Mapping[str, Any], key: str) -> dict[str, np.ndarray]:
+    rows = [(name, h) for name, h in histories.items() if h is not None]
+    return {
+        key: np.concatenate([np.full(len(h.cycles), name) for name, h in rows]),
+        "cycles": np.concatenate([h.cycles for _, h in rows]),
+        "w": np.concatenate([h.wear[:, 0] for _, h in rows]),
+        "w_over_u0": np.concatenate([h.wear_fraction[:, 0] for _, h in rows]),
+    }
+
+
+def paper_figures(
+    out: str | Path,
+    *,
+    harmonics: int = 21,
+    kw: float = 1e-11,
+    cycles: float = 1e5,
+    frequencies: int = 41,
+    cycle_points: int = 60,
+    fmin: float = 0.3,
+    fmax: float = 1.3,
+    f_study: float = 0.7,
+    method: str = "auto",
+    tol: float = 1e-3,
+    degree: int = 4,
+    polynomial_harmonics: int = 3,
+    formats: Sequence[str] = ("png", "svg", "csv"),
+    workers: int = 2,
+    log: Callable[[str], None] | None = None,
+) -> list[Path]:
+    """Compute the paper's figures 5-14 for the 2-DOF example and write them to ``out``.
+
+    Each figure ``figNN`` is written in every format of ``formats`` (``png``,
+    ``svg``, ``html``, and ``csv`` for its data). Excitation levels 6, 10 and
+    14 N, ``mu = 1``, ``F_N = 10`` N (section 2.1):
+
+    * fig05, fig06: nonlinear FRFs of mass 1 and of the relative displacement,
+      with the linear stuck and open FRFs;
+    * fig07: wear ``w / u0`` over frequency x cycles by ``method`` (a, b, c: 6,
+      10, 14 N);
+    * fig08: pseudo-FRFs of mass 1 at 6 N: open, stuck, initial and worn;
+    * fig09: pseudo-FRFs at five cycle counts (a, b, c: 6, 10, 14 N);
+    * fig10: ``w(N)`` at ``f_study`` Hz and 10 N for 1, 3, 7, 15 and 21 harmonics;
+    * fig11: stepping, polynomial (``polynomial_harmonics``, ``degree``) and
+      time integration at ``f_study`` Hz and 10 N, with the exact load path
+      for reference (a method that fails is left out and reported through
+      ``log``);
+    * fig12: the wear map by the polynomial method at 10 N;
+    * fig13, fig14: half peak-to-peak relative displacement over frequency x
+      cycles at 10 N, by ``method`` and by the polynomial method.
+
+    Parameters
+    ----------
+    out : str or Path
+        Output directory (created if missing).
+    harmonics : int
+        Harmonics of the FRFs, of the wear maps and of stepping.
+    kw : float
+        Archard coefficient (1/Pa).
+    cycles : float
+        Cycle horizon of the wear studies.
+    frequencies, cycle_points : int
+        Sizes of the frequency grid (``fmin``-``fmax`` Hz) and of the
+        logarithmic cycle grid of the maps.
+    method : str
+        Slow-time method of the wear maps (see :func:`fretwear.wear.wear_history`;
+        ``"auto"``: the exact load path for this model).
+    tol : float
+        Tolerance of stepping and of the time integration (fraction of ``u0``).
+    formats : sequence of str
+        Any of ``png``, ``svg``, ``html``, ``csv``.
+    workers : int
+        Threads of the wear maps.
+    log : callable, optional
+        Receives one line per figure written and per problem met.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    bad = sorted(set(formats) - {*FIGURE_FORMATS, "csv"})
+    if bad:
+        raise ValueError(f"formats must be among {(*FIGURE_FORMATS, 'csv')}, got {bad}")
+    if not 0 < fmin < fmax or not 0 < f_study:
+        raise ValueError(f"need 0 < fmin < fmax and f_study > 0 (Hz), got {fmin}, {fmax}, {f_study}")
+    if int(frequencies) < 2 or int(cycle_points) < 3:
+        raise ValueError("frequencies must be >= 2 and cycle_points >= 3")
+    say = log or (lambda _msg: None)
+    for fmt in formats:
+        if fmt in FIGURE_FORMATS:
+            load_backend("matplotlib" if fmt != "html" else "bokeh")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    written: list[Path] = []
+
+    def write(name: str, fig, table: Mapping[str, Any]) -> None:
+        for fmt in formats:
+            path = out / f"{name}.{fmt}"
+            if fmt == "csv":
+                save_csv(table, path)
+            else:
+                save_figure(fig, path)
+            written.append(path)
+        say(f"wrote {name} ({', '.join(formats)})")
+
+    levels = (6.0, 10.0, 14.0)
+    f_fine = np.linspace(fmin, fmax, 8 * (int(frequencies) - 1) + 1)
+    f_map = np.linspace(fmin, fmax, int(frequencies))
+    n_grid = np.concatenate([[0.0], np.geomspace(cycles * 1e-4, cycles, int(cycle_points) - 1)])
+    logn = np.log10(n_grid[1:])
+    snapshots = np.concatenate([[0.0], cycles * np.array([1e-3, 1e-2, 1e-1, 1.0])])
+    models = {fex: paper_model(fex=fex) for fex in levels}
+    m10 = models[10.0]
+    lin = {
+        fex: {s: linear_frf(m, 2 * np.pi * f_fine, s) for s in ("stuck", "open")} for fex, m in models.items()
+    }
+    x1 = {fex: {s: np.abs(u[:, 0]) for s, u in lu.items()} for fex, lu in lin.items()}
+
+    # Fig. 5-6: nonlinear FRFs
+    sweeps = {fex: sweep(m, 2 * np.pi * f_fine, harmonics) for fex, m in models.items()}
+    amp = {fex: np.array([s.amplitude[0] for s in sw.solutions]) for fex, sw in sweeps.items()}
+    rel = {
+        fex: np.array([s.relative_half_peak_to_peak[0] for s in sw.solutions]) for fex, sw in sweeps.items()
+    }
+    curves = {f"{fex:g} N": (f_fine, a) for fex, a in amp.items()}
+    curves |= {f"stuck ({fex:g} N)": (f_fine, x1[fex]["stuck"]) for fex in (levels[0], levels[-1])}
+    curves |= {f"open ({fex:g} N)": (f_fine, x1[fex]["open"]) for fex in (levels[0], levels[-1])}
+    dashed = [k for k in curves if k.startswith(("stuck", "open"))]
+    table = {"f_hz": f_fine, **{f"x1_h1_{fex:g}N": a for fex, a in amp.items()}}
+    write(
+        "fig05",
+        line_figure(
+            curves,
+            xlabel="frequency (Hz)",
+            ylabel="x1 amplitude (m)",
+            logy=True,
+            dashed=dashed,
+            title="Fig. 5: FRF of mass 1",
+        ),
+        table,
+    )
+    curves = {f"{fex:g} N": (f_fine, r) for fex, r in rel.items()}
+    curves |= {
+        f"open ({fex:g} N)": (f_fine, np.abs(lin[fex]["open"] @ m10.relative_map()[0]))
+        for fex in (levels[0], levels[-1])
+    }
+    table = {"f_hz": f_fine, **{f"xr_half_p2p_{fex:g}N": r for fex, r in rel.items()}}
+    write(
+        "fig06",
+        line_figure(
+            curves,
+            xlabel="frequency (Hz)",
+            ylabel="x1 - x2, half peak-to-peak (m)",
+            logy=True,
+            dashed=[k for k in curves if k.startswith("open")],
+            title="Fig. 6: FRF of the relative displacement",
+        ),
+        table,
+    )
+
+    # Fig. 7, 9, 13: wear maps by ``method``
+    opts = {"kw": kw, "harmonics": harmonics, "tol": tol, "workers": workers}
+    maps = {fex: wear_map(m, f_map, n_grid, method=method, **opts) for fex, m in models.items()}
+    say(f"computed the wear maps ({method})")
+    panels = [
+        map_figure(
+            f_map,
+            logn,
+            wm.wear_fraction[:, 1:, 0].T,
+            xlabel="frequency (Hz)",
+            ylabel="log10 cycles",
+            zlabel="w / u0",
+            clim=(0, 1),
+            levels=(0.1, 0.5, 0.9),
+            title=f"Fig. 7{'abc'[i]}: F_ex = {fex:g} N",
+        )
+        for i, (fex, wm) in enumerate(maps.items())
+    ]
+    write("fig07", _layout(panels, 3), _wear_map_table(maps))
+    # Fig. 8: four cases at 6 N
+    wm6 = maps[6.0]
+    late = snapshots[-2]
+    pseudo = wm6.pseudo_frf([0.0, late])[:, :, 0]
+    curves = {
+        "open": (f_fine, x1[6.0]["open"]),
+        "stuck": (f_fine, x1[6.0]["stuck"]),
+        "NL, N = 0": (f_map, pseudo[0]),
+        f"NL, N = {late:.3g}": (f_map, pseudo[1]),
+    }
+    table = {"f_hz": f_map, "x1_h1_N0": pseudo[0], f"x1_h1_N{late:.6g}": pseudo[1]}
+    write(
+        "fig08",
+        line_figure(
+            curves,
+            xlabel="frequency (Hz)",
+            ylabel="x1 amplitude (m)",
+            logy=True,
+            dashed=["open", "stuck"],
+            title="Fig. 8: pseudo-FRFs of mass 1, 6 N",
+        ),
+        table,
+    )
+    # Fig. 9: pseudo-FRFs at several cycle counts
+    panels, table = [], {"f_hz": f_map}
+    for i, (fex, wm) in enumerate(maps.items()):
+        pseudo = wm.pseudo_frf(snapshots)[:, :, 0]
+        curves = {"open": (f_fine, x1[fex]["open"]), "stuck": (f_fine, x1[fex]["stuck"])}
+        curves |= {f"N = {n:.3g}": (f_map, p) for n, p in zip(snapshots, pseudo, strict=True)}
+        table |= {f"x1_h1_{fex:g}N_N{n:.6g}": p for n, p in zip(snapshots, pseudo, strict=True)}
+        panels.append(
+            line_figure(
+                curves,
+                xlabel="frequency (Hz)",
+                ylabel="x1 amplitude (m)",
+                logy=True,
+                dashed=["open", "stuck"],
+                title=f"Fig. 9{'abc'[i]}: F_ex = {fex:g} N",
+            )
+        )
+    write("fig09", _layout(panels, 1), table)
+
+    # Fig. 10: harmonic convergence at f_study, 10 N
+    hc = harmonic_convergence(m10, f_study, kw=kw, cycles=cycles, tol=tol)
+    dense = np.concatenate([[0.0], np.geomspace(cycles * 1e-4, cycles, 200)])
+    curves = {f"Nh = {nh}": wear_curve(h, dense) for nh, h in hc.items()}
+    write(
+        "fig10",
+        line_figure(
+            curves,
+            xlabel="cycles",
+            ylabel="w / u0",
+            logx=True,
+            title=f"Fig. 10: harmonics, {f_study:g} Hz, 10 N",
+        ),
+        _history_table({f"{nh}": h for nh, h in hc.items()}, "harmonics"),
+    )
+
+    # Fig. 11: every slow-time method at f_study, 10 N
+    methods = compare_methods(
+        m10, f_study, kw=kw, cycles=cycles, harmonics=harmonics, tol=tol, degree=degree,
+        overrides={"polynomial": {"harmonics": polynomial_harmonics}},
+        on_failure=lambda method, exc: say(f"fig11: method {method!r} failed: {exc}"),
+    )  # fmt: skip
+    curves = {m: wear_curve(h, dense) for m, h in methods.items()}
+    write(
+        "fig11",
+        line_figure(
+            curves,
+            xlabel="cycles",
+            ylabel="w / u0",
+            logx=True,
+            title=f"Fig. 11: slow-time methods, {f_study:g} Hz, 10 N",
+        ),
+        _history_table(methods, "method"),
+    )
+
+    # Fig. 12, 14: polynomial wear map at 10 N; Fig. 13: stepping relative displacement
+    poly = wear_map(
+        m10,
+        f_map,
+        n_grid,
+        method="polynomial",
+        kw=kw,
+        harmonics=polynomial_harmonics,
+        degree=degree,
+        workers=workers,
+    )
+    say("computed the polynomial wear map")
+    write(
+        "fig12",
+        map_figure(
+            f_map,
+            logn,
+            poly.wear_fraction[:, 1:, 0].T,
+            xlabel="frequency (Hz)",
+            ylabel="log10 cycles",
+            zlabel="w / u0",
+            clim=(0, 1),
+            levels=(0.1, 0.5, 0.9),
+            title="Fig. 12: polynomial method, 10 N",
+        ),
+        poly.long_table(),
+    )
+    for name, wm, label in (("fig13", maps[10.0], method), ("fig14", poly, "polynomial")):
+        z = np.log10(positive(wm.relative_half_peak_to_peak[:, 1:, 0].T))
+        top = np.nanmax(z)
+        write(
+            name,
+            map_figure(
+                f_map,
+                logn,
+                z,
+                xlabel="frequency (Hz)",
+                ylabel="log10 cycles",
+                zlabel="log10 |x1 - x2| (m)",
+                clim=(top - 4, top),
+                cmap="magma",
+                title=f"Fig. {name[-2:]}: relative displacement, {label}, 10 N",
+            ),
+            wm.long_table(),
+        )
+    return written

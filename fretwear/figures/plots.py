@@ -1,0 +1,281 @@
+"""Figure builders: library results as HoloViews overlays, for the dashboard and the exports.
+
+The builders give the same look on the Bokeh backend (the dashboard,
+standalone HTML) and on the Matplotlib backend (PNG and SVG, rendered without a
+browser). Options are set for every backend loaded when a figure is built:
+call :func:`load_backend` first for each backend the figure will be rendered with.
+HoloViews, Bokeh and Matplotlib are imported inside the functions only.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import holoviews as hv
+
+__all__ = [
+    "holoviews",
+    "load_backend",
+    "ensure_backend",
+    "styled",
+    "positive",
+    "marker_line",
+    "overlay_options",
+    "line_figure",
+    "map_figure",
+    "signals_figure",
+    "wear_curve",
+]
+
+XY = tuple[Any, Any]
+
+_MPL_SIZE = {"fig_inches": (7.0, 4.0), "aspect": "auto"}
+
+
+def holoviews():
+    """The ``holoviews`` module, imported on first use."""
+    import holoviews as hv
+
+    return hv
+
+
+def load_backend(name: Literal["bokeh", "matplotlib"]) -> None:
+    """Load the HoloViews plotting backend ``name`` and keep the current backend.
+
+    Loading a backend makes it the current one; this restores the previous one
+    when another backend was already loaded (e.g. Bokeh in the dashboard).
+    """
+    hv = holoviews()
+    loaded = hv.Store.loaded_backends()
+    if name in loaded:
+        return
+    current = hv.Store.current_backend if loaded else None
+    if name == "matplotlib":
+        import matplotlib
+
+        if matplotlib.get_backend().lower() != "agg":
+            matplotlib.use("Agg")
+    hv.renderer(name)
+    if current is not None:
+        hv.Store.set_current_backend(current)
+
+
+def ensure_backend() -> None:
+    """Load the Matplotlib backend when no HoloViews backend is loaded yet."""
+    if not holoviews().Store.loaded_backends():
+        load_backend("matplotlib")
+
+
+def styled(obj, common: dict | None = None, bokeh: dict | None = None, mpl: dict | None = None):
+    """Apply ``common`` and the backend-specific options for every loaded backend."""
+    hv = holoviews()
+    for backend, extra in (("bokeh", bokeh), ("matplotlib", mpl)):
+        if backend in hv.Store.loaded_backends():
+            obj = obj.opts(**(common or {}), **(extra or {}), backend=backend)
+    return obj
+
+
+def positive(y) -> np.ndarray:
+    """``y`` with non-positive values masked (NaN) for a logarithmic axis."""
+    y = np.asarray(y, dtype=float)
+    return np.where(y > 0, y, np.nan)
+
+
+def marker_line(hv, x: float | None, vertical: bool = True):
+    line = (hv.VLine if vertical else hv.HLine)(np.nan if x is None else float(x))
+    return styled(
+        line,
+        {"color": "black", "alpha": 0.6},
+        {"line_dash": "dotted", "line_width": 1.5},
+        {"linestyle": ":", "linewidth": 1.5},
+    )
+
+
+def overlay_options(overlay, title: str, xlabel: str, ylabel: str, logx: bool, logy: bool, legend: bool):
+    return styled(
+        overlay,
+        {
+            "title": title,
+            "xlabel": xlabel,
+            "ylabel": ylabel,
+            "logx": logx,
+            "logy": logy,
+            "show_legend": legend,
+        },
+        {"legend_position": "top_right", "responsive": True, "height": 340, "toolbar": "right"},
+        {"legend_position": "right", **_MPL_SIZE},
+    )
+
+
+def line_figure(
+    curves: Mapping[str, XY],
+    *,
+    xlabel: str,
+    ylabel: str,
+    title: str = "",
+    logx: bool = False,
+    logy: bool = False,
+    dashed: Sequence[str] = (),
+    vline: float | None = None,
+    point: tuple[float, float] | None = None,
+) -> hv.Overlay:
+    """Curves ``label -> (x, y)`` on common axes, one legend entry each.
+
+    The layers are the curves in the order given, then a vertical marker line
+    at ``vline`` and a marker ``point`` when these are given (``nan`` hides
+    them): figures built with the same arguments have the same structure, as
+    a ``DynamicMap`` needs. Non-positive values are hidden on a logarithmic axis.
+    """
+    hv = holoviews()
+    ensure_backend()
+    xd, yd = hv.Dimension("x", label=xlabel), hv.Dimension("y", label=ylabel)
+    layers = []
+    for label, (x, y) in curves.items():
+        x = positive(x) if logx else np.asarray(x, dtype=float)
+        y = positive(y) if logy else np.asarray(y, dtype=float)
+        curve = hv.Curve((x, y), xd, yd, label=label)
+        dash = label in dashed
+        curve = styled(
+            curve,
+            {"framewise": True},
+            {"line_width": 2, "line_dash": "dashed" if dash else "solid", "tools": ["hover"]},
+            {"linewidth": 1.5, "linestyle": "--" if dash else "-"},
+        )
+        layers.append(curve)
+    if vline is not None:
+        layers.append(marker_line(hv, vline))
+    if point is not None:
+        pts = hv.Points([point], [xd, yd], label="selected")
+        layers.append(
+            styled(
+                pts, {"color": "red"}, {"size": 10, "marker": "x", "line_width": 3}, {"s": 80, "marker": "X"}
+            )
+        )
+    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, logx, logy, len(curves) > 1)
+
+
+def map_figure(
+    x,
+    y,
+    z,
+    *,
+    xlabel: str,
+    ylabel: str,
+    zlabel: str,
+    title: str = "",
+    levels: Sequence[float] = (),
+    clim: tuple[float, float] | None = None,
+    cmap: str = "viridis",
+    curves: Mapping[str, XY] | None = None,
+    hline: float | None = None,
+    point: tuple[float, float] | None = None,
+) -> hv.Overlay:
+    """Image of ``z`` (shape ``(len(y), len(x))``) over uniform grids ``x`` and ``y``.
+
+    With contour lines at ``levels``, curves ``label -> (x, y)`` drawn on top
+    (e.g. a boundary), a horizontal marker at ``hline`` and a marker ``point``.
+    """
+    hv = holoviews()
+    ensure_backend()
+    xd, yd = hv.Dimension("x", label=xlabel), hv.Dimension("y", label=ylabel)
+    zd = hv.Dimension("z", label=zlabel)
+    x, y, z = np.asarray(x, dtype=float), np.asarray(y, dtype=float), np.asarray(z, dtype=float)
+    image = hv.Image((x, y, z), [xd, yd], [zd], rtol=1e-6)
+    image = styled(
+        image,
+        {"cmap": cmap, "colorbar": True, "clim": clim or (np.nan, np.nan), "framewise": True},
+        {"tools": ["hover"]},
+        {"aspect": "auto"},
+    )
+    layers = [image]
+    if levels:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            contours = hv.operation.contours(image, levels=list(levels), overlaid=False)
+        layers.append(
+            styled(
+                contours,
+                {"color": "white", "show_legend": False},
+                {"line_width": 1.5, "tools": []},
+                {"linewidth": 1.2},
+            )
+        )
+    for label, (cx, cy) in (curves or {}).items():
+        curve = hv.Curve((np.asarray(cx, dtype=float), np.asarray(cy, dtype=float)), xd, yd, label=label)
+        layers.append(styled(curve, {"color": "red"}, {"line_width": 2.5}, {"linewidth": 2}))
+    if hline is not None:
+        layers.append(
+            styled(
+                hv.HLine(float(hline)),
+                {"color": "white"},
+                {"line_dash": "dashed", "line_width": 2},
+                {"linestyle": "--", "linewidth": 1.5},
+            )
+        )
+    if point is not None:
+        pts = hv.Points([point], [xd, yd], label="selected")
+        layers.append(
+            styled(
+                pts, {"color": "red"}, {"size": 14, "marker": "x", "line_width": 3}, {"s": 100, "marker": "X"}
+            )
+        )
+    overlay = hv.Overlay(layers)
+    return overlay_options(overlay, title, xlabel, ylabel, False, False, bool(curves))
+
+
+def signals_figure(
+    t,
+    signals: Mapping[str, Any],
+    *,
+    spans: Sequence[tuple[float, float]] = (),
+    hlines: Sequence[float] = (),
+    xlabel: str,
+    ylabel: str,
+    title: str = "",
+) -> hv.Overlay:
+    """Signals over one period with shaded intervals ``spans`` (e.g. where the contact slips).
+
+    The shading comes first, then one curve per signal, then dotted horizontal
+    lines at ``hlines`` (e.g. the slip limits ``+-mu F_N``).
+    """
+    hv = holoviews()
+    ensure_backend()
+    xd, yd = hv.Dimension("x", label=xlabel), hv.Dimension("y", label=ylabel)
+    shade = hv.VSpans(list(spans) or [(np.nan, np.nan)], [xd, yd])
+    layers = [
+        styled(
+            shade,
+            {"alpha": 0.25},
+            {"color": "orange", "line_alpha": 0},
+            {"facecolor": "orange", "linewidth": 0},
+        )
+    ]
+    t = np.asarray(t, dtype=float)
+    for label, y in signals.items():
+        curve = hv.Curve((t, np.asarray(y, dtype=float)), xd, yd, label=label)
+        layers.append(
+            styled(curve, {"framewise": True}, {"line_width": 2, "tools": ["hover"]}, {"linewidth": 1.5})
+        )
+    layers += [marker_line(hv, h, vertical=False) for h in hlines]
+    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, len(signals) > 1)
+
+
+def wear_curve(history, cycles) -> tuple[np.ndarray, np.ndarray]:
+    """``(N, w / u0)`` of the first contact of a :class:`~fretwear.wear.WearHistory` at ``cycles``.
+
+    Uses the history's own interpolation (:meth:`~fretwear.wear.WearHistory.at`),
+    which holds the last state past the last record (worn through, or stuck); a
+    history that stopped on a failure is drawn up to its last record only.
+    """
+    cycles = np.asarray(cycles, dtype=float)
+    if not history.converged:
+        cycles = cycles[cycles <= history.cycles[-1]]
+    return cycles, history.at(cycles)["wear"][:, 0] / history.u0[0]
+
+
+# -- export ------------------------------------------------------------------------

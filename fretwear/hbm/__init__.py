@@ -1,0 +1,32 @@
+"""Multi-harmonic balance with the Dynamic Lagrangian Frequency-Time method (paper sections 1.3-1.5).
+
+Layers, bottom up: :mod:`~fretwear.hbm.harmonics` (Fourier basis and DFT
+matrices, eq. 9-10), :mod:`~fretwear.hbm.condensation` (reduced dynamic
+stiffness on the contact coordinates, eq. 11), :mod:`~fretwear.hbm.dlft` (the
+contact law: prediction/correction in time, eq. 17-23, compiled),
+:mod:`~fretwear.hbm.kernels` (compiled Newton and piecewise-linear walks),
+:mod:`~fretwear.hbm.periodic` (one frequency: :func:`solve_periodic`),
+:mod:`~fretwear.hbm.continuation` and :mod:`~fretwear.hbm.arclength` (over
+frequency: :func:`sweep`, :func:`continuation`), :mod:`~fretwear.hbm.linear`
+(linear FRFs with every contact stuck or open). The result is a
+:class:`PeriodicSolution`.
+"""
+
+from .continuation import Branch, Sweep, continuation, sweep
+from .harmonics import HarmonicBasis, default_samples
+from .linear import linear_frf
+from .periodic import Problem, solve_periodic
+from .solution import PeriodicSolution
+
+__all__ = [
+    "Branch",
+    "HarmonicBasis",
+    "PeriodicSolution",
+    "Problem",
+    "Sweep",
+    "continuation",
+    "default_samples",
+    "linear_frf",
+    "solve_periodic",
+    "sweep",
+]

@@ -1,0 +1,196 @@
+"""Exact condensation of the linear structure on the contact coordinates (eq. 11).
+
+Per harmonic order ``k`` the linear part is the complex dynamic stiffness
+``D_k = K - (k omega)^2 M + i k omega C``. With ``B`` the map to relative
+contact coordinates, the contact receptance is ``G_k = B D_k^{-1} B^T`` and
+the reduced equations of motion read ``Z_k U_r,k + Lambda_k = F_r,k`` with
+
+    Z_k = G_k^{-1},   F_r,k = Z_k B D_k^{-1} F_k,
+
+exact for any number of DOFs (the paper's eq. 11). Real coefficients
+``(a, b)`` of ``a cos + b sin`` relate to the complex amplitude ``a - i b``,
+so a complex block ``Z = X + iY`` acts on ``(a, b)`` as ``[[X, Y], [-Y, X]]``.
+
+All reduced arrays use the *contact-major* layout: entry ``c * H + j`` is slot
+``j`` of the :class:`~fretwear.hbm.harmonics.HarmonicBasis` for contact ``c``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import Model
+from .harmonics import HarmonicBasis
+
+__all__ = ["Condensed", "condense", "dynamic_stiffness", "forcing", "recover"]
+
+
+def dynamic_stiffness(model: Model, omega, orders: np.ndarray) -> np.ndarray:
+    """Complex dynamic stiffness ``D_k`` per harmonic order, shape (..., len(orders), n, n).
+
+    ``omega`` (rad/s) is a scalar, or an array broadcast against the orders.
+    """
+    w = (np.asarray(orders, dtype=float) * np.asarray(omega, dtype=float))[..., None, None]
+    return model.K - w**2 * model.M + 1j * w * model.C
+
+
+def _d_dynamic_stiffness(model: Model, omega, orders: np.ndarray) -> np.ndarray:
+    """Derivative ``dD_k / d omega``, shape (..., len(orders), n, n)."""
+    k = np.asarray(orders, dtype=float)
+    k, w = (k + 0 * np.asarray(omega))[..., None, None], np.asarray(omega, dtype=float)[..., None, None]
+    return -2 * k**2 * w * model.M + 1j * k * model.C
+
+
+def forcing(model: Model, orders: np.ndarray, scale: float = 1.0) -> np.ndarray:
+    """Complex force amplitude per harmonic order, shape (len(orders), n) (N)."""
+    F = np.zeros((len(orders), model.n_dofs), dtype=complex)
+    F[np.asarray(orders) == 0] = model.force_static
+    F[np.asarray(orders) == 1] = model.force_cos - 1j * model.force_sin
+    return scale * F
+
+
+def _solve(D: np.ndarray, rhs: np.ndarray, omega) -> np.ndarray:
+    try:
+        return np.linalg.solve(D, rhs)
+    except np.linalg.LinAlgError:
+        where = np.array2string(np.atleast_1d(np.asarray(omega, dtype=float)), precision=6, threshold=4)
+        raise ValueError(
+            f"the dynamic stiffness K - (k omega)^2 M + i k omega C is singular at omega = {where} rad/s "
+            "for some harmonic k (an undamped resonance, or a rigid-body mode when k = 0); "
+            "add damping, anchor the structure or change the frequency"
+        ) from None
+
+
+def _slots(basis: HarmonicBasis) -> tuple[np.ndarray, np.ndarray]:
+    """Cos and sin slot of each distinct order (sin slot -1 for the mean)."""
+    orders = _distinct_orders(basis)
+    cos = np.array([np.flatnonzero((basis.orders == k) & ~basis.is_sine)[0] for k in orders])
+    sin = np.array(
+        [(np.flatnonzero((basis.orders == k) & basis.is_sine).tolist() or [-1])[0] for k in orders]
+    )
+    return cos, sin
+
+
+def _real_blocks(Z: np.ndarray, basis: HarmonicBasis) -> np.ndarray:
+    """Assemble complex per-order blocks (..., n_orders, nc, nc) into real contact-major matrices.
+
+    A block ``X + iY`` acts on ``(a, b)`` as ``[[X, Y], [-Y, X]]``; the mean slot takes ``X``.
+    """
+    nc, H = Z.shape[-1], basis.size
+    cos, sin = _slots(basis)
+    out = np.zeros(Z.shape[:-3] + (nc * H, nc * H))
+    c = np.arange(nc) * H
+    rows = lambda s: c[None, :, None] + s[:, None, None]  # noqa: E731 - (n_orders, nc, 1)
+    cols = lambda s: c[None, None, :] + s[:, None, None]  # noqa: E731 - (n_orders, 1, nc)
+    X, Y = Z.real, Z.imag
+    out[..., rows(cos), cols(cos)] = X
+    k = sin >= 0
+    out[..., rows(sin[k]), cols(sin[k])] = X[..., k, :, :]
+    out[..., rows(cos[k]), cols(sin[k])] = Y[..., k, :, :]
+    out[..., rows(sin[k]), cols(cos[k])] = -Y[..., k, :, :]
+    return out
+
+
+def _real_vector(v: np.ndarray, basis: HarmonicBasis) -> np.ndarray:
+    """Complex per-order vectors (..., n_orders, nc) -> real contact-major vectors (..., nc * H)."""
+    nc, H = v.shape[-1], basis.size
+    cos, sin = _slots(basis)
+    out = np.zeros(v.shape[:-2] + (nc, H))
+    out[..., cos] = np.swapaxes(v.real, -1, -2)
+    k = sin >= 0
+    out[..., sin[k]] = -np.swapaxes(v.imag[..., k, :], -1, -2)
+    return out.reshape(v.shape[:-2] + (nc * H,))
+
+
+def _distinct_orders(basis: HarmonicBasis) -> np.ndarray:
+    return np.unique(basis.orders)
+
+
+@dataclass(frozen=True)
+class Condensed:
+    """Reduced dynamic stiffness and force on the contact coordinates at one frequency.
+
+    Attributes
+    ----------
+    Z : ndarray, shape (nc H, nc H)
+        Real reduced dynamic stiffness ``Z_r`` (N/m), contact-major.
+    F : ndarray, shape (nc H,)
+        Reduced external force ``F_r`` (N) for unit force scale.
+    dZ, dF : ndarray or None
+        Derivatives with respect to ``omega`` (per rad/s), when requested.
+    """
+
+    Z: np.ndarray
+    F: np.ndarray
+    dZ: np.ndarray | None = None
+    dF: np.ndarray | None = None
+
+
+def condense(model: Model, B: np.ndarray, omega, basis: HarmonicBasis, derivative: bool = False) -> Condensed:
+    """Condense ``model`` on the relative coordinates ``B u`` at ``omega`` (rad/s), eq. 11.
+
+    Parameters
+    ----------
+    model : Model
+    B : ndarray, shape (nc, n)
+        Map from DOFs to the active contact coordinates.
+    omega : float or ndarray
+        Excitation frequency (rad/s); an array condenses every frequency at
+        once (arrays of the result then have a leading frequency axis).
+    basis : HarmonicBasis
+    derivative : bool
+        Also return ``dZ/d omega`` and ``dF/d omega`` (for continuation).
+    """
+    orders = _distinct_orders(basis)
+    omega_arr = np.asarray(omega, dtype=float)
+    D = dynamic_stiffness(model, omega_arr[..., None], orders)  # (..., n_orders, n, n)
+    F = np.broadcast_to(forcing(model, orders), D.shape[:-1])
+    rhs = np.concatenate([np.broadcast_to(B.T, D.shape[:-2] + B.T.shape), F[..., None]], axis=-1)
+    sol = _solve(D, rhs.astype(complex), omega)  # D^{-1} [B^T, F]
+    nc = B.shape[0]
+    G = B @ sol[..., :nc]  # receptance (..., n_orders, nc, nc)
+    u_lin = (B @ sol[..., nc:])[..., 0]  # linear open relative displacement (..., n_orders, nc)
+    Z = np.linalg.inv(G)
+    Fr = np.einsum("...ij,...j->...i", Z, u_lin)
+    if not derivative:
+        return Condensed(_real_blocks(Z, basis), _real_vector(Fr, basis))
+    dD = _d_dynamic_stiffness(model, omega_arr[..., None], orders)
+    dsol = -np.linalg.solve(D, dD @ sol)  # d(D^{-1} [B^T, F]) / d omega
+    dG = B @ dsol[..., :nc]
+    du_lin = (B @ dsol[..., nc:])[..., 0]
+    dZ = -Z @ dG @ Z
+    dFr = np.einsum("...ij,...j->...i", dZ, u_lin) + np.einsum("...ij,...j->...i", Z, du_lin)
+    return Condensed(
+        _real_blocks(Z, basis), _real_vector(Fr, basis), _real_blocks(dZ, basis), _real_vector(dFr, basis)
+    )
+
+
+def recover(
+    model: Model, B: np.ndarray, omega: float, harmonics: int, contact_force: np.ndarray, scale: float = 1.0
+) -> np.ndarray:
+    """Full harmonics of every DOF from the contact-force harmonics.
+
+    ``U_k = D_k^{-1} (F_k - B^T Lambda_k)`` for ``k = 0..Nh``.
+
+    Parameters
+    ----------
+    contact_force : ndarray, shape (nc, 2 Nh + 1)
+        Full coefficients of the active contact forces (N).
+
+    Returns
+    -------
+    ndarray, shape (n, 2 Nh + 1)
+        Full coefficients of the DOF displacements (m).
+    """
+    orders = np.arange(harmonics + 1)
+    D = dynamic_stiffness(model, omega, orders)
+    lam = np.concatenate([contact_force[:, :1], contact_force[:, 1::2] - 1j * contact_force[:, 2::2]], axis=1)
+    rhs = forcing(model, orders, scale) - (B.T @ lam).T  # (n_orders, n)
+    U = _solve(D, rhs[:, :, None], omega)[..., 0]  # (n_orders, n)
+    out = np.empty((model.n_dofs, 2 * harmonics + 1))
+    out[:, 0] = U[0].real
+    out[:, 1::2] = U[1:].real.T
+    out[:, 2::2] = -U[1:].imag.T
+    return out

@@ -1,0 +1,190 @@
+"""Path following for the DLFT equations: load homotopy, frequency sweeps, folds.
+
+The DLFT residual is piecewise linear in the unknowns and, in the stick-slip
+band, the solution can move fast with the load or the frequency; natural
+parameter steps then fail. :func:`track` follows the solution curve of
+``R(x, p) = 0`` by pseudo-arc-length continuation in scaled variables, which
+passes steep parts and folds alike, and lands exactly on a target parameter.
+
+It serves three purposes:
+
+* the cold start of a single-frequency solve: follow the load factor from the
+  largest load that still sticks (where the stuck solution is exact) to the
+  full load (:func:`load_homotopy`);
+* :func:`sweep`: the response at given frequencies, each reached from the
+  previous one along the branch;
+* :func:`continuation`: the whole branch over a frequency band, folds
+  included, as a sequence of solutions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import Model
+from . import dlft
+from .arclength import Evaluate, track
+from .condensation import Condensed, condense
+from .periodic import NewtonResult, Problem, newton_homotopy, solve_problem
+from .solution import PeriodicSolution
+
+__all__ = ["Sweep", "sweep", "Branch", "continuation"]
+
+# -- frequency ------------------------------------------------------------------
+
+
+def _x_scale(problem: Problem) -> float:
+    """Typical relative displacement (m): slip force over the fundamental condensed stiffness."""
+    H = problem.basis.size
+    z1 = np.abs(np.diag(problem.Z)).reshape(problem.n_active, H)[:, problem.basis.orders == 1].max()
+    f = max(np.abs(problem.limits[problem.kinds == dlft.FRICTION]).max(initial=0), np.abs(problem.F).max())
+    return max(f / max(z1, 1e-300), 1e-300)
+
+
+def _frequency_evaluate(model: Model, settings: dict, eps) -> Evaluate:
+    """Residual, Jacobian and ``dR/d omega``.
+
+    ``R = Z x - F + Psi lambda(Phi (F + (E - Z) x))`` with ``E = diag(eps)``, so
+    ``dR/d omega = (I - A) (dZ x - dF) + A dE x``; the default penalty follows
+    the condensed stiffness and moves with omega, a user penalty does not.
+    """
+
+    def evaluate(x, omega):
+        p = Problem(model, omega, eps=eps, derivative=True, **settings)
+        R, J, A, *_ = p.evaluate(x)
+        nc, H = p.n_active, p.basis.size
+        v = (p.dZ @ x - p.force_scale * p.dF0).reshape(nc, H)
+        dR = v - np.einsum("cij,cj->ci", A, v - p.deps[:, None] * x.reshape(nc, H))
+        return R, J, dR.reshape(-1)
+
+    return evaluate
+
+
+@dataclass
+class Sweep:
+    """Responses at a sequence of frequencies (see :func:`sweep`)."""
+
+    solutions: list[PeriodicSolution]
+
+    @property
+    def omega(self) -> np.ndarray:
+        return np.array([s.omega for s in self.solutions])
+
+    @property
+    def converged(self) -> np.ndarray:
+        return np.array([s.converged for s in self.solutions])
+
+
+def sweep(
+    model: Model,
+    omegas,
+    harmonics: int = 7,
+    *,
+    samples: int | None = None,
+    wear=None,
+    half_wave: bool | None = None,
+    eps=None,
+    tol: float = 1e-10,
+    max_iter: int = 50,
+) -> Sweep:
+    """Periodic responses at the frequencies ``omegas`` (rad/s), in the given order.
+
+    Each point starts from a secant prediction through its two predecessors:
+    Newton first, then the exact Newton homotopy from the prediction, then a
+    cold solve by load continuation (see :func:`fretwear.hbm.periodic.solve_problem`).
+    A point that still fails is reported (``converged=False``) and the sweep
+    goes on from the last good point. Points whose stuck solution is exact take
+    no nonlinear solve.
+    """
+    omegas = np.asarray(omegas, dtype=float)
+    if omegas.ndim != 1 or omegas.size == 0 or np.any(~np.isfinite(omegas)) or np.any(omegas <= 0):
+        raise ValueError("omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s")
+    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    out: list[PeriodicSolution] = []
+    previous: dict[tuple, list[tuple[float, np.ndarray]]] = {}  # converged points per active set
+    first = Problem(model, omegas[0], eps=eps, **settings)  # the active set does not depend on omega
+    batch = condense(model, first.B, omegas, first.basis) if first.n_active else None
+    for i, omega in enumerate(omegas):
+        cond = Condensed(batch.Z[i], batch.F[i]) if batch is not None else None
+        problem = Problem(model, omega, eps=eps, condensed=cond, **settings)
+        prev = previous.setdefault(tuple(problem.active_index), [])[-2:]
+        guess = None
+        if len(prev) == 2:  # secant predictor
+            (w0, x0), (w1, x1) = prev
+            guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
+        elif prev:
+            guess = prev[-1][1]
+        sol = solve_problem(problem, guess, tol, max_iter)
+        out.append(sol)
+        if sol.converged and problem.n_active:
+            previous[tuple(problem.active_index)].append((omega, sol.unknowns))
+    return Sweep(out)
+
+
+@dataclass
+class Branch:
+    """Solutions along a frequency branch, in arc-length order (see :func:`continuation`)."""
+
+    solutions: list[PeriodicSolution]
+    converged: bool
+    message: str
+
+    @property
+    def omega(self) -> np.ndarray:
+        return np.array([s.omega for s in self.solutions])
+
+    @property
+    def folds(self) -> np.ndarray:
+        """Indices where the frequency turns back (limit points lie between i and i+1)."""
+        d = np.sign(np.diff(self.omega))
+        return np.flatnonzero(d[1:] * d[:-1] < 0) + 1
+
+
+def continuation(
+    model: Model,
+    omega_start: float,
+    omega_end: float,
+    harmonics: int = 7,
+    *,
+    samples: int | None = None,
+    wear=None,
+    half_wave: bool | None = None,
+    eps=None,
+    tol: float = 1e-10,
+    h_max: float = 0.02,
+    max_steps: int = 5000,
+) -> Branch:
+    """Follow the response branch from ``omega_start`` to ``omega_end`` (rad/s) through folds.
+
+    Pseudo-arc-length continuation in frequency; every accepted point is
+    returned, each the same solution :func:`solve_periodic` would give there
+    (same penalty), and ``Branch.folds`` locates the turning points.
+    """
+    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    first = Problem(model, omega_start, eps=eps, **settings)
+    sol0 = solve_problem(first, None, tol, 50)
+    if not sol0.converged or first.n_active == 0:
+        return Branch([sol0], sol0.converged, sol0.message or "no active contact: linear response")
+    evaluate = _frequency_evaluate(model, settings, eps)
+
+    def solve_at(x, omega):
+        if omega <= 0:
+            return None
+        res = newton_homotopy(Problem(model, omega, eps=eps, **settings), x, tol)
+        return res.x if res.converged else None
+
+    lo, hi = sorted((omega_start, omega_end))
+    tr = track(
+        evaluate, sol0.unknowns, omega_start, omega_end, x_scale=_x_scale(first),
+        tol=tol * first.residual_scale(), h_max=h_max, max_steps=max_steps, record=True,
+        stop_outside=(lo * (1 - 1e-9), hi * (1 + 1e-9)), solve_at=solve_at,
+    )  # fmt: skip
+    sols = [sol0]
+    for x, omega in tr.points:
+        p = Problem(model, omega, eps=eps, **settings)
+        R = p.evaluate(x, jacobian=False)[0]
+        res = NewtonResult(x, True, 0, float(np.abs(R).max() / p.residual_scale()))
+        sols.append(PeriodicSolution.build(p, x, res, "dlft-continuation"))
+    return Branch(sols, tr.converged, tr.message)

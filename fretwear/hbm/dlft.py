@@ -1,0 +1,394 @@
+"""Dynamic Lagrangian Frequency-Time (DLFT) contact law: residual and Jacobian (eq. 17-23).
+
+Unknowns are the harmonics ``x`` of the relative contact displacements. The
+augmented Lagrangian of eq. 18 is
+
+    lambda_u = F_r - Z_r x + eps x              (frequency domain),
+
+taken to time by the iDFT. A prediction/correction march over the period
+enforces the contact laws sample by sample:
+
+* friction (eq. 19, 22, 23): predict stick, ``lambda = lambda_u - eps X_{n-1}``;
+  if ``|lambda| >= mu F_N`` correct to slip, ``lambda = mu F_N sign``, and move
+  the slip variable ``X_n = (lambda_u - lambda) / eps``;
+* unilateral contact (eq. 21): compressive prediction ``lambda_u - eps g > 0``
+  keeps contact (``X = g``), otherwise separation (``lambda = 0``).
+
+The DFT brings ``lambda`` back and the residual is eq. 12,
+``R = Z_r x + Lambda - F_r`` (equal to ``eps (x - X~)``).
+
+Periodicity of the friction march: when the span of ``lambda_u`` over the period
+exceeds ``2 mu F_N`` the sample of largest ``|lambda_u|`` is necessarily in slip,
+which fixes the state there exactly; the march starts from it and one pass
+gives the periodic solution. Otherwise the contact sticks all period and the
+slip variable is undetermined (the singular Jacobian of full stick). The stick
+force is then *centred*: zero mean when that stays in the cone (the symmetric
+solution when the forcing has no mean), else mid-range; the derivative of this
+choice keeps the Jacobian regular.
+
+The residual is piecewise linear in ``x`` (stick: ``lambda_n = lambda_u,n -
+lambda_u,m + lambda_m`` with ``m`` the last slip sample; slip: constant), and
+the Jacobian below is its exact derivative on each piece.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..model.structure import OPEN, SLIP, STICK
+
+__all__ = ["FRICTION", "UNILATERAL", "STICK", "SLIP", "OPEN", "evaluate", "jacobian_from_blocks"]
+
+FRICTION, UNILATERAL = 0, 1  # contact kinds
+
+
+@njit(cache=True, nogil=True)
+def _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn):
+    """Friction march on one contact. Fills lam, X, state; dep/sgn encode d lam / d u.
+
+    Row ``s`` of ``d lam / d u`` is ``e_s - sgn[s] e_dep[s]`` for a stick sample with a
+    preceding slip sample; ``dep[s] = -1`` marks a slip/open row (zero). Full stick
+    rows: ``-2`` is ``e_s - mean``, ``-5`` is ``e_s - (e_hi + e_lo) / 2``, ``-3`` is ``e_s``.
+    """
+    n = u.shape[0]
+    if limit <= 0.0:
+        for s in range(n):
+            lam[s] = 0.0
+            X[s] = u[s] / eps
+            state[s] = OPEN
+            dep[s] = -1
+        return
+    hi_i, lo_i, big_i = 0, 0, 0
+    for s in range(n):
+        if u[s] > u[hi_i]:
+            hi_i = s
+        if u[s] < u[lo_i]:
+            lo_i = s
+        if abs(u[s]) > abs(u[big_i]):
+            big_i = s
+    # full stick: the slip variable is undetermined; centre the stick force in the cone
+    code = 0
+    if half_wave:
+        if abs(u[big_i]) <= limit:
+            code, centre = -3, 0.0  # antiperiodic: symmetric about zero
+    else:
+        mean = 0.0
+        for s in range(n):
+            mean += u[s]
+        mean /= n
+        if max(u[hi_i] - mean, mean - u[lo_i]) <= limit:
+            code, centre = -2, mean  # zero mean stick force
+        elif u[hi_i] - u[lo_i] <= 2.0 * limit:
+            code, centre = -5, 0.5 * (u[hi_i] + u[lo_i])  # mid-range
+    if code != 0:
+        for s in range(n):
+            X[s] = centre / eps
+            lam[s] = u[s] - centre
+            state[s] = STICK
+            dep[s] = code
+        return
+    # start at the sample of largest |lambda_u|: necessarily slipping
+    s0 = big_i
+    sign0 = 1.0 if u[s0] > 0 else -1.0
+    lam[s0] = sign0 * limit
+    X[s0] = (u[s0] - lam[s0]) / eps
+    state[s0] = SLIP
+    dep[s0] = -1
+    x_prev = X[s0]  # slip variable in the marched (virtual) frame
+    last = s0
+    last_sign = 1.0
+    for v in range(1, n):
+        s = s0 + v
+        p = 1.0
+        if s >= n:
+            s -= n
+            if half_wave:
+                p = -1.0
+        uv = p * u[s]
+        pred = uv - eps * x_prev
+        if abs(pred) < limit:
+            lam_v = pred
+            state[s] = STICK
+            dep[s] = last
+            sgn[s] = p * last_sign
+        else:
+            lam_v = limit if pred > 0 else -limit
+            x_prev = (uv - lam_v) / eps
+            state[s] = SLIP
+            dep[s] = -1
+            last = s
+            last_sign = p
+        lam[s] = p * lam_v
+        X[s] = p * x_prev
+
+
+@njit(cache=True, nogil=True)
+def _march_unilateral(u, gap, eps, lam, X, state, dep):
+    n = u.shape[0]
+    for s in range(n):
+        pred = u[s] - eps * gap
+        if pred > 0.0:
+            lam[s] = pred
+            X[s] = gap
+            state[s] = STICK
+            dep[s] = -4  # row e_s
+        else:
+            lam[s] = 0.0
+            X[s] = u[s] / eps
+            state[s] = OPEN
+            dep[s] = -1
+
+
+@njit(cache=True, nogil=True)
+def _block(Phi, Psi, dep, sgn, hi_i, lo_i, A):
+    """A = Psi @ (d lam / d u) @ Phi for one contact, exploiting the sparse rows."""
+    H = Phi.shape[1]
+    n = Phi.shape[0]
+    A[:, :] = 0.0
+    n_self = 0
+    for s in range(n):
+        if dep[s] != -1:
+            n_self += 1
+    # diagonal part: sum over rows with an e_s term of Psi[:, s] Phi[s, :]
+    if 2 * n_self <= n:
+        for s in range(n):
+            if dep[s] != -1:
+                for i in range(H):
+                    ps = Psi[i, s]
+                    for j in range(H):
+                        A[i, j] += ps * Phi[s, j]
+    else:  # identity minus the complement (Psi @ Phi = I)
+        for i in range(H):
+            A[i, i] = 1.0
+        for s in range(n):
+            if dep[s] == -1:
+                for i in range(H):
+                    ps = Psi[i, s]
+                    for j in range(H):
+                        A[i, j] -= ps * Phi[s, j]
+    # coupling to the last slip sample, accumulated over each stick run
+    g = np.zeros(H)
+    cur = -1
+    for s in range(n + 1):
+        d = dep[s] if s < n else -1
+        if d != cur and cur >= 0:
+            for i in range(H):
+                for j in range(H):
+                    A[i, j] -= g[i] * Phi[cur, j]
+            g[:] = 0.0
+        if d >= 0:
+            for i in range(H):
+                g[i] += sgn[s] * Psi[i, s]
+        cur = d
+    if n > 0 and (dep[0] == -2 or dep[0] == -5):  # centred full stick
+        for j in range(H):
+            if dep[0] == -2:  # e_s - mean: (sum_s Psi[:, s]) (mean_s Phi[s, :])
+                w = 0.0
+                for s in range(n):
+                    w += Phi[s, j]
+                w /= n
+            else:  # e_s - (e_hi + e_lo) / 2
+                w = 0.5 * (Phi[hi_i, j] + Phi[lo_i, j])
+            for i in range(H):
+                tot = 0.0
+                for s in range(n):
+                    tot += Psi[i, s]
+                A[i, j] -= tot * w
+
+
+@njit(cache=True, nogil=True)
+def evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A, lam, X, state):
+    """DLFT residual of eq. 12 and the per-contact derivative blocks.
+
+    Parameters
+    ----------
+    x : (nc H,) harmonics of relative displacements (m), contact-major.
+    Z, F : reduced dynamic stiffness (nc H, nc H) (N/m) and force (nc H,) (N).
+    eps : (nc,) penalty coefficients (N/m).
+    kinds : (nc,) FRICTION or UNILATERAL. limits : (nc,) ``mu F_N`` (N) or gap (m).
+    Phi, Psi : iDFT (Ns, H) and DFT (H, Ns) matrices.
+    half_wave : bool, antiperiodic march over half a period.
+    want_blocks : bool, fill ``A`` (nc, H, H) with ``Psi dlam/dlambda_u Phi``.
+    R : (nc H,) residual out (N). lam, X : (nc, Ns) contact force (N) and slip
+    variable (m) out. state : (nc, Ns) STICK/SLIP/OPEN out.
+    """
+    nc = kinds.shape[0]
+    Ns, H = Phi.shape
+    lu = F - Z @ x
+    dep = np.empty(Ns, dtype=np.int64)
+    sgn = np.ones(Ns)
+    for c in range(nc):
+        lo_c = c * H
+        for j in range(H):
+            lu[lo_c + j] += eps[c] * x[lo_c + j]
+        u = Phi @ lu[lo_c : lo_c + H]
+        if kinds[c] == FRICTION:
+            _march_friction(u, limits[c], eps[c], half_wave, lam[c], X[c], state[c], dep, sgn)
+        else:
+            _march_unilateral(u, limits[c], eps[c], lam[c], X[c], state[c], dep)
+        Lc = Psi @ lam[c]
+        for j in range(H):
+            R[lo_c + j] = Lc[j] - F[lo_c + j]
+        if want_blocks:
+            hi_i, lo_i = np.argmax(u), np.argmin(u)
+            _block(Phi, Psi, dep, sgn, hi_i, lo_i, A[c])
+    R += Z @ x
+
+
+@njit(cache=True, nogil=True)
+def jacobian_from_blocks(Z, eps, A, J):
+    """J = Z + blockdiag(A_c) (diag(eps) - Z): exact derivative of the residual."""
+    nc, H = A.shape[0], A.shape[1]
+    for c in range(nc):
+        r0 = c * H
+        AZ = A[c] @ np.ascontiguousarray(Z[r0 : r0 + H, :])
+        for i in range(H):
+            for j in range(nc * H):
+                J[r0 + i, j] = Z[r0 + i, j] - AZ[i, j]
+            for j in range(H):
+                J[r0 + i, r0 + j] += eps[c] * A[c, i, j]
+
+
+@njit(cache=True, nogil=True)
+def _crossing(pred, dpred, level, tau):
+    """Smallest tau' in [0, tau) with pred + tau' dpred = level, else tau."""
+    if dpred != 0.0:
+        t = (level - pred) / dpred
+        if 0.0 <= t < tau:
+            return t
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def _friction_boundary(u, du, limit, eps, half_wave, tau):
+    """Distance along ``u + tau du`` to the first change of a friction stick/slip pattern."""
+    n = u.shape[0]
+    if limit <= 0.0:
+        return tau
+    big_i, hi_i, lo_i = 0, 0, 0
+    mean, dmean = 0.0, 0.0
+    for s in range(n):
+        if abs(u[s]) > abs(u[big_i]):
+            big_i = s
+        if u[s] > u[hi_i]:
+            hi_i = s
+        if u[s] < u[lo_i]:
+            lo_i = s
+        mean += u[s]
+        dmean += du[s]
+    mean /= n
+    dmean /= n
+    full_stick = abs(u[big_i]) <= limit if half_wave else max(u[hi_i] - mean, mean - u[lo_i]) <= limit
+    if full_stick:  # first sample to reach the cone edge
+        c, dc = (0.0, 0.0) if half_wave else (mean, dmean)
+        for s in range(n):
+            tau = _crossing(u[s] - c, du[s] - dc, limit, tau)
+            tau = _crossing(u[s] - c, du[s] - dc, -limit, tau)
+        return tau
+    s0 = big_i
+    sign0 = 1.0 if u[s0] > 0 else -1.0
+    x_prev = (u[s0] - sign0 * limit) / eps
+    dx_prev = du[s0] / eps
+    for v in range(1, n + 1):  # one full turn, back to s0 to check its own prediction
+        s = s0 + v
+        p = 1.0
+        while s >= n:
+            s -= n
+            if half_wave:
+                p = -p
+        uv, duv = p * u[s], p * du[s]
+        pred = uv - eps * x_prev
+        dpred = duv - eps * dx_prev
+        if abs(pred) < limit:  # stick: leaves the cone at +-limit
+            tau = _crossing(pred, dpred, limit, tau)
+            tau = _crossing(pred, dpred, -limit, tau)
+        else:  # slip with sign sg: returns inside the cone at sg * limit
+            sg = 1.0 if pred > 0 else -1.0
+            if sg * dpred < 0.0:
+                tau = _crossing(pred, dpred, sg * limit, tau)
+            x_prev = (uv - sg * limit) / eps
+            dx_prev = duv / eps
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max):
+    """Largest step ``tau <= tau_max`` along ``lambda_u + tau d lambda_u`` keeping every sample's state.
+
+    The DLFT residual is linear on each such piece, so a path that is straight
+    in the unknowns is exact up to the returned distance.
+
+    Parameters
+    ----------
+    lu, dlu : (nc H,) augmented Lagrangian harmonics and their direction (N).
+    eps, kinds, limits, Phi, half_wave : as in :func:`evaluate`.
+    tau_max : float, upper bound on the returned step.
+    """
+    nc = kinds.shape[0]
+    H = Phi.shape[1]
+    tau = tau_max
+    for c in range(nc):
+        u = Phi @ lu[c * H : (c + 1) * H]
+        du = Phi @ dlu[c * H : (c + 1) * H]
+        if kinds[c] == FRICTION:
+            tau = _friction_boundary(u, du, limits[c], eps[c], half_wave, tau)
+        else:
+            for s in range(u.shape[0]):
+                tau = _crossing(u[s] - eps[c] * limits[c], du[s], 0.0, tau)
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def friction_sensitivity(u, limit, eps, half_wave, lam, X, state, dlam_dL, ds_du):
+    """Friction march with the derivatives the slow-time (wear) equations need.
+
+    Fills ``lam``, ``X``, ``state`` as :func:`evaluate` does for one friction
+    contact, ``dlam_dL`` (d lambda_n / d(mu F_N)) and ``ds_du`` (derivative of the
+    distance slid per period with respect to each sample of ``lambda_u``), and
+    returns ``(s, ds/d(mu F_N))`` with ``s`` the distance slid per full period (m).
+    """
+    n = u.shape[0]
+    dep = np.empty(n, dtype=np.int64)
+    sgn = np.ones(n)
+    _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn)
+    # dX_s/du = coef_s * e_{src_s} and dX_s/dL = dXdL_s (full stick: X is constant, s = 0)
+    src = np.empty(n, dtype=np.int64)
+    coef = np.zeros(n)
+    dXdL = np.zeros(n)
+    for s in range(n):
+        d = dep[s]
+        if limit <= 0.0 or state[s] == SLIP:
+            src[s], coef[s] = s, 1.0 / eps
+            dXdL[s] = 0.0 if limit <= 0.0 else -np.sign(lam[s]) / eps
+            dlam_dL[s] = 0.0 if limit <= 0.0 else np.sign(lam[s])
+        elif d >= 0:
+            src[s], coef[s] = d, sgn[s] / eps
+            dXdL[s] = -sgn[s] * np.sign(lam[d]) / eps
+            dlam_dL[s] = sgn[s] * np.sign(lam[d])
+        else:  # full stick: X does not depend on the limit
+            src[s], coef[s] = -1, 0.0
+            dXdL[s] = 0.0
+            dlam_dL[s] = 0.0
+    ds_du[:] = 0.0
+    total, dtotal = 0.0, 0.0
+    wrap = -1.0 if half_wave else 1.0
+    for s in range(n):
+        p = s - 1 if s > 0 else n - 1
+        w = wrap if s == 0 else 1.0
+        diff = X[s] - w * X[p]
+        if diff == 0.0:
+            continue
+        sg = 1.0 if diff > 0 else -1.0
+        total += abs(diff)
+        dtotal += sg * (dXdL[s] - w * dXdL[p])
+        if src[s] >= 0:
+            ds_du[src[s]] += sg * coef[s]
+        if src[p] >= 0:
+            ds_du[src[p]] -= sg * w * coef[p]
+    if half_wave:
+        total *= 2.0
+        dtotal *= 2.0
+        for s in range(n):
+            ds_du[s] *= 2.0
+    return total, dtotal

@@ -1,0 +1,345 @@
+"""Linear structures with friction and unilateral contacts (paper eq. 5, 30).
+
+A :class:`Model` is a linear structure of ``n`` degrees of freedom (DOFs),
+
+    M u'' + C u' + K u + B^T lambda(t) = F_s + F_c cos(omega t) + F_sn sin(omega t),
+
+where ``lambda`` gathers the contact forces and ``B`` maps the DOFs to the
+relative contact coordinates ``u_r = B u`` (for a contact between DOFs ``i`` and
+``j``, ``u_r = u_i - u_j``; for a contact to ground, ``u_r = u_i``). The force
+``lambda`` acts with ``+`` on DOF ``i`` and ``-`` on DOF ``j``.
+
+Two contact kinds exist:
+
+* :class:`FrictionContact`: tangential Coulomb friction under a normal load
+  that relaxes with wear, ``F_N(w) = k_n (u0 - w)`` clipped at zero (eq. 30d).
+* :class:`NormalContact`: rigid unilateral (Signorini) contact across a gap
+  (eq. 2, 21): ``u_r <= gap`` and ``lambda >= 0``, separation when the
+  predicted force is not compressive. A negative gap is an interference
+  (preload).
+
+All quantities are in SI units: kg, N/m, N s/m, N, m, rad/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+__all__ = [
+    "STICK",
+    "SLIP",
+    "OPEN",
+    "FrictionContact",
+    "NormalContact",
+    "Model",
+    "paper_model",
+    "jenkins_oscillator",
+]
+
+#: contact state codes of every solver: stuck (or closed), slipping, open (separated or unloaded)
+STICK, SLIP, OPEN = 0, 1, 2
+
+
+def _check_dof(name: str, value: int | None, n_dofs: int, allow_none: bool) -> None:
+    if value is None and allow_none:
+        return
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value < n_dofs:
+        raise ValueError(
+            f"{name} must be a DOF index in [0, {n_dofs - 1}]"
+            + (" or None (ground)" if allow_none else "")
+            + f", got {value!r}"
+        )
+
+
+def _finite(name: str, value: float, low: float | None = None, strict: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    value = float(value)
+    if not np.isfinite(value):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    if low is not None and (value <= low if strict else value < low):
+        op = ">" if strict else ">="
+        raise ValueError(f"{name} must be {op} {low}, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class FrictionContact:
+    """Tangential Coulomb friction contact with a wear-dependent normal load.
+
+    Parameters
+    ----------
+    dof : int
+        Index of the first DOF (0-based).
+    other : int or None
+        Index of the second DOF, or ``None`` for a contact with ground.
+    mu : float
+        Coulomb friction coefficient (-), ``mu >= 0``.
+    kn : float
+        Normal contact stiffness (N/m), ``kn > 0``.
+    u0 : float
+        Initial normal interference (m), ``u0 >= 0``. The initial normal load
+        is ``kn * u0``.
+    """
+
+    dof: int
+    other: int | None
+    mu: float
+    kn: float
+    u0: float
+
+    def __post_init__(self) -> None:
+        _finite("mu", self.mu, 0.0)
+        _finite("kn", self.kn, 0.0, strict=True)
+        _finite("u0", self.u0, 0.0)
+
+    @classmethod
+    def from_normal_load(
+        cls, dof: int, other: int | None, mu: float, normal_load: float, kn: float = 1e7
+    ) -> FrictionContact:
+        """Contact with initial normal load ``normal_load`` (N), ``u0 = F_N / kn``."""
+        _finite("normal_load", normal_load, 0.0)
+        _finite("kn", kn, 0.0, strict=True)
+        return cls(dof, other, mu, kn, normal_load / kn)
+
+    def normal_load(self, wear: float = 0.0) -> float:
+        """Normal load ``F_N(w) = kn (u0 - w)`` clipped at 0 (N), eq. 30d."""
+        return max(self.kn * (self.u0 - wear), 0.0)
+
+    def slip_force(self, wear: float = 0.0) -> float:
+        """Friction limit ``mu F_N(w)`` (N)."""
+        return self.mu * self.normal_load(wear)
+
+
+@dataclass(frozen=True)
+class NormalContact:
+    """Rigid unilateral contact: ``u_r <= gap``, compressive force ``lambda >= 0``.
+
+    Parameters
+    ----------
+    dof, other : int, int or None
+        DOFs as in :class:`FrictionContact`.
+    gap : float
+        Initial gap (m). Negative values are an interference (preload).
+    """
+
+    dof: int
+    other: int | None
+    gap: float = 0.0
+
+    def __post_init__(self) -> None:
+        _finite("gap", self.gap)
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """Linear structure with contacts, under harmonic excitation.
+
+    Parameters
+    ----------
+    M, C, K : ndarray, shape (n, n)
+        Mass (kg), viscous damping (N s/m) and stiffness (N/m) matrices.
+        ``M`` may be singular (massless DOFs) as long as the dynamic stiffness
+        ``K - (k omega)^2 M + i k omega C`` is regular.
+    force_cos : ndarray, shape (n,)
+        Amplitude of the ``cos(omega t)`` part of the excitation (N).
+    force_sin : ndarray, shape (n,), optional
+        Amplitude of the ``sin(omega t)`` part (N). Default zero.
+    force_static : ndarray, shape (n,), optional
+        Static load (N). Default zero.
+    friction : sequence of FrictionContact
+    normal : sequence of NormalContact
+    """
+
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    force_cos: np.ndarray
+    force_sin: np.ndarray | None = None
+    force_static: np.ndarray | None = None
+    friction: tuple[FrictionContact, ...] = ()
+    normal: tuple[NormalContact, ...] = field(default_factory=tuple)
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        mats = {}
+        for name in ("M", "C", "K"):
+            a = np.array(getattr(self, name), dtype=float)
+            if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] == 0:
+                raise ValueError(f"{name} must be a non-empty square matrix, got shape {a.shape}")
+            if not np.all(np.isfinite(a)):
+                raise ValueError(f"{name} must contain finite numbers only")
+            mats[name] = a
+        n = mats["M"].shape[0]
+        for name, a in mats.items():
+            if a.shape != (n, n):
+                raise ValueError(f"{name} must have shape ({n}, {n}) like M, got {a.shape}")
+            if not np.allclose(a, a.T, rtol=1e-12, atol=1e-14 * np.abs(a).max()):
+                raise ValueError(f"{name} must be symmetric")
+            if np.linalg.eigvalsh(a).min() < -1e-12 * max(np.abs(a).max(), 1e-300):
+                raise ValueError(
+                    f"{name} must be positive semi-definite (no negative mass, damping or stiffness)"
+                )
+            a.setflags(write=False)
+            set_(self, name, a)
+        for name in ("force_cos", "force_sin", "force_static"):
+            v = getattr(self, name)
+            v = np.zeros(n) if v is None else np.array(v, dtype=float)
+            if v.shape != (n,) or not np.all(np.isfinite(v)):
+                raise ValueError(f"{name} must be a finite vector of length {n}, got shape {v.shape}")
+            v.setflags(write=False)
+            set_(self, name, v)
+        set_(self, "friction", tuple(self.friction))
+        set_(self, "normal", tuple(self.normal))
+        for kind, cls, contacts in (
+            ("friction", FrictionContact, self.friction),
+            ("normal", NormalContact, self.normal),
+        ):
+            for j, c in enumerate(contacts):
+                if not isinstance(c, cls):
+                    raise ValueError(f"{kind}[{j}] must be a {cls.__name__}, got {type(c).__name__}")
+                _check_dof(f"{kind}[{j}].dof", c.dof, n, allow_none=False)
+                _check_dof(f"{kind}[{j}].other", c.other, n, allow_none=True)
+                if c.other == c.dof:
+                    raise ValueError(f"{kind}[{j}]: dof and other must differ, both are {c.dof}")
+
+    # -- sizes and maps -------------------------------------------------
+    @property
+    def n_dofs(self) -> int:
+        """Number of DOFs ``n``."""
+        return self.M.shape[0]
+
+    @property
+    def contacts(self) -> tuple[FrictionContact | NormalContact, ...]:
+        """All contacts, friction contacts first."""
+        return self.friction + self.normal
+
+    def relative_map(self, contacts=None) -> np.ndarray:
+        """Matrix ``B`` (n_contacts, n) with ``u_r = B u`` for ``contacts``."""
+        contacts = self.contacts if contacts is None else contacts
+        B = np.zeros((len(contacts), self.n_dofs))
+        for row, c in enumerate(contacts):
+            B[row, c.dof] = 1.0
+            if c.other is not None:
+                B[row, c.other] = -1.0
+        return B
+
+    @property
+    def half_wave_symmetric(self) -> bool:
+        """True when odd harmonics alone describe the response.
+
+        Holds with no static load and no unilateral contact (Coulomb friction
+        under a constant normal load is an odd law); the excitation is at the
+        fundamental only by construction.
+        """
+        return not np.any(self.force_static) and not self.normal
+
+    # -- derived models -------------------------------------------------
+    def normal_loads(self, wear=None) -> np.ndarray:
+        """Normal loads ``F_N`` (N) of the friction contacts for wear depths ``wear`` (m)."""
+        wear = np.zeros(len(self.friction)) if wear is None else np.asarray(wear, dtype=float)
+        if wear.shape != (len(self.friction),):
+            raise ValueError(
+                f"wear must have one entry per friction contact ({len(self.friction)}), got {wear.shape}"
+            )
+        if not np.all(np.isfinite(wear)) or np.any(wear < 0):
+            raise ValueError(f"wear depths must be finite and >= 0 m, got {wear}")
+        return np.array([c.normal_load(w) for c, w in zip(self.friction, wear, strict=True)])
+
+    def slip_forces(self, wear=None) -> np.ndarray:
+        """Slip forces ``mu F_N(w)`` (N) of the friction contacts for wear depths ``wear`` (m)."""
+        return np.array([c.mu for c in self.friction]) * self.normal_loads(wear)
+
+    @property
+    def load_ratio(self) -> float:
+        """``r = F_ex / (mu F_N)`` (-) of the unworn first friction contact (paper section 2.1).
+
+        ``F_ex`` is the largest amplitude of the harmonic forcing over the DOFs. By
+        the positive homogeneity of Coulomb's law, the response to the forcing
+        scaled by ``s`` is the response at ``r s`` scaled by ``s``: ``r`` alone sets
+        the stick/slip regime. ``inf`` when the contact cannot stick (``mu F_N = 0``).
+        """
+        if not self.friction:
+            raise ValueError("load_ratio needs a friction contact; the model has none")
+        fex = float(np.max(np.hypot(self.force_cos, self.force_sin)))
+        slip = float(self.slip_forces()[0])
+        return fex / slip if slip > 0 else np.inf
+
+    def scaled(self, force: float = 1.0) -> Model:
+        """Copy with every external force scaled by ``force`` (-)."""
+        _finite("force", force)
+        return replace(
+            self,
+            force_cos=force * self.force_cos,
+            force_sin=force * self.force_sin,
+            force_static=force * self.force_static,
+        )
+
+    def with_friction(self, **changes) -> Model:
+        """Copy with the same change (e.g. ``mu=0.5``) applied to every friction contact."""
+        return replace(self, friction=tuple(replace(c, **changes) for c in self.friction))
+
+
+def paper_model(
+    fex: float = 10.0,
+    mu: float = 1.0,
+    normal_load: float = 10.0,
+    kn: float = 1e7,
+    damping_ratio: float = 1e-3,
+) -> Model:
+    """The 2-DOF example of Salles et al., section 2.1 (eq. 30, Fig. 4).
+
+    Unit masses, ``k1 = pi^2``, ``k2 = 7 pi^2`` (N/m), ``c_i = 2 zeta sqrt(k_i m_i)``,
+    friction between the masses (``x_r = x1 - x2``), ``kn = 1e7`` N/m and
+    ``u0 = F_N / kn`` (1e-6 m for 10 N), excitation ``fex cos(omega t)`` on mass 1.
+    The stuck mode is at 1 Hz and the mode with mass 1 free at 0.5 Hz.
+
+    Parameters
+    ----------
+    fex : float
+        Excitation amplitude on mass 1 (N).
+    mu : float
+        Friction coefficient (-).
+    normal_load : float
+        Initial normal load ``F_N = kn u0`` (N).
+    kn : float
+        Normal stiffness (N/m).
+    damping_ratio : float
+        Viscous damping ratio of each mass-spring pair (-).
+    """
+    _finite("fex", fex)
+    _finite("damping_ratio", damping_ratio, 0.0)
+    k1, k2 = np.pi**2, 7 * np.pi**2
+    c1, c2 = 2 * damping_ratio * np.sqrt(k1), 2 * damping_ratio * np.sqrt(k2)
+    return Model(
+        M=np.eye(2),
+        C=np.diag([c1, c2]),
+        K=np.diag([k1, k2]),
+        force_cos=np.array([fex, 0.0]),
+        friction=(FrictionContact.from_normal_load(0, 1, mu, normal_load, kn),),
+    )
+
+
+def jenkins_oscillator(
+    m: float = 1.0,
+    c: float = 0.02,
+    k: float = 1.0,
+    kt: float = 1.0,
+    slip_force: float = 0.1,
+    force: float = 0.1,
+) -> Model:
+    """1-DOF oscillator with a Jenkins element (benchmark (b) of the core solver).
+
+    DOF 0 is the mass; DOF 1 is massless, tied to the mass by a spring ``kt``
+    (N/m) and to ground by a friction contact of slip force ``slip_force`` (N).
+    The excitation ``force cos(omega t)`` (N) acts on the mass.
+    """
+    return Model(
+        M=np.diag([m, 0.0]),
+        C=np.diag([c, 0.0]),
+        K=np.array([[k + kt, -kt], [-kt, kt]]),
+        force_cos=np.array([force, 0.0]),
+        friction=(FrictionContact.from_normal_load(1, None, 1.0, slip_force),),
+    )

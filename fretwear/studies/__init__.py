@@ -1,0 +1,24 @@
+"""Studies built on the periodic solvers and the slow-time methods: the paper's figures as data.
+
+* :mod:`~fretwear.studies.maps`: wear maps ``W(f, N)`` and pseudo-FRFs (Fig. 7-9, 12-14);
+* :mod:`~fretwear.studies.convergence`: harmonics (Fig. 10) and methods (Fig. 11);
+* :mod:`~fretwear.studies.regimes`: stick/slip regimes over frequency x ``r`` and the exact stick limit;
+* :mod:`~fretwear.studies.accuracy`: what accuracy costs: error against wall time over a ladder of settings.
+"""
+
+from .accuracy import CostStudy, Rung, cost_ladder
+from .convergence import compare_methods, harmonic_convergence
+from .maps import WearMap, wear_map
+from .regimes import regime_map, stick_limit
+
+__all__ = [
+    "CostStudy",
+    "Rung",
+    "WearMap",
+    "compare_methods",
+    "cost_ladder",
+    "harmonic_convergence",
+    "regime_map",
+    "stick_limit",
+    "wear_map",
+]

@@ -1,0 +1,224 @@
+"""What accuracy costs: a ladder of discretisations against a converged reference.
+
+:func:`cost_ladder` runs, for one case (model, frequency, optional wear horizon),
+a ladder of settings — harmonic count ``Nh``, samples per period, slow-time
+tolerance, polynomial degree, and the methods (DLFT, shooting, exact load path,
+stepping, polynomial, time integration) — measures the wall time of each rung and its
+error against a reference, on the quantities users look at: the first-harmonic
+amplitude of ``x1``, the half peak-to-peak relative displacement, the sliding
+distance per cycle and, with a wear horizon, ``w(N)``. :meth:`CostStudy.recommend`
+returns the cheapest rung that reaches a target error.
+
+References: the exact periodic solution by shooting on the event-driven time
+integrator (periodicity residual below 1e-10) for the periodic quantities, and
+slow-time stepping with shooting dynamics at a tight tolerance (1e-5 of ``u0``)
+for ``w(N)``; both are named in :attr:`CostStudy.reference`.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import partial
+
+import numpy as np
+
+from ..hbm.harmonics import default_samples
+from ..hbm.periodic import solve_periodic
+from ..model import Model
+from ..time.shooting import shooting
+from ..wear import exact_path_applies, wear_history
+
+__all__ = ["Rung", "CostStudy", "cost_ladder", "QUANTITIES"]
+
+#: error measures, in the order of the columns of a study
+QUANTITIES = ("x1_h1", "xr_half_p2p", "sliding_distance", "wear")
+
+
+@dataclass
+class Rung:
+    """One discretisation: its settings, wall time (s) and relative errors per quantity."""
+
+    method: str
+    settings: dict
+    wall_time: float
+    errors: dict[str, float]
+    converged: bool = True
+
+    @property
+    def label(self) -> str:
+        return self.method + " " + " ".join(f"{k}={v:g}" for k, v in self.settings.items())
+
+    def error(self, quantity: str | None = None) -> float:
+        """Error on ``quantity``, or the largest error over the measured quantities."""
+        if quantity is not None:
+            return self.errors.get(quantity, np.nan)
+        values = [v for v in self.errors.values() if np.isfinite(v)]
+        return max(values) if values else np.nan
+
+
+@dataclass
+class CostStudy:
+    """Rungs of a cost ladder and the reference they were measured against."""
+
+    frequency: float
+    rungs: list[Rung]
+    reference: dict[str, str]
+    reference_values: dict[str, float] = field(default_factory=dict)
+
+    def recommend(self, target: float, quantity: str | None = None) -> Rung | None:
+        """Cheapest converged rung whose error (on ``quantity``, or on all) is at most ``target``."""
+        if not target > 0:
+            raise ValueError(f"target must be > 0 (a relative error), got {target!r}")
+        ok = [r for r in self.rungs if r.converged and r.error(quantity) <= target]
+        return min(ok, key=lambda r: r.wall_time) if ok else None
+
+    def pareto(self, quantity: str | None = None) -> list[Rung]:
+        """Rungs not beaten by a faster and more accurate one, by increasing wall time."""
+        front, best = [], np.inf
+        for r in sorted(self.rungs, key=lambda r: r.wall_time):
+            e = r.error(quantity)
+            if r.converged and e < best:
+                front.append(r)
+                best = e
+        return front
+
+
+def _timed(fn):
+    t = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t, out
+
+
+def _rel(value: float, ref: float) -> float:
+    return abs(value / ref - 1) if ref != 0 else abs(value)
+
+
+def cost_ladder(
+    model: Model,
+    frequency: float,
+    *,
+    harmonics=(1, 3, 5, 7, 11, 15, 21, 31, 41, 64),
+    sample_factors=(4, 8, 16, 32),
+    kw: float | None = None,
+    cycles: float | None = None,
+    tolerances=(1e-1, 1e-2, 1e-3),
+    degrees=(2, 4, 6, 8),
+    wear_harmonics=(3, 7, 21),
+    include_time_integration: bool = True,
+    progress: Callable[[float], None] | None = None,
+) -> CostStudy:
+    """Error against wall time for a ladder of discretisations at ``frequency`` (Hz).
+
+    Parameters
+    ----------
+    model : Model
+        Friction contacts only, positive definite mass (the shooting reference).
+    frequency : float
+        Excitation frequency (Hz), > 0.
+    harmonics : sequence of int
+        ``Nh`` of the DLFT rungs (default samples per period).
+    sample_factors : sequence of int
+        Samples per period as multiples of ``Nh`` at ``Nh = 21`` (power of two above).
+    kw, cycles : float, optional
+        Archard coefficient (1/Pa) and horizon (cycles): adds the wear rungs
+        (the exact load path at ``wear_harmonics`` when it applies, stepping
+        with DLFT dynamics at ``wear_harmonics`` x ``tolerances``, stepping
+        with shooting dynamics, the polynomial method at ``degrees``, time
+        integration at ``tolerances``), judged on ``w(N)``.
+    tolerances, degrees, wear_harmonics : sequence
+        Slow-time tolerances (fraction of ``u0``), polynomial degrees and
+        ``Nh`` of the wear rungs.
+    include_time_integration : bool
+        Include the time-integration wear rungs.
+    progress : callable, optional
+        ``progress(fraction)`` after the reference and after each rung, outside
+        the timed calls, with the fraction of the computations done (0 to 1);
+        an exception it raises stops the ladder and propagates (a caller's
+        cancellation).
+
+    Returns
+    -------
+    CostStudy
+        The reference first, then the rungs in the order above.
+    """
+    if not np.isfinite(frequency) or frequency <= 0:
+        raise ValueError(f"frequency must be > 0 Hz, got {frequency!r}")
+    if (kw is None) != (cycles is None):
+        raise ValueError("kw and cycles go together: give both for the wear rungs, or neither")
+    omega = 2 * np.pi * frequency
+    wear_runs = []
+    if kw is not None:
+        if exact_path_applies(model):
+            wear_runs += [("exact", {"Nh": nh}, dict(harmonics=nh)) for nh in wear_harmonics]
+        wear_runs += [("stepping", {"Nh": nh, "tol": tol}, dict(harmonics=nh, tol=tol))
+                      for nh in wear_harmonics for tol in tolerances]  # fmt: skip
+        wear_runs += [
+            ("stepping-shooting", {"tol": tol}, dict(dynamics="shooting", tol=tol)) for tol in tolerances
+        ]
+        wear_runs += [("polynomial", {"Nh": 3, "degree": d}, dict(harmonics=3, degree=d)) for d in degrees]
+        if include_time_integration:
+            wear_runs += [("time", {"tol": tol}, dict(tol=tol)) for tol in tolerances]
+    total = 1 + len(harmonics) + len(sample_factors) + (1 + len(wear_runs) if kw is not None else 0)
+    done = [0]
+
+    def advance() -> None:
+        done[0] += 1
+        if progress is not None:
+            progress(done[0] / total)
+
+    solve_periodic(model, omega, 3)  # compile and warm the kernels before timing
+    t_ref, ref = _timed(lambda: shooting(model, omega))
+    if not ref.converged:
+        raise RuntimeError(f"the shooting reference did not converge at {frequency:g} Hz")
+    B = model.relative_map()
+    ref_values = {
+        "x1_h1": float(ref.amplitude[0]),
+        "xr_half_p2p": float(ref.relative_half_peak_to_peak[0]) if len(B) else np.nan,
+        "sliding_distance": float(ref.sliding_distance[0]) if model.friction else np.nan,
+    }
+    reference = {"periodic": f"shooting (residual {ref.residual:.1e}, {t_ref * 1e3:.0f} ms)"}
+    rungs = [Rung("shooting", {}, t_ref, {k: 0.0 for k in ref_values})]
+    advance()
+
+    def periodic_errors(sol) -> dict[str, float]:
+        rel_p2p = sol.relative_half_peak_to_peak[0] if len(B) else np.nan
+        slid = sol.sliding_distance[0] if model.friction else np.nan
+        return {
+            "x1_h1": _rel(sol.amplitude[0], ref_values["x1_h1"]),
+            "xr_half_p2p": _rel(rel_p2p, ref_values["xr_half_p2p"]),
+            "sliding_distance": _rel(slid, ref_values["sliding_distance"]) if ref_values["sliding_distance"]
+            else float(abs(slid)),
+        }  # fmt: skip
+
+    for nh in harmonics:
+        t, sol = _timed(lambda nh=nh: solve_periodic(model, omega, int(nh)))
+        rungs.append(Rung("dlft", {"Nh": int(nh), "N": default_samples(int(nh))}, t, periodic_errors(sol),
+                          sol.converged))  # fmt: skip
+        advance()
+    for factor in sample_factors:
+        n = max(43, 1 << int(np.ceil(np.log2(factor * 21))))
+        t, sol = _timed(lambda n=n: solve_periodic(model, omega, 21, samples=n))
+        rungs.append(Rung("dlft", {"Nh": 21, "N": n}, t, periodic_errors(sol), sol.converged))
+        advance()
+    if kw is not None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            t_w, exact = _timed(lambda: wear_history(model, omega, "stepping", kw=kw, cycles=cycles,
+                                                     dynamics="shooting", tol=1e-5))  # fmt: skip
+            reference["wear"] = f"stepping with shooting dynamics, tol 1e-5 ({t_w:.2f} s)"
+            u0 = exact.u0[0]
+            advance()
+
+            def werr(h) -> float:
+                return float(np.max(np.abs(h.at(exact.cycles)["wear"][:, 0] - exact.wear[:, 0])) / u0)
+
+            for name, settings, opts in wear_runs:
+                method = "stepping" if name.startswith("stepping") else name
+                run = partial(wear_history, model, omega, method, kw=kw, cycles=cycles, **opts)
+                t, h = _timed(run)
+                rungs.append(Rung(name, settings, t, {"wear": werr(h)}, h.converged))
+                advance()
+    return CostStudy(frequency, rungs, reference, ref_values)

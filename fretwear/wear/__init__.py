@@ -1,0 +1,31 @@
+"""Fretting wear on the slow time scale (paper sections 1.3, 1.6; eq. 15, 24-30).
+
+:func:`wear_history` is the front function; :data:`METHODS` the registry of the
+slow-time methods, one module each (:mod:`~fretwear.wear.exact`,
+:mod:`~fretwear.wear.stepping`, :mod:`~fretwear.wear.polynomial`,
+:mod:`~fretwear.wear.time_integration`); :mod:`~fretwear.wear.common` holds
+Archard's law, the input checks and the result type :class:`WearHistory`.
+"""
+
+from .common import TWO_SCALE_LIMIT, WearHistory, check_wear_inputs
+from .exact import exact_path_applies, wear_exact
+from .history import METHODS, Method, method_options, resolve_method, wear_history
+from .polynomial import wear_polynomial
+from .stepping import wear_stepping
+from .time_integration import integrate_wear
+
+__all__ = [
+    "METHODS",
+    "Method",
+    "TWO_SCALE_LIMIT",
+    "WearHistory",
+    "check_wear_inputs",
+    "exact_path_applies",
+    "integrate_wear",
+    "method_options",
+    "resolve_method",
+    "wear_exact",
+    "wear_history",
+    "wear_polynomial",
+    "wear_stepping",
+]

@@ -1,0 +1,179 @@
+"""Exact slow-time integration along the load path (one friction contact).
+
+For a single friction contact, the DLFT response at normal load ``F_N0 / sigma``
+is ``1 / sigma`` times the response at ``F_N0`` under forces scaled by
+``sigma`` (homogeneity of Coulomb's law). One exact piecewise-linear walk in
+``sigma`` (:func:`fretwear.hbm.periodic.walk`) therefore gives the sliding
+distance along the whole wear history, and Archard's law ``dw/dN = K_w F_N s``
+integrates in closed form on each piece: no slow-time error.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..hbm.condensation import recover
+from ..hbm.harmonics import amplitude, extrema, full_synthesis
+from ..hbm.periodic import LOAD, Problem, solve_problem, walk
+from ..model import Model
+from .common import (
+    WearHistory,
+    check_wear_inputs,
+    two_scale_warning,
+)
+
+__all__ = ["wear_exact", "exact_path_applies"]
+
+
+def exact_path_applies(model: Model) -> bool:
+    """True when :func:`wear_exact` applies: one friction contact, no unilateral contact."""
+    return len(model.friction) == 1 and not model.normal
+
+
+def wear_exact(
+    model: Model,
+    omega: float,
+    *,
+    kw: float = 1e-11,
+    cycles: float = 1e5,
+    harmonics: int = 21,
+    samples: int | None = None,
+    stop_fraction: float = 0.99,
+    max_records: int = 100,
+) -> WearHistory:
+    """Wear evolution with no slow-time discretisation error, for one friction contact.
+
+    With one friction contact and no unilateral contact the DLFT equations are
+    positively homogeneous in the forces and the friction limit, so the
+    response at normal load ``F_N = F_N0 / sigma`` is ``1 / sigma`` times the
+    response at ``F_N0`` under the forces scaled by ``sigma``. Wear relaxes the
+    load along ``sigma = u0 / (u0 - w)``, and Archard's law becomes
+
+        dN = d sigma / (K_w k_n s(sigma)),
+
+    with ``s(sigma)`` the distance slid per cycle at load factor ``sigma`` and
+    ``F_N0``. The exact piecewise-linear load walk gives the whole path from
+    ``sigma = 1`` to ``1 / (1 - stop_fraction)`` in one pass; ``s`` is linear on
+    each piece, so ``N(sigma)`` integrates in closed form (a logarithm per
+    piece). This is stepping in the limit of zero tolerance, at the cost of one
+    walk. Records are ``max_records`` points evenly spread in wear plus up to
+    as many of the path's breakpoints (where the stick/slip pattern changes);
+    ``x`` being linear in ``sigma`` on each piece, every record is exact.
+
+    Parameters are those of :func:`wear_stepping`.
+    """
+    check_wear_inputs(model, kw, cycles)
+    if not exact_path_applies(model):
+        raise ValueError("wear_exact needs exactly one friction contact and no unilateral contact")
+    if not 0 < stop_fraction < 1:
+        raise ValueError(f"stop_fraction must be in (0, 1), got {stop_fraction!r}")
+    start = time.perf_counter()
+    contact = model.friction[0]
+    u0, kn = contact.u0, contact.kn
+    problem = Problem(model, omega, harmonics, samples)
+    sol0 = solve_problem(problem)
+    if not sol0.converged:
+        raise RuntimeError(f"the periodic solve of the unworn structure failed: {sol0.message}")
+    arrays = dict(u0=np.array([u0]), kn=np.array([kn]), kw=kw)
+    if sol0.path in ("linear-stuck", "linear-open") or sol0.sliding_distance[0] == 0:
+        rows = _observables(problem, np.repeat(sol0.unknowns[None], 2, axis=0), np.ones(2))
+        load0 = np.full((2, 1), contact.normal_load())
+        return WearHistory(omega, "exact", np.array([0.0, cycles]), np.zeros((2, 1)), load0,
+                           np.zeros((2, 1)), np.zeros((2, 1)), *rows, **arrays, status="stuck", solves=1,
+                           wall_time=time.perf_counter() - start)  # fmt: skip
+    sigma_end = 1.0 / (1.0 - stop_fraction)
+    _, _, pieces, arrived, xs, sig, slid = walk(problem, sol0.unknowns, 1.0, sigma_end, LOAD, problem.F0,
+                                                  np.zeros(0), 200_000, record=200_001)  # fmt: skip
+    if len(sig) < 2:
+        raise RuntimeError("the load walk of the wearing contact failed at its start")
+    # N(sigma): exact integral of d sigma / (kw kn s) with s linear between breakpoints
+    ds, dslid = np.diff(sig), np.diff(slid)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = slid[1:] / slid[:-1]
+        dn = np.where(np.abs(dslid) > 1e-12 * slid[:-1], ds * np.log(ratio) / dslid, ds / slid[:-1])
+    N = np.concatenate([[0.0], np.cumsum(dn)]) / (kw * kn)
+    status = "worn" if arrived else f"load walk stopped after {pieces} pieces"
+    sigma_stop = sig[-1]
+    if N[-1] > cycles:  # the horizon comes first: sigma at N = cycles, by bisection on the piece's law
+        k = int(np.searchsorted(N, cycles))
+        a, b = sig[k - 1], sig[k]
+        for _ in range(60):
+            m = 0.5 * (a + b)
+            n_m = N[k - 1] + _piece_cycles(sig[k - 1], m, slid[k - 1], _lerp(sig, slid, k - 1, m)) / (kw * kn)
+            a, b = (m, b) if n_m < cycles else (a, m)
+        sigma_stop, status = 0.5 * (a + b), "horizon"
+    # records: evenly spread in wear, plus the breakpoints where the stick/slip pattern changes
+    w_stop = 1.0 - 1.0 / sigma_stop
+    targets = 1.0 / (1.0 - np.linspace(0.0, w_stop, max_records))
+    breaks = sig[sig <= sigma_stop]
+    targets = np.unique(np.concatenate([targets, breaks[_spread(1.0 - 1.0 / breaks, max_records)]]))
+    k = np.clip(np.searchsorted(sig, targets, side="right") - 1, 0, len(sig) - 2)
+    t = ((targets - sig[k]) / (sig[k + 1] - sig[k]))[:, None]
+    xs = (1 - t) * xs[k] + t * xs[k + 1]  # exact: x is linear in sigma on each piece
+    slid_t = (1 - t[:, 0]) * slid[k] + t[:, 0] * slid[k + 1]
+    N = N[k] + np.array(
+        [_piece_cycles(sig[j], s, slid[j], st) for j, s, st in zip(k, targets, slid_t, strict=True)]
+    ) / (kw * kn)
+    sig, slid = targets, slid_t
+    wear = u0 * (1.0 - 1.0 / sig)
+    load = kn * (u0 - wear)
+    s_w = slid / sig  # homogeneity: distance slid at the actual load
+    rate = kw * load * s_w
+    notes = two_scale_warning(rate[:1], np.array([u0]))
+    rows = _observables(problem, xs, sig)
+    return WearHistory(omega, "exact", N, wear[:, None], load[:, None], rate[:, None], s_w[:, None], *rows,
+                       **arrays, status=status, solves=1, wall_time=time.perf_counter() - start,
+                       warnings=notes,
+                       info={"pieces": pieces})  # fmt: skip
+
+
+def _piece_cycles(s1: float, s2: float, slid1: float, slid2: float) -> float:
+    """``integral d sigma / s`` over one piece where ``s`` is linear (times kw kn)."""
+    if abs(slid2 - slid1) <= 1e-12 * slid1:
+        return (s2 - s1) / slid1
+    return (s2 - s1) * np.log(slid2 / slid1) / (slid2 - slid1)
+
+
+def _lerp(x: np.ndarray, y: np.ndarray, k: int, xi: float) -> float:
+    """Linear interpolation of ``y`` on ``[x[k], x[k + 1]]`` at ``xi``."""
+    return y[k] + (y[k + 1] - y[k]) * (xi - x[k]) / (x[k + 1] - x[k])
+
+
+def _spread(w: np.ndarray, count: int) -> np.ndarray:
+    """Indices of about ``count`` points spread evenly in ``w``, always keeping both ends."""
+    if len(w) <= count:
+        return np.arange(len(w))
+    targets = np.linspace(w[0], w[-1], count)
+    idx = np.unique(np.clip(np.searchsorted(w, targets), 0, len(w) - 1))
+    return np.unique(np.concatenate([[0], idx, [len(w) - 1]]))
+
+
+def _observables(problem: Problem, xs: np.ndarray, sigma: np.ndarray):
+    """Amplitudes of every DOF and relative displacements at path points ``xs`` (load factors ``sigma``).
+
+    The actual response is ``xs / sigma`` under the unscaled forces; the DOF
+    harmonics are affine in the contact-force harmonics ``Lambda = F_r - Z_r x``,
+    so one linear map recovers all points at once.
+    """
+    model, b = problem.model, problem.basis
+    nh, n_slots = b.harmonics, b.size
+    x = xs / sigma[:, None]
+    lam = problem.F[None, :] - x @ problem.Z.T  # (K, nc H)
+    zero = np.zeros((problem.n_active, 2 * nh + 1))
+    base = recover(model, problem.B, problem.omega, nh, zero)
+    unit = np.stack([recover(model, problem.B, problem.omega, nh, b.to_full(e.reshape(-1, n_slots))) - base
+                     for e in np.eye(problem.size)])  # fmt: skip
+    U = base[None] + np.einsum("kj,jnm->knm", lam, unit)  # (K, n, 2 Nh + 1)
+    K = len(sigma)
+    grid = full_synthesis(nh, 8 * nh + 8)  # a start for the exact extrema: 4 samples per shortest period
+    dof = U.reshape(-1, U.shape[-1])
+    hi, lo = extrema(dof, dof @ grid.T)
+    rel = np.einsum("cn,knm->kcm", model.relative_map(), U).reshape(-1, U.shape[-1])
+    rhi, rlo = extrema(rel, rel @ grid.T)
+    return (
+        amplitude(U),
+        ((hi - lo) / 2).reshape(K, -1),
+        ((rhi - rlo) / 2).reshape(K, -1),
+    )
