@@ -1,0 +1,579 @@
+"""Study specifications: the TOML file that ``fretwear study`` runs, parsed and checked.
+
+A spec names the model, the parameters (fixed values, grid axes, random draws)
+and the quantities to compute. Every error is a :class:`SpecError`, one line
+that starts with the key at fault (``parameters.mu: ...``).
+
+Format
+------
+::
+
+    [study]
+    title = "Probabilistic wear life at 0.7 Hz"    # optional
+    quantities = ["wear_life"]                      # any of "frf", "wear_life", "wear"
+    seed = 2024                                     # integer >= 0; required with random parameters
+    samples = 1000                                  # number of random draws; required with them
+    points_per_task = 25                            # optional: points computed by one task
+
+    [model]
+    name = "paper"                                  # the paper's 2-DOF example (section 2.1), or
+    # file = "my_structure.toml"                    # a model file (relative to the spec)
+
+    [parameters]                                    # each value: fixed, grid or random
+    frequency = 0.7                                                 # Hz, fixed
+    mu = { distribution = "uniform", low = 0.4, high = 1.0 }        # random
+    fex = { distribution = "normal", mean = 10.0, std = 1.0 }       # random, N
+    kw = [1e-11, 2e-11]                                             # grid: the listed values
+    # frequency = { start = 0.3, stop = 1.3, num = 41 }             # grid: linspace (scale = "log")
+    cycles = 1e7                                                    # wear horizon (cycles)
+
+    [wear]
+    fractions = [0.1, 0.5, 0.9]                     # "wear_life": cycles to w = fraction * u0
+    ncycles = 60                                    # "wear": log-spaced cycle counts from 1 to the horizon
+
+Parameters (:data:`PARAMETERS`): ``frequency`` (Hz), ``fex`` (N, paper model),
+``force_scale`` (-, model files: scales every external force), ``mu`` (-),
+``normal_load`` (N) or ``u0`` (m), ``kn`` (N/m), ``kw`` (1/Pa), ``cycles``
+(horizon), ``harmonics`` (``Nh``), ``method`` (``"auto"`` or a key of
+:data:`fretwear.METHODS`), ``dynamics`` (``"dlft"``, ``"shooting"``) and
+``tol`` (slow-time tolerance of the methods that take one). Distributions:
+``uniform`` (``low``, ``high``), ``loguniform`` (``low``, ``high``), ``normal``
+(``mean``, ``std``) and ``lognormal`` (``median``, ``sigma`` of the logarithm).
+
+Quantities: ``frf`` (periodic response per point: first-harmonic amplitudes,
+relative amplitude, sliding distance and friction energy per period),
+``wear_life`` (cycles to the wear fractions of ``u0``) and ``wear`` (``w / u0``
+and amplitudes on the cycle grid; with a frequency axis, a wear map).
+
+Random draws: parameter ``k`` (in the order of :data:`PARAMETERS`) uses the
+stream ``numpy.random.default_rng([seed, k])``, so sample ``i`` is the same
+whatever the number of samples (``--samples`` only adds or removes draws at the end).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import fretwear as fw
+
+__all__ = [
+    "PARAMETERS",
+    "QUANTITIES",
+    "Distribution",
+    "Parameter",
+    "SpecError",
+    "StudySpec",
+    "parse_spec",
+    "read_spec",
+]
+
+
+class SpecError(ValueError):
+    """Invalid study specification; the message starts with the key at fault."""
+
+    def __init__(self, key: str, message: str):
+        super().__init__(f"{key}: {message}")
+        self.key = key
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A study parameter: unit, type, valid range and whether it may be drawn at random."""
+
+    name: str
+    unit: str
+    long_name: str
+    kind: type = float
+    low: float | None = None
+    strict: bool = False
+    high: float | None = None
+    choices: tuple[str, ...] = ()
+    random: bool = True
+
+    def check(self, key: str, value: Any) -> Any:
+        """``value`` converted to the parameter's type, or :class:`SpecError` naming ``key``."""
+        if self.kind is str:
+            if not isinstance(value, str) or value not in self.choices:
+                raise SpecError(key, f"must be one of {', '.join(map(repr, self.choices))}, got {value!r}")
+            return value
+        if self.kind is int:
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise SpecError(key, f"must be an integer{self._range()}, got {value!r}")
+        elif isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise SpecError(key, f"must be a finite number{self._range()}, got {value!r}")
+        if (self.low is not None and (value <= self.low if self.strict else value < self.low)) or (
+            self.high is not None and value > self.high
+        ):
+            raise SpecError(key, f"must be{self._range()}, got {value!r}")
+        return self.kind(value)
+
+    def _range(self) -> str:
+        parts = []
+        if self.low is not None:
+            parts.append(f"{'>' if self.strict else '>='} {self.low:g}")
+        if self.high is not None:
+            parts.append(f"<= {self.high:g}")
+        unit = f" {self.unit}" if self.unit not in ("", "-") else ""
+        return (" " + " and ".join(parts) + unit) if parts else unit
+
+
+#: every parameter a spec may set, in the order of the random streams and of the grid axes' defaults
+PARAMETERS: Mapping[str, Parameter] = {
+    p.name: p
+    for p in (
+        Parameter("frequency", "Hz", "excitation frequency", low=0.0, strict=True),
+        Parameter("fex", "N", "excitation amplitude on mass 1 (paper model)"),
+        Parameter("force_scale", "-", "factor on every external force (model file)"),
+        Parameter("mu", "-", "friction coefficient", low=0.0),
+        Parameter("normal_load", "N", "initial normal load F_N", low=0.0),
+        Parameter("u0", "m", "initial normal interference u0", low=0.0),
+        Parameter("kn", "N/m", "normal contact stiffness", low=0.0, strict=True),
+        Parameter("kw", "1/Pa", "Archard wear coefficient K_w", low=0.0),
+        Parameter("cycles", "cycles", "wear horizon", low=0.0, strict=True),
+        Parameter("harmonics", "-", "highest harmonic Nh", kind=int, low=1, high=256, random=False),
+        Parameter("method", "", "slow-time method", kind=str, choices=("auto", *fw.METHODS), random=False),
+        Parameter(
+            "dynamics",
+            "",
+            "periodic dynamics of stepping",
+            kind=str,
+            choices=("dlft", "shooting"),
+            random=False,
+        ),
+        Parameter("tol", "-", "slow-time tolerance", low=0.0, strict=True, high=1.0, random=False),
+    )
+}
+
+#: the quantities a study computes, and the parameters each one uses
+QUANTITIES: Mapping[str, tuple[str, ...]] = {
+    "frf": ("frequency", "fex", "force_scale", "mu", "normal_load", "u0", "kn", "harmonics"),
+    "wear_life": tuple(PARAMETERS),
+    "wear": tuple(PARAMETERS),
+}
+
+#: values of the parameters a spec leaves out (the paper model's are those of section 2.1)
+DEFAULTS: Mapping[str, Any] = {"harmonics": 21, "kw": 1e-11, "method": "auto", "dynamics": "dlft"}
+PAPER_DEFAULTS: Mapping[str, float] = {"fex": 10.0, "mu": 1.0, "normal_load": 10.0, "kn": 1e7}
+
+#: model names that a spec may give and that this version does not provide
+UNAVAILABLE_MODELS = ("interface_benchmark", "benchmark")
+
+_DISTRIBUTIONS = {
+    "uniform": ("low", "high"),
+    "loguniform": ("low", "high"),
+    "normal": ("mean", "std"),
+    "lognormal": ("median", "sigma"),
+}
+
+
+@dataclass(frozen=True)
+class Distribution:
+    """A random parameter: ``kind`` (a key of ``_DISTRIBUTIONS``) and its two arguments."""
+
+    kind: str
+    a: float
+    b: float
+
+    def draw(self, n: int, rng: np.random.Generator) -> np.ndarray:
+        """``n`` draws from ``rng`` (in order: the first ``m`` do not depend on ``n``)."""
+        if self.kind == "uniform":
+            return rng.uniform(self.a, self.b, n)
+        if self.kind == "loguniform":
+            return np.exp(rng.uniform(np.log(self.a), np.log(self.b), n))
+        if self.kind == "normal":
+            return rng.normal(self.a, self.b, n)
+        return self.a * np.exp(rng.normal(0.0, self.b, n))
+
+    def describe(self) -> dict[str, Any]:
+        names = _DISTRIBUTIONS[self.kind]
+        return {"distribution": self.kind, names[0]: self.a, names[1]: self.b}
+
+
+@dataclass(frozen=True)
+class StudySpec:
+    """A checked study specification.
+
+    Attributes
+    ----------
+    title : str
+    quantities : tuple of str
+        Keys of :data:`QUANTITIES`.
+    model_kind : str
+        ``"paper"`` or ``"file"``.
+    model : Model
+        The base model (the paper model with its defaults, or the model file's).
+    fixed : dict
+        Fixed parameters (with the defaults filled in).
+    grid : dict of ndarray
+        Grid axes, in spec order with ``frequency`` last.
+    random : dict of Distribution
+        Random parameters, in the order of :data:`PARAMETERS`.
+    samples, seed : int
+        Number of draws and seed (0 and ``None`` without random parameters).
+    fractions : tuple of float
+        Wear fractions of ``u0`` (``wear_life``).
+    ncycles : int
+        Cycle counts of the wear grid (``wear``).
+    points_per_task : int or None
+        Points per task, when the spec sets it.
+    text : str
+        The spec file as written.
+    model_file : str or None
+        The model file's path, as given in the spec.
+    """
+
+    title: str
+    quantities: tuple[str, ...]
+    model_kind: str
+    model: Any
+    fixed: dict[str, Any]
+    grid: dict[str, np.ndarray]
+    random: dict[str, Distribution]
+    samples: int = 0
+    seed: int | None = None
+    fractions: tuple[float, ...] = (0.1, 0.5, 0.9)
+    ncycles: int = 60
+    points_per_task: int | None = None
+    text: str = ""
+    model_file: str | None = None
+    model_text: str = field(default="", repr=False)
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Dimensions of the points: ``sample`` (with random parameters), then the grid axes."""
+        return (("sample",) if self.random else ()) + tuple(self.grid)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return ((self.samples,) if self.random else ()) + tuple(len(v) for v in self.grid.values())
+
+    @property
+    def n_points(self) -> int:
+        return int(np.prod(self.shape, dtype=np.int64))
+
+    @property
+    def wear(self) -> bool:
+        """Whether a wear quantity is asked for."""
+        return any(q in self.quantities for q in ("wear_life", "wear"))
+
+    def draws(self) -> dict[str, np.ndarray]:
+        """The random parameters' values, shape (samples,) each (see the module docstring)."""
+        keys = list(PARAMETERS)
+        return {
+            name: dist.draw(self.samples, np.random.default_rng([self.seed, keys.index(name)]))
+            for name, dist in self.random.items()
+        }
+
+    def cycle_grid(self) -> np.ndarray:
+        """Cycle counts of the ``wear`` quantity: ``ncycles`` log-spaced from 1 to the horizon."""
+        return np.geomspace(1.0, self.fixed["cycles"], self.ncycles)
+
+    def resolved(self) -> dict[str, Any]:
+        """Everything that defines the results, as plain JSON data (the store's key is its hash)."""
+        return {
+            "title": self.title,
+            "quantities": list(self.quantities),
+            "model": {"kind": self.model_kind, "file": self.model_file, "file_sha256": _sha(self.model_text)},
+            "fixed": self.fixed,
+            "grid": {k: v.tolist() for k, v in self.grid.items()},
+            "random": {k: v.describe() for k, v in self.random.items()},
+            "samples": self.samples,
+            "seed": self.seed,
+            "fractions": list(self.fractions),
+            "ncycles": self.ncycles,
+            "points_per_task": self.points_per_task,
+            "fretwear_version": fw.__version__,
+        }
+
+    def key(self) -> str:
+        """Hash of :meth:`resolved`: two runs with the same key compute the same numbers."""
+        return _sha(json.dumps(self.resolved(), sort_keys=True))
+
+
+def _sha(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def read_spec(path: str | Path, samples: int | None = None, points_per_task: int | None = None) -> StudySpec:
+    """Read and check the study spec at ``path`` (see the module docstring).
+
+    ``samples`` and ``points_per_task`` override the spec's values (``--samples``,
+    ``--points-per-task``). Raises :class:`SpecError`.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SpecError("SPEC", f"cannot read {str(path)!r}: {exc.strerror or exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError("SPEC", f"{str(path)!r} is not valid TOML: {exc}") from None
+    return parse_spec(data, text=text, base=path.parent, samples=samples, points_per_task=points_per_task)
+
+
+def _table(data: Mapping[str, Any], key: str, allowed: tuple[str, ...]) -> dict[str, Any]:
+    table = data.get(key, {})
+    if not isinstance(table, dict):
+        raise SpecError(key, f"must be a table ([{key}]), got {table!r}")
+    for name in table:
+        if name not in allowed:
+            raise SpecError(f"{key}.{name}", f"unknown key (valid: {', '.join(allowed)})")
+    return table
+
+
+def _integer(key: str, value: Any, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise SpecError(key, f"must be an integer >= {low}, got {value!r}")
+    return value
+
+
+def parse_spec(
+    data: Mapping[str, Any],
+    *,
+    text: str = "",
+    base: str | Path = ".",
+    samples: int | None = None,
+    points_per_task: int | None = None,
+) -> StudySpec:
+    """Check parsed TOML ``data`` and build the :class:`StudySpec` (see :func:`read_spec`)."""
+    for name in data:
+        if name not in ("study", "model", "parameters", "wear"):
+            raise SpecError(name, "unknown table (valid: study, model, parameters, wear)")
+    study = _table(data, "study", ("title", "quantities", "seed", "samples", "points_per_task"))
+    quantities = study.get("quantities")
+    if quantities is None:
+        raise SpecError("study.quantities", f"required: a list of {', '.join(map(repr, QUANTITIES))}")
+    if isinstance(quantities, str):
+        quantities = [quantities]
+    if not isinstance(quantities, list) or not quantities or any(q not in QUANTITIES for q in quantities):
+        raise SpecError(
+            "study.quantities",
+            f"must be a non-empty list of {', '.join(map(repr, QUANTITIES))}, got {study['quantities']!r}",
+        )
+    quantities = tuple(dict.fromkeys(quantities))
+    title = study.get("title", "parameter study")
+    if not isinstance(title, str):
+        raise SpecError("study.title", f"must be a string, got {title!r}")
+    ppt = study.get("points_per_task")
+    ppt = _integer("study.points_per_task", ppt, 1) if ppt is not None else None
+    if points_per_task is not None:
+        ppt = _integer("--points-per-task", points_per_task, 1)
+
+    model_kind, model, model_file, model_text = _model(_table(data, "model", ("name", "file")), Path(base))
+
+    params = _table(data, "parameters", tuple(PARAMETERS))
+    used = set().union(*(QUANTITIES[q] for q in quantities))
+    fixed: dict[str, Any] = {}
+    grid: dict[str, np.ndarray] = {}
+    random: dict[str, Distribution] = {}
+    for name, value in params.items():
+        key = f"parameters.{name}"
+        if name not in used:
+            raise SpecError(key, f"not used by the quantities {', '.join(quantities)}")
+        if model_kind == "paper" and name == "force_scale":
+            raise SpecError(key, "only for a model file; the paper model's excitation is fex (N)")
+        if model_kind == "file" and name == "fex":
+            raise SpecError(key, "only for the paper model; scale a model file's forces with force_scale")
+        kind, parsed = _value(key, PARAMETERS[name], value)
+        {"fixed": fixed, "grid": grid, "random": random}[kind][name] = parsed
+    if "normal_load" in params and "u0" in params:
+        raise SpecError("parameters.u0", "give normal_load (N) or u0 (m), not both")
+    if "frequency" not in params:
+        raise SpecError("parameters.frequency", "required: the excitation frequency (Hz), > 0")
+    if "frequency" in grid:  # frequency last: an FRF is computed along it with warm starts
+        grid["frequency"] = grid.pop("frequency")
+    _wear_checks(quantities, params, fixed, grid)
+    for name, value in DEFAULTS.items():
+        if name in used and name not in params and not (name == "dynamics" and not _stepping(fixed, grid)):
+            fixed[name] = value
+    if model_kind == "paper":
+        for name, value in PAPER_DEFAULTS.items():
+            if name not in params and not (name == "normal_load" and "u0" in params):
+                fixed[name] = value
+
+    wear = _table(data, "wear", ("fractions", "ncycles"))
+    if wear and not any(q in quantities for q in ("wear_life", "wear")):
+        raise SpecError("wear", "the [wear] table needs the quantity 'wear_life' or 'wear'")
+    fractions = wear.get("fractions", [0.1, 0.5, 0.9])
+    if (
+        not isinstance(fractions, list)
+        or not fractions
+        or any(isinstance(f, bool) or not isinstance(f, (int, float)) or not 0 < f < 1 for f in fractions)
+        or len(set(fractions)) != len(fractions)
+    ):
+        raise SpecError(
+            "wear.fractions", f"must be a non-empty list of distinct numbers in (0, 1), got {fractions!r}"
+        )
+    ncycles = _integer("wear.ncycles", wear.get("ncycles", 60), 2)
+
+    n_samples, seed = 0, None
+    if random:
+        seed = study.get("seed")
+        if seed is None:
+            raise SpecError("study.seed", "required with random parameters: an integer >= 0")
+        seed = _integer("study.seed", seed, 0)
+        n_samples = study.get("samples") if samples is None else samples
+        if n_samples is None:
+            raise SpecError("study.samples", "required with random parameters: an integer >= 1")
+        n_samples = _integer("--samples" if samples is not None else "study.samples", n_samples, 1)
+    else:
+        for name in ("seed", "samples"):
+            if name in study:
+                raise SpecError(f"study.{name}", "no parameter is random (give one a distribution)")
+        if samples is not None:
+            raise SpecError("--samples", "the spec has no random parameter")
+    return StudySpec(
+        title=title,
+        quantities=quantities,
+        model_kind=model_kind,
+        model=model,
+        fixed=fixed,
+        grid=grid,
+        random=random,
+        samples=n_samples,
+        seed=seed,
+        fractions=tuple(float(f) for f in fractions),
+        ncycles=ncycles,
+        points_per_task=ppt,
+        text=text,
+        model_file=model_file,
+        model_text=model_text,
+    )
+
+
+def _model(table: Mapping[str, Any], base: Path):
+    """``(kind, model, file, file text)`` of the ``[model]`` table."""
+    if "name" in table and "file" in table:
+        raise SpecError("model.file", "give name or file, not both")
+    if "file" in table:
+        file = table["file"]
+        if not isinstance(file, str) or not file:
+            raise SpecError("model.file", f"must be the path of a model file, got {file!r}")
+        path = Path(file) if Path(file).is_absolute() else base / file
+        try:
+            return "file", fw.read_model(path), file, path.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise SpecError("model.file", f"cannot read {str(path)!r}: {exc.strerror or exc}") from None
+        except ValueError as exc:
+            raise SpecError("model.file", " ".join(str(exc).split())) from None
+    name = table.get("name", "paper")
+    if name in UNAVAILABLE_MODELS:
+        raise SpecError(
+            "model.name",
+            f"{name!r}: the interface benchmark model is not available in fretwear "
+            f"{fw.__version__}; use name = 'paper' or file = 'model.toml'",
+        )
+    if name != "paper":
+        raise SpecError("model.name", f"must be 'paper' (or use file = 'model.toml'), got {name!r}")
+    return "paper", fw.paper_model(), None, ""
+
+
+def _value(key: str, param: Parameter, value: Any) -> tuple[str, Any]:
+    """``("fixed" | "grid" | "random", parsed value)`` of one parameter entry."""
+    if isinstance(value, list):
+        if not value:
+            raise SpecError(key, "an empty list: a grid needs at least one value")
+        values = [param.check(f"{key}[{i}]", v) for i, v in enumerate(value)]
+        if len(set(values)) != len(values):
+            raise SpecError(key, f"grid values must be distinct, got {value!r}")
+        return "grid", np.array(values)
+    if not isinstance(value, dict):
+        return "fixed", param.check(key, value)
+    if "distribution" in value:
+        if not param.random:
+            raise SpecError(key, f"cannot be random (a {param.kind.__name__}): give a value or a list")
+        kind = value["distribution"]
+        if kind not in _DISTRIBUTIONS:
+            raise SpecError(
+                f"{key}.distribution", f"must be one of {', '.join(map(repr, _DISTRIBUTIONS))}, got {kind!r}"
+            )
+        names = _DISTRIBUTIONS[kind]
+        for k in value:
+            if k not in ("distribution", *names):
+                raise SpecError(
+                    f"{key}.{k}", f"unknown key of a {kind} distribution (valid: {', '.join(names)})"
+                )
+        for k in names:
+            v = value.get(k)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise SpecError(f"{key}.{k}", f"required: a finite number, got {v!r}")
+        a, b = float(value[names[0]]), float(value[names[1]])
+        if kind in ("uniform", "loguniform"):
+            if not a < b:
+                raise SpecError(f"{key}.high", f"must be > low = {a:g}, got {b:g}")
+            if kind == "loguniform" and a <= 0:
+                raise SpecError(f"{key}.low", f"must be > 0 for a loguniform distribution, got {a:g}")
+            param.check(f"{key}.low", a)
+            param.check(f"{key}.high", b)
+        elif b <= 0:
+            raise SpecError(f"{key}.{names[1]}", f"must be > 0, got {b:g}")
+        elif kind == "lognormal":
+            param.check(f"{key}.median", a)
+            if a <= 0:
+                raise SpecError(f"{key}.median", f"must be > 0, got {a:g}")
+        else:
+            param.check(f"{key}.mean", a)
+        return "random", Distribution(kind, a, b)
+    if param.kind is not float:
+        raise SpecError(key, f"a grid of {param.name} is a list of values, got {value!r}")
+    for k in value:
+        if k not in ("start", "stop", "num", "scale"):
+            raise SpecError(
+                f"{key}.{k}", "unknown key (a grid: start, stop, num, scale; random: distribution)"
+            )
+    for k in ("start", "stop", "num"):
+        if k not in value:
+            raise SpecError(f"{key}.{k}", "required for a grid (start, stop, num[, scale])")
+    start, stop = param.check(f"{key}.start", value["start"]), param.check(f"{key}.stop", value["stop"])
+    num = _integer(f"{key}.num", value["num"], 1)
+    scale = value.get("scale", "linear")
+    if scale not in ("linear", "log"):
+        raise SpecError(f"{key}.scale", f"must be 'linear' or 'log', got {scale!r}")
+    if num > 1 and not stop > start:
+        raise SpecError(f"{key}.stop", f"must be > start = {start:g}, got {stop:g}")
+    if scale == "log":
+        if start <= 0:
+            raise SpecError(f"{key}.start", f"must be > 0 with scale = 'log', got {start:g}")
+        return "grid", np.geomspace(start, stop, num)
+    return "grid", np.linspace(start, stop, num)
+
+
+def _stepping(fixed: Mapping[str, Any], grid: Mapping[str, np.ndarray]) -> bool:
+    """Whether some point may run a method that takes ``dynamics`` (stepping, or auto)."""
+    methods = grid["method"].tolist() if "method" in grid else [fixed.get("method", "auto")]
+    return any(m in ("auto", "stepping") for m in methods)
+
+
+def _wear_checks(quantities, params, fixed, grid) -> None:
+    """Checks that involve the wear quantities."""
+    if not any(q in quantities for q in ("wear_life", "wear")):
+        return
+    if "cycles" not in params:
+        raise SpecError("parameters.cycles", "required for the wear quantities: the horizon (cycles), > 0")
+    if "wear" in quantities and "cycles" not in fixed:
+        raise SpecError(
+            "parameters.cycles",
+            "must be one value with the quantity 'wear' (its cycle grid is log-spaced from 1 to the horizon)",
+        )
+    for name in ("normal_load", "u0"):
+        values = np.atleast_1d(grid.get(name, fixed.get(name, 1.0)))
+        if np.any(values <= 0):
+            raise SpecError(
+                f"parameters.{name}", "must be > 0 for the wear quantities (a contact that wears)"
+            )
+    if "dynamics" in params and not _stepping(fixed, grid):
+        raise SpecError("parameters.dynamics", "only the method 'stepping' (or 'auto') takes dynamics")
+    if "tol" in params:
+        methods = grid["method"].tolist() if "method" in grid else [fixed.get("method", "auto")]
+        if not any(m in ("auto", "stepping", "time") for m in methods):
+            raise SpecError("parameters.tol", "only the methods 'stepping' and 'time' take a tolerance")
