@@ -7,10 +7,8 @@ Time histories are sampled on the DLFT grid of one full period
 
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,9 +16,7 @@ from ..model import Model
 from . import dlft
 from .condensation import recover
 from .harmonics import amplitude, extrema, full_synthesis
-
-if TYPE_CHECKING:
-    from .periodic import NewtonResult, Problem
+from .problem import NewtonResult, Problem
 
 __all__ = ["PeriodicSolution"]
 
@@ -93,7 +89,7 @@ class PeriodicSolution:
             wear=problem.wear,
             normal_loads=problem.normal_loads,
             unknowns=np.zeros(0) if x is None else x,
-            problem=copy.copy(problem),  # its load factor may change later; keep this one
+            problem=problem,
         )
 
     @cached_property

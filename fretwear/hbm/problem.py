@@ -1,0 +1,229 @@
+"""The DLFT problem at one frequency: condensed dynamics, Fourier basis, penalties (paper eq. 11, 17-18).
+
+:class:`Problem` holds everything that depends on the frequency and the wear
+state only (condensation on the active contacts, DFT matrices, penalties) and
+evaluates the DLFT residual ``R(x) = eps (x - X(x))`` and its Jacobian; the
+solvers of :mod:`fretwear.hbm.periodic` and the sweeps of
+:mod:`fretwear.hbm.continuation` reuse it. A problem is never changed in
+place: :meth:`Problem.at_load` and :meth:`Problem.with_wear` return copies.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model import Model
+from . import dlft
+from .condensation import Condensed, condense
+from .harmonics import HarmonicBasis, default_samples
+
+__all__ = ["Problem", "NewtonResult", "EPS_FACTOR"]
+
+#: default penalty, as a multiple of the condensed dynamic stiffness scale
+EPS_FACTOR = 10.0
+
+
+@dataclass
+class NewtonResult:
+    """Outcome of a Newton solve on the DLFT residual."""
+
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    message: str = ""
+
+
+@dataclass
+class Problem:
+    """DLFT problem at one frequency, for a model in a given wear state.
+
+    Parameters
+    ----------
+    model : Model
+    omega : float
+        Excitation frequency (rad/s), > 0.
+    harmonics : int
+        Highest harmonic ``Nh >= 1``.
+    samples : int, optional
+        Samples per period ``N >= 2 Nh + 1``; default :func:`default_samples`.
+    wear : array_like, optional
+        Wear depth of each friction contact (m); default zero.
+    eps : float or array_like, optional
+        DLFT penalty per active contact (N/m). Default: ``EPS_FACTOR`` times the
+        largest diagonal entry of the condensed dynamic stiffness over the
+        retained harmonics (the paper's advice, section 1.4).
+    half_wave : bool, optional
+        Use odd harmonics and half a period; default: when the model allows it.
+    force_scale : float
+        Load factor applied to every external force (used by load continuation).
+    condensed : Condensed, optional
+        The condensation at ``omega`` on the active contacts, when already known
+        (sweeps condense every frequency at once).
+    """
+
+    model: Model
+    omega: float
+    harmonics: int = 7
+    samples: int | None = None
+    wear: np.ndarray | None = None
+    eps: float | np.ndarray | None = None
+    half_wave: bool | None = None
+    force_scale: float = 1.0
+    derivative: bool = False
+    condensed: Condensed | None = field(default=None, repr=False)
+    basis: HarmonicBasis = field(init=False)
+
+    def __post_init__(self) -> None:
+        m = self.model
+        if not np.isfinite(self.omega) or self.omega <= 0:
+            raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {self.omega!r}")
+        samples = default_samples(self.harmonics) if self.samples is None else self.samples
+        if self.half_wave is None:
+            self.half_wave = m.half_wave_symmetric and samples % 2 == 0
+        elif self.half_wave and not m.half_wave_symmetric:
+            raise ValueError(
+                "half_wave=True needs a half-wave symmetric model (no static load, no unilateral contact)"
+            )
+        self.basis = HarmonicBasis(self.harmonics, samples, bool(self.half_wave))
+        self.samples = samples
+        self.normal_loads = m.normal_loads(self.wear)
+        self.wear = np.zeros(len(m.friction)) if self.wear is None else np.asarray(self.wear, float)
+        if np.any(self.wear < 0):
+            raise ValueError(f"wear must be >= 0 m, got {self.wear}")
+        active_f = [i for i, c in enumerate(m.friction) if c.mu * self.normal_loads[i] > 0]
+        self.active_index = active_f + [len(m.friction) + j for j in range(len(m.normal))]
+        self.active = [m.contacts[i] for i in self.active_index]
+        self.kinds = np.array(
+            [dlft.FRICTION] * len(active_f) + [dlft.UNILATERAL] * len(m.normal), dtype=np.int64
+        )
+        self.limits = np.array(
+            [m.friction[i].mu * self.normal_loads[i] for i in active_f] + [c.gap for c in m.normal],
+            dtype=float,
+        )
+        self.B = m.relative_map(self.active)
+        if self.active:
+            cond = self.condensed or condense(m, self.B, self.omega, self.basis, self.derivative)
+            self.Z, self.F0, self.dZ, self.dF0 = cond.Z, cond.F, cond.dZ, cond.dF
+            self.eps = self._penalty(self.eps)
+
+    def at_load(self, force_scale: float) -> Problem:
+        """The same problem with the external forces scaled by ``force_scale`` (a copy, same condensation)."""
+        new = copy.copy(self)
+        new.force_scale = float(force_scale)
+        return new
+
+    def with_wear(self, wear) -> Problem:
+        """The same problem at wear depths ``wear`` (m): wear changes only the friction limits.
+
+        Reuses the condensation and the penalty when the set of active contacts
+        is unchanged (it changes only when a normal load reaches zero).
+        """
+        wear = np.asarray(wear, dtype=float)
+        loads = self.model.normal_loads(wear)
+        nf = len(self.model.friction)
+        active_f = [i for i in range(nf) if self.model.friction[i].mu * loads[i] > 0]
+        if active_f != [i for i in self.active_index if i < nf]:
+            return Problem(
+                self.model, self.omega, self.harmonics, self.samples, wear, None, self.basis.half_wave,
+                self.force_scale,
+            )  # fmt: skip
+        new = copy.copy(self)
+        new.wear, new.normal_loads = wear, loads
+        new.limits = self.limits.copy()
+        new.limits[: len(active_f)] = [self.model.friction[i].mu * loads[i] for i in active_f]
+        return new
+
+    # -- sizes ----------------------------------------------------------------
+    @property
+    def n_active(self) -> int:
+        return len(self.active)
+
+    @property
+    def size(self) -> int:
+        """Number of unknowns ``nc H``."""
+        return self.n_active * self.basis.size
+
+    @property
+    def F(self) -> np.ndarray:
+        """Reduced force at the current load factor (N)."""
+        return self.force_scale * self.F0
+
+    def _penalty(self, eps) -> np.ndarray:
+        """Penalty per contact (N/m); sets ``deps``, its derivative in omega (N s/m)."""
+        H, nc = self.basis.size, self.n_active
+        self.deps = np.zeros(nc)
+        if eps is None:
+            diag = np.diag(self.Z).reshape(nc, H)
+            j = np.argmax(np.abs(diag), axis=1)
+            if self.dZ is not None:
+                dd = np.diag(self.dZ).reshape(nc, H)[np.arange(nc), j]
+                self.deps = EPS_FACTOR * np.sign(diag[np.arange(nc), j]) * dd
+            return EPS_FACTOR * np.abs(diag[np.arange(nc), j])
+        eps = np.broadcast_to(np.asarray(eps, dtype=float), (self.n_active,)).copy()
+        if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
+            raise ValueError(f"eps must be finite and > 0 N/m, got {eps}")
+        return eps
+
+    # -- DLFT -------------------------------------------------------------------
+    def evaluate(self, x: np.ndarray, jacobian: bool = True):
+        """Residual (N), Jacobian (N/m) or None, and the time-domain fields of the march."""
+        nc, H = self.n_active, self.basis.size
+        Ns = self.basis.marched_samples
+        R = np.empty(nc * H)
+        A = np.empty((nc, H, H))
+        lam = np.empty((nc, Ns))
+        X = np.empty((nc, Ns))
+        state = np.empty((nc, Ns), dtype=np.int8)
+        dlft.evaluate(
+            x, self.Z, self.F, self.eps, self.kinds, self.limits, self.basis.synthesis, self.basis.analysis,
+            self.basis.half_wave, jacobian, R, A, lam, X, state,
+        )  # fmt: skip
+        J = None
+        if jacobian:
+            J = np.empty((nc * H, nc * H))
+            dlft.jacobian_from_blocks(self.Z, self.eps, A, J)
+        return R, J, A, lam, X, state
+
+    def residual_scale(self) -> float:
+        """Force scale (N) against which residuals are judged."""
+        scale = max(
+            np.abs(self.F).max(initial=0.0), np.abs(self.limits[self.kinds == dlft.FRICTION]).max(initial=0)
+        )
+        return scale if scale > 0 else 1.0
+
+    # -- linear solutions -------------------------------------------------------
+    def stuck_guess(self) -> np.ndarray:
+        """Stuck friction contacts (x = 0) and unilateral contacts closed at their gap."""
+        x = np.zeros(self.size)
+        if not self.basis.half_wave:
+            H = self.basis.size
+            for c in np.flatnonzero(self.kinds == dlft.UNILATERAL):
+                x[c * H] = self.limits[c]
+        return x
+
+    def stick_ratio(self) -> float:
+        """Largest ratio ``(stick force half-range) / (mu F_N)`` of the exact stuck solution.
+
+        Only for friction-only problems: the stuck solution has ``x = 0`` on
+        every harmonic but the mean, chosen so that each stick force is centred
+        in its cone, and its force is ``Lambda = F_r - Z_r x``. Values ``<= 1``
+        mean the stuck solution is exact.
+        """
+        H = self.basis.size
+        F = self.F.reshape(self.n_active, H)
+        amp = np.sqrt(np.sum(F[:, self.basis.orders == 1] ** 2, axis=1))  # forcing is at the fundamental
+        return float(np.max(amp / self.limits))
+
+    def stuck_solution(self) -> np.ndarray:
+        """Unknowns of the centred stuck solution (friction-only problems)."""
+        x = np.zeros(self.size)
+        if not self.basis.half_wave:
+            H = self.basis.size
+            means = np.arange(self.n_active) * H
+            # centred stick: the mean stick force Lambda_0 = F_0 - Z_0 x_0 is zero
+            x[means] = np.linalg.solve(self.Z[np.ix_(means, means)], self.F[means])
+        return x
