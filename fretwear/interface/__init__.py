@@ -1,0 +1,1 @@
+"""Contact interfaces with many node pairs: finite-element structures, reduction, coupled DLFT, nodal wear."""
