@@ -11,6 +11,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -278,58 +279,30 @@ def test_the_numerical_core_imports_no_plotting_or_cluster_library():
     assert out.stdout.strip() == "[]"
 
 
+def _dask(*args: str) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, "-m", "dask", *args, "--no-dashboard"], stderr=subprocess.DEVNULL
+    )
+
+
 @pytest.fixture(scope="module")
 def scheduler(tmp_path_factory):
-    """A ``dask scheduler`` and two ``dask worker`` processes (with nannies) on 127.0.0.1."""
-    folder = tmp_path_factory.mktemp("dask")
-    file = folder / "scheduler.json"
-    common = ["--no-dashboard"]
-    procs = [
-        subprocess.Popen(
-            [
-                sys.executable,
-                "-m",
-                "dask",
-                "scheduler",
-                "--host",
-                "127.0.0.1",
-                "--port",
-                "0",
-                "--scheduler-file",
-                str(file),
-                *common,
-            ],
-            stderr=subprocess.DEVNULL,
-        )
-    ]
+    """A ``dask scheduler`` and two ``dask worker`` processes (with nannies) on 127.0.0.1: a client to it."""
+    file = tmp_path_factory.mktemp("dask") / "scheduler.json"
+    procs = [_dask("scheduler", "--host", "127.0.0.1", "--port", "0", "--scheduler-file", str(file))]
     try:
         deadline = time.monotonic() + 60
         while not file.exists():
             assert time.monotonic() < deadline and procs[0].poll() is None, "the scheduler did not start"
-            time.sleep(0.1)
+            time.sleep(0.05)
         for _ in range(2):
             procs.append(
-                subprocess.Popen(
-                    [
-                        sys.executable,
-                        "-m",
-                        "dask",
-                        "worker",
-                        "--scheduler-file",
-                        str(file),
-                        "--nthreads",
-                        "1",
-                        "--host",
-                        "127.0.0.1",
-                        *common,
-                    ],
-                    stderr=subprocess.DEVNULL,
-                )
+                _dask("worker", "--scheduler-file", str(file), "--nthreads", "1", "--host", "127.0.0.1")
             )
-        client = distributed.Client(scheduler_file=str(file), timeout="30s")
-        client.wait_for_workers(2, timeout=60)
-        yield client
-        client.close()
+        with distributed.Client(scheduler_file=str(file), timeout="30s") as client:
+            client.wait_for_workers(2, timeout=60)
+            yield client
+            client.shutdown()  # the scheduler and the workers' nannies exit
     finally:
         for p in reversed(procs):
             p.terminate()
@@ -341,87 +314,72 @@ def scheduler(tmp_path_factory):
                 p.wait()
 
 
-def _start(spec_path, out, address, *extra):
-    return subprocess.Popen(
-        [*STUDY_MODULE, str(spec_path), "--out", str(out), "--scheduler", address, *extra],
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-
-
 def _done(out) -> np.ndarray:
+    """Which tasks of the store at ``out`` are written."""
     try:
         return np.isfinite(zarr.open_group(out, mode="r")["task_seconds"][:])
     except Exception:  # noqa: BLE001 - not created yet
         return np.zeros(0, dtype=bool)
 
 
-def _wait_for_tasks(proc, out, count, timeout=60.0) -> np.ndarray:
+def _wait_for_tasks(running, out, count, timeout=60.0) -> np.ndarray:
     deadline = time.monotonic() + timeout
     while (done := _done(out)).sum() < count:
-        assert proc.poll() is None, proc.stderr.read()
+        assert running(), "the study ended before it was disturbed"
         assert time.monotonic() < deadline, "no task finished in time"
-        time.sleep(0.02)
+        time.sleep(0.01)
     return done
 
 
-def test_distributed_scheduler_gives_the_same_result(scheduler, spec_path, local_run, tmp_path):
+def test_distributed_scheduler_gives_the_same_result(scheduler, spec_path, local_run, tmp_path, capsys):
     out = tmp_path / "dist.zarr"
-    run = subprocess.run(
-        [*STUDY_MODULE, str(spec_path), "--out", str(out), "--scheduler", scheduler.scheduler.address],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert run.returncode == study.EXIT_NOT_CONVERGED, run.stderr  # the drawn negative mu
+    status = study.main([str(spec_path), "--out", str(out), "--scheduler", scheduler.scheduler.address])
+    err = capsys.readouterr().err
+    assert status == study.EXIT_NOT_CONVERGED, err  # the drawn negative mu
     invalid = int((local_run[1].status == study.INVALID).sum())
-    assert "on 2 workers" in run.stderr and f"invalid {invalid}" in run.stderr
+    assert "on 2 workers" in err and f"invalid {invalid}" in err and "[####" in err  # progress bar
     xr.testing.assert_identical(_data(xr.open_zarr(out)), _data(local_run[1]))
 
 
 def test_a_killed_worker_is_replaced_and_the_result_is_identical(scheduler, spec_path, local_run, tmp_path):
     out = tmp_path / "killed.zarr"
-    pids = set(scheduler.run(os.getpid).values())
-    proc = _start(spec_path, out, scheduler.scheduler.address, "--points-per-task", "1")
-    done = _wait_for_tasks(proc, out, 1)
-    victim = sorted(pids)[0]
-    os.kill(victim, signal.SIGKILL)
-    _, err = proc.communicate(timeout=300)
+    pids = sorted(scheduler.run(os.getpid).values())
+    args = [str(spec_path), "--out", str(out), "--scheduler", scheduler.scheduler.address, "--quiet"]
+    statuses = []
+    thread = threading.Thread(target=lambda: statuses.append(study.main([*args, "--points-per-task", "1"])))
+    thread.start()
+    done = _wait_for_tasks(thread.is_alive, out, 1)
+    os.kill(pids[0], signal.SIGKILL)
+    thread.join(timeout=300)
     assert done.sum() < len(done), "the study ended before the worker was killed"
-    assert proc.returncode == study.EXIT_NOT_CONVERGED, err
+    assert statuses == [study.EXIT_NOT_CONVERGED]
     scheduler.wait_for_workers(2, timeout=60)
     now = set(scheduler.run(os.getpid).values())
-    assert victim not in now and len(now) == 2  # the nanny started a new worker process
-    result = _data(xr.open_zarr(out))
-    reference = _data(local_run[1])
+    assert pids[0] not in now and len(now) == 2  # the nanny started a new worker process
+    result, reference = _data(xr.open_zarr(out)), _data(local_run[1])
     for name in ("cycles_to", "status", "mu", "fex"):
         xr.testing.assert_identical(result[name], reference[name])
 
 
-def test_an_interrupted_study_resumes_with_only_the_missing_blocks(scheduler, spec_path, local_run, tmp_path):
+def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
+    scheduler, spec_path, local_run, tmp_path, capsys
+):
     out = tmp_path / "resume.zarr"
-    address = scheduler.scheduler.address
-    proc = _start(spec_path, out, address, "--points-per-task", "1")
-    _wait_for_tasks(proc, out, 2)
-    proc.send_signal(signal.SIGINT)
+    args = [str(spec_path), "--out", str(out), "--points-per-task", "1", "--quiet"]
+    address = ["--scheduler", scheduler.scheduler.address]
+    proc = subprocess.Popen([*STUDY_MODULE, *args, *address], stderr=subprocess.PIPE, text=True)
+    _wait_for_tasks(lambda: proc.poll() is None, out, 2)
+    proc.send_signal(signal.SIGINT)  # Ctrl-C
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == study.EXIT_INTERRUPTED, err
     assert "rerun the same command to resume" in err
     seconds = zarr.open_group(out, mode="r")["task_seconds"][:]
     done = np.isfinite(seconds)
     assert 2 <= done.sum() < len(done)
-    partial = xr.open_zarr(out)
-    assert (
-        partial.status.values.ravel().tolist().count(study.NOT_COMPUTED) == (~done).sum()
-    )  # one point a task
-    rerun = subprocess.run(
-        [*STUDY_MODULE, str(spec_path), "--out", str(out), "--scheduler", address, "--points-per-task", "1"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert rerun.returncode == study.EXIT_NOT_CONVERGED, rerun.stderr
-    assert f"computed {(~done).sum()} tasks ({done.sum()} already in the store)" in rerun.stderr
+    statuses = xr.open_zarr(out).status.values.ravel()
+    assert np.sum(statuses == study.NOT_COMPUTED) == np.sum(~done)  # one point per task
+    assert study.main([*args, *address]) == study.EXIT_NOT_CONVERGED
+    assert f"computed {(~done).sum()} tasks ({done.sum()} already in the store)" in capsys.readouterr().err
     after = zarr.open_group(out, mode="r")["task_seconds"][:]
     np.testing.assert_array_equal(
         after[done], seconds[done]
@@ -429,10 +387,5 @@ def test_an_interrupted_study_resumes_with_only_the_missing_blocks(scheduler, sp
     result = _data(xr.open_zarr(out))
     for name in ("cycles_to", "status"):
         xr.testing.assert_identical(result[name], _data(local_run[1])[name])
-    again = subprocess.run(
-        [*STUDY_MODULE, str(spec_path), "--out", str(out), "--points-per-task", "1"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert again.returncode == study.EXIT_NOT_CONVERGED and "nothing to compute" in again.stderr
+    assert study.main(args) == study.EXIT_NOT_CONVERGED  # no cluster needed: nothing left
+    assert "nothing to compute" in capsys.readouterr().err
