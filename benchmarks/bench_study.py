@@ -79,11 +79,14 @@ def main() -> None:
             spec, run, before, after = study(client, samples, folder, f"speedup{workers}")
             runs[workers] = run
             per_task = int(np.prod(layout(spec).chunks))
-            print(f"  {spec.n_points} points in {run.n_tasks} tasks of up to {per_task}: wall {run.wall_time:.2f} s, "
-                  f"summed task compute {run.compute_seconds:.2f} s "
-                  f"({run.compute_seconds / spec.n_points * 1e3:.1f} ms per point); overhead per task "
-                  f"{run.overhead_per_task * 1e3:.1f} ms = {100 * run.overhead_fraction:.1f} % of the "
-                  f"workers' time (target < 5 %: x{run.overhead_fraction / 0.05:.2f}); {before} -> {after}")  # fmt: skip
+            print(
+                f"  {spec.n_points} points in {run.n_tasks} tasks of up to {per_task}: "
+                f"wall {run.wall_time:.2f} s, summed task compute {run.compute_seconds:.2f} s "
+                f"({run.compute_seconds / spec.n_points * 1e3:.1f} ms per point); overhead per task "
+                f"{run.overhead_per_task * 1e3:.1f} ms = {100 * run.overhead_fraction:.1f} % of the "
+                f"workers' time (target < 5 %: x{run.overhead_fraction / 0.05:.2f})"
+            )
+            print(f"  {before} -> {after}")
             if workers == 2:
                 print("cost against the number of points (2 workers):")
                 print(f"  {'points':>7} {'tasks':>6} {'wall s':>8} {'ms/point':>9} {'overhead %':>10}  load")
