@@ -559,7 +559,7 @@ the polynomial curve misses the plateau; loosen the tolerance to see stepping dr
             xlabel="cycles N",
             ylabel="w / u0",
             logx=True,
-            title=f"Three methods at {sel.frequency:.4g} Hz",
+            title=f"Slow-time methods at {sel.frequency:.4g} Hz",
         )
 
     def _figure_harmonics(self):

@@ -23,6 +23,8 @@ from typing import Any
 import numpy as np
 import param
 
+import fretwear
+
 from .backend import Backend, Cancelled, Failure, ModelSpec, Progress, ResultCache
 
 __all__ = [
@@ -40,7 +42,7 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 #: slow-time methods (:func:`fretwear.wear.wear_history`); ``exact`` follows the exact load path
-METHODS = ("exact", "stepping", "polynomial", "time")
+METHODS = tuple(fretwear.METHODS)
 #: harmonic counts of the convergence study (paper Fig. 10)
 CONVERGENCE_HARMONICS = (1, 3, 7, 15, 21)
 #: load ratios r = F_ex / (mu F_N) of the regime map
@@ -231,15 +233,10 @@ class Settings:
         return np.concatenate([[0.0], self.horizon * np.array([1e-3, 1e-2, 1e-1, 1.0])])
 
     def options(self, method: str | None = None, harmonics: int | None = None) -> dict[str, Any]:
-        """Options of ``method`` (default the selected one): only those it depends on."""
-        method = method or self.method
+        """Options of ``method`` (default the selected one): only those it takes (``fretwear.METHODS``)."""
         nh = self.harmonics if harmonics is None else harmonics
-        return {
-            "exact": {"harmonics": nh},
-            "stepping": {"harmonics": nh, "tol": self.tol},
-            "polynomial": {"harmonics": nh, "degree": self.degree},
-            "time": {"tol": self.tol},
-        }[method]
+        settings = {"harmonics": nh, "tol": self.tol, "degree": self.degree}
+        return fretwear.wear.method_options(method or self.method, settings)
 
     def snap(self, f_hz: float) -> float:
         """The frequency of the map grid nearest to ``f_hz``."""

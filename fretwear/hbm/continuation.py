@@ -1,20 +1,15 @@
-"""Path following for the DLFT equations: load homotopy, frequency sweeps, folds.
+"""The DLFT response over frequency: sweeps and the branch through folds.
 
-The DLFT residual is piecewise linear in the unknowns and, in the stick-slip
-band, the solution can move fast with the load or the frequency; natural
-parameter steps then fail. :func:`track` follows the solution curve of
-``R(x, p) = 0`` by pseudo-arc-length continuation in scaled variables, which
-passes steep parts and folds alike, and lands exactly on a target parameter.
-
-It serves three purposes:
-
-* the cold start of a single-frequency solve: follow the load factor from the
-  largest load that still sticks (where the stuck solution is exact) to the
-  full load (:func:`load_homotopy`);
-* :func:`sweep`: the response at given frequencies, each reached from the
-  previous one along the branch;
+* :func:`sweep`: the response at given frequencies, each solve warm-started
+  from its neighbours (secant predictor, Newton, then the global Newton
+  homotopy of :mod:`fretwear.hbm.periodic`, then a cold solve), with the
+  condensation of every frequency computed at once;
 * :func:`continuation`: the whole branch over a frequency band, folds
-  included, as a sequence of solutions.
+  included, by pseudo-arc-length continuation in frequency
+  (:func:`fretwear.hbm.arclength.track`) on the DLFT residual.
+
+The cold start of a single-frequency solve (exact load continuation) lives
+in :mod:`fretwear.hbm.periodic`.
 """
 
 from __future__ import annotations

@@ -151,6 +151,11 @@ class PeriodicSolution:
         slip[inactive] = self.relative_displacement[inactive]
         return slip
 
+    @property
+    def floquet_multipliers(self) -> None:
+        """Not known to harmonic balance (``None``); shooting gives them (:func:`fretwear.shooting`)."""
+        return None
+
     # -- amplitudes -----------------------------------------------------------
     @property
     def frequency(self) -> float:
