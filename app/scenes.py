@@ -270,20 +270,9 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
     def _figure_wear_map(self):
         s, wm, sel = self.settings, self._map(), self.selection
         f, cycles = (s.frequencies, s.cycles) if wm is None else (wm.frequency, wm.cycles)
-        logn = np.log10(cycles[1:])
-        z = np.zeros((len(logn), len(f))) if wm is None else wm.wear_fraction[:, 1:, 0].T
-        return figures.map_figure(
-            f,
-            logn,
-            z,
-            xlabel=HZ,
-            ylabel="log10 cycles N",
-            zlabel="w / u0",
-            clim=(0, 1),
-            levels=(0.1, 0.5, 0.9),
-            point=(sel.frequency, np.log10(sel.cycles)),
-            title=f"Wear map ({s.method}, k_w = {s.kw:.3g} 1/Pa)",
-        )
+        z = np.zeros((len(f), len(cycles))) if wm is None else wm.wear_fraction[:, :, 0]
+        title = f"Wear map ({s.method}, k_w = {s.kw:.3g} 1/Pa)"
+        return figures.wear_map_figure(f, cycles, z, title=title, point=(sel.frequency, sel.cycles))
 
     def _history(self):
         wm = self._map()

@@ -215,7 +215,7 @@ class Settings:
     @property
     def cycles(self) -> np.ndarray:
         """Cycle grid of the wear map: 0, then log-spaced from ``1e-4`` horizon to the horizon."""
-        return np.concatenate([[0.0], np.geomspace(self.horizon * 1e-4, self.horizon, self.n_cycles - 1)])
+        return fretwear.wear.cycle_grid(self.horizon, self.n_cycles)
 
     @property
     def ratios(self) -> np.ndarray:
@@ -225,12 +225,12 @@ class Settings:
     @property
     def dense_cycles(self) -> np.ndarray:
         """Cycle counts at which wear histories are drawn: 0, then log-spaced up to the horizon."""
-        return np.concatenate([[0.0], np.geomspace(self.horizon * 1e-4, self.horizon, 200)])
+        return fretwear.wear.cycle_grid(self.horizon)
 
     @property
     def snapshots(self) -> np.ndarray:
         """Cycle counts of the pseudo-FRFs of the FRF-evolution scene."""
-        return np.concatenate([[0.0], self.horizon * np.array([1e-3, 1e-2, 1e-1, 1.0])])
+        return fretwear.wear.snapshot_cycles(self.horizon)
 
     def options(self, method: str | None = None, harmonics: int | None = None) -> dict[str, Any]:
         """Options of ``method`` (default the selected one): only those it takes (``fretwear.METHODS``)."""

@@ -17,6 +17,7 @@ from .plots import (
     signals_figure,
     styled,
     wear_curve,
+    wear_map_figure,
 )
 
 __all__ = [
@@ -35,4 +36,5 @@ __all__ = [
     "signals_figure",
     "styled",
     "wear_curve",
+    "wear_map_figure",
 ]

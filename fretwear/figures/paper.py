@@ -11,8 +11,18 @@ import numpy as np
 from ..hbm import linear_frf, sweep
 from ..model import paper_model
 from ..studies import compare_methods, harmonic_convergence, wear_map
+from ..wear import cycle_grid, method_options, snapshot_cycles
 from .export import FIGURE_FORMATS, save_csv, save_figure
-from .plots import holoviews, line_figure, load_backend, map_figure, positive, styled, wear_curve
+from .plots import (
+    holoviews,
+    line_figure,
+    load_backend,
+    map_figure,
+    positive,
+    styled,
+    wear_curve,
+    wear_map_figure,
+)
 
 __all__ = ["paper_figures"]
 
@@ -145,9 +155,9 @@ def paper_figures(
     levels = (6.0, 10.0, 14.0)
     f_fine = np.linspace(fmin, fmax, 8 * (int(frequencies) - 1) + 1)
     f_map = np.linspace(fmin, fmax, int(frequencies))
-    n_grid = np.concatenate([[0.0], np.geomspace(cycles * 1e-4, cycles, int(cycle_points) - 1)])
+    n_grid = cycle_grid(cycles, int(cycle_points))
     logn = np.log10(n_grid[1:])
-    snapshots = np.concatenate([[0.0], cycles * np.array([1e-3, 1e-2, 1e-1, 1.0])])
+    snapshots = snapshot_cycles(cycles)
     models = {fex: paper_model(fex=fex) for fex in levels}
     m10 = models[10.0]
     lin = {
@@ -198,19 +208,17 @@ def paper_figures(
     )
 
     # Fig. 7, 9, 13: wear maps by ``method``
-    opts = {"kw": kw, "harmonics": harmonics, "tol": tol, "workers": workers}
+    settings = {"harmonics": harmonics, "tol": tol}  # "auto" takes those of the method it picks
+    if method != "auto":
+        settings = method_options(method, settings)
+    opts = {"kw": kw, "workers": workers, **settings}
     maps = {fex: wear_map(m, f_map, n_grid, method=method, **opts) for fex, m in models.items()}
     say(f"computed the wear maps ({method})")
     panels = [
-        map_figure(
+        wear_map_figure(
             f_map,
-            logn,
-            wm.wear_fraction[:, 1:, 0].T,
-            xlabel="frequency (Hz)",
-            ylabel="log10 cycles",
-            zlabel="w / u0",
-            clim=(0, 1),
-            levels=(0.1, 0.5, 0.9),
+            n_grid,
+            wm.wear_fraction[:, :, 0],
             title=f"Fig. 7{'abc'[i]}: F_ex = {fex:g} N",
         )
         for i, (fex, wm) in enumerate(maps.items())
@@ -260,7 +268,7 @@ def paper_figures(
 
     # Fig. 10: harmonic convergence at f_study, 10 N
     hc = harmonic_convergence(m10, f_study, kw=kw, cycles=cycles, tol=tol)
-    dense = np.concatenate([[0.0], np.geomspace(cycles * 1e-4, cycles, 200)])
+    dense = cycle_grid(cycles)
     curves = {f"Nh = {nh}": wear_curve(h, dense) for nh, h in hc.items()}
     write(
         "fig10",
@@ -307,15 +315,10 @@ def paper_figures(
     say("computed the polynomial wear map")
     write(
         "fig12",
-        map_figure(
+        wear_map_figure(
             f_map,
-            logn,
-            poly.wear_fraction[:, 1:, 0].T,
-            xlabel="frequency (Hz)",
-            ylabel="log10 cycles",
-            zlabel="w / u0",
-            clim=(0, 1),
-            levels=(0.1, 0.5, 0.9),
+            n_grid,
+            poly.wear_fraction[:, :, 0],
             title="Fig. 12: polynomial method, 10 N",
         ),
         poly.long_table(),

@@ -28,6 +28,7 @@ __all__ = [
     "overlay_options",
     "line_figure",
     "map_figure",
+    "wear_map_figure",
     "signals_figure",
     "wear_curve",
 ]
@@ -226,6 +227,30 @@ def map_figure(
         )
     overlay = hv.Overlay(layers)
     return overlay_options(overlay, title, xlabel, ylabel, False, False, bool(curves))
+
+
+def wear_map_figure(
+    frequency,
+    cycles,
+    wear_fraction,
+    *,
+    title: str = "",
+    point: tuple[float, float] | None = None,
+) -> hv.Overlay:
+    """Wear map ``w / u0`` over frequency (Hz) x log10 cycles (paper Fig. 7, 12), contours at 0.1/0.5/0.9.
+
+    ``cycles`` starts at 0 (left out: the log axis starts at the next count);
+    ``wear_fraction`` has shape ``(len(frequency), len(cycles))``; ``point`` is
+    ``(f, N)`` in Hz and cycles.
+    """
+    logn = np.log10(np.asarray(cycles, dtype=float)[1:])
+    z = np.asarray(wear_fraction, dtype=float)[:, 1:].T
+    return map_figure(
+        frequency, logn, z,
+        xlabel="frequency (Hz)", ylabel="log10 cycles N", zlabel="w / u0",
+        clim=(0, 1), levels=(0.1, 0.5, 0.9), title=title,
+        point=None if point is None else (point[0], np.log10(point[1])),
+    )  # fmt: skip
 
 
 def signals_figure(

@@ -7,7 +7,7 @@ slow-time methods, one module each (:mod:`~fretwear.wear.exact`,
 Archard's law, the input checks and the result type :class:`WearHistory`.
 """
 
-from .common import TWO_SCALE_LIMIT, WearHistory, check_wear_inputs
+from .common import TWO_SCALE_LIMIT, WearHistory, check_wear_inputs, cycle_grid, snapshot_cycles
 from .exact import exact_path_applies, wear_exact
 from .history import METHODS, Method, method_options, resolve_method, wear_history
 from .polynomial import wear_polynomial
@@ -20,6 +20,8 @@ __all__ = [
     "TWO_SCALE_LIMIT",
     "WearHistory",
     "check_wear_inputs",
+    "cycle_grid",
+    "snapshot_cycles",
     "exact_path_applies",
     "integrate_wear",
     "method_options",

@@ -45,6 +45,8 @@ __all__ = [
     "check_wear_inputs",
     "clip_wear",
     "two_scale_warning",
+    "cycle_grid",
+    "snapshot_cycles",
     "TWO_SCALE_LIMIT",
 ]
 
@@ -165,6 +167,16 @@ def _hermite(x: np.ndarray, y: np.ndarray, dy: np.ndarray, xi: np.ndarray) -> np
     t = ((xi - x[k])[:, None] / np.where(h > 0, h, 1.0)).clip(0, 1)
     h00, h10, h01, h11 = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
     return h00 * y[k] + h10 * h * dy[k] + h01 * y[k + 1] + h11 * h * dy[k + 1]
+
+
+def cycle_grid(horizon: float, points: int = 201, decades: float = 4.0) -> np.ndarray:
+    """Cycle counts of wear maps and curves: 0, then ``points - 1`` log-spaced over ``decades`` (N)."""
+    return np.concatenate([[0.0], np.geomspace(horizon * 10.0**-decades, horizon, points - 1)])
+
+
+def snapshot_cycles(horizon: float) -> np.ndarray:
+    """Cycle counts of the pseudo-FRFs (paper Fig. 8-9): 0 and 1e-3, 1e-2, 1e-1, 1 times ``horizon``."""
+    return np.concatenate([[0.0], horizon * np.array([1e-3, 1e-2, 1e-1, 1.0])])
 
 
 def check_wear_inputs(model: Model, kw: float, cycles: float, degree: int | None = None) -> None:
