@@ -1,4 +1,4 @@
-"""Command line interface: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map``, ``cost``, ``figures``.
+"""Command line: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map``, ``cost``, ``figures``, ``study``.
 
 The commands are thin wrappers around the library's front functions, the same
 the dashboard and the benchmarks call (:func:`fretwear.sweep`,
@@ -60,6 +60,7 @@ from .hbm.periodic import solve_periodic
 from .hbm.solution import PeriodicSolution
 from .model import Model, paper_model
 from .model.modelfile import example_names, example_path, read_model_file
+from .studies import study as study_command
 from .studies import wear_map
 from .studies.accuracy import QUANTITIES, cost_ladder
 from .time import ShootingSolution, shooting, shooting_sweep
@@ -293,6 +294,16 @@ def build_parser() -> argparse.ArgumentParser:
                          help="frequencies of the maps (-), >= 2; default 41")  # fmt: skip
     figures.add_argument("--formats", default="png,svg,csv",
                          help="formats, comma-separated: png, svg, html, csv")  # fmt: skip
+
+    study_command.add_arguments(
+        commands.add_parser(
+            "study",
+            help="parameter study on Dask, results in Zarr",
+            description="Runs the parameter study of a TOML spec on a Dask cluster (local by default) and "
+            "writes an xarray Dataset to a Zarr store, chunk by chunk; rerun the same command to finish "
+            "an interrupted study. Read the result with xarray.open_zarr(RESULT).",
+        )
+    )
     return parser
 
 
@@ -643,6 +654,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         _check(args)
         if args.command == "figures":
             return _figures(args)
+        if args.command == "study":
+            return study_command.run(args)
         model, names = _model(args)
         return _COMMANDS[args.command](args, model, names)
     except (UsageError, ValueError) as exc:
