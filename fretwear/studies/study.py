@@ -60,7 +60,9 @@ import logging
 import math
 import os
 import shutil
+import signal
 import sys
+import threading
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -593,9 +595,20 @@ def _start_client(scheduler: str | None, workers: int | None):
     if scheduler is not None:
         return Client(scheduler, timeout="20s", set_as_default=False), None
     n = workers or len(os.sched_getaffinity(0))
-    cluster = LocalCluster(
-        n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
-    )
+    # Ctrl-C reaches the workers too: they start with SIGINT ignored, and the client closes them
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+        )
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
     return Client(cluster, set_as_default=False), cluster
 
 
@@ -775,6 +788,7 @@ def wear_life_figure(ds, fraction: float = 0.5, bins: int = 40):
     matplotlib.figure.Figure
     """
     from matplotlib.figure import Figure  # plotting only here: the numerical core does not import it
+    from matplotlib.ticker import NullFormatter
 
     summary = wear_life_summary(ds, fraction)
     life = ds["cycles_to"].sel(fraction=fraction, method="nearest").values.ravel()
@@ -785,6 +799,7 @@ def wear_life_figure(ds, fraction: float = 0.5, bins: int = 40):
         edges = np.geomspace(finite.min(), finite.max() * 1.0001, bins + 1) if finite.min() > 0 else bins
         ax.hist(finite, bins=edges, color="#4c72b0", alpha=0.8, label=f"{finite.size} samples")
         ax.set_xscale("log")
+        ax.xaxis.set_minor_formatter(NullFormatter())
     styles = {"median": ("k", "-"), "q05": ("#c44e52", "--"), "q95": ("#c44e52", "--")}
     labels = {"median": "median", "q05": "5 %", "q95": "95 %"}
     for key, (color, style) in styles.items():
