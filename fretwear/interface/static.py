@@ -1,0 +1,320 @@
+"""Quasi-static contact of an interface: Hertz and Cattaneo-Mindlin anchors.
+
+The static problem is eq. 12 at ``omega = 0``: ``Z_0 q + lambda = F`` on the
+contact coordinates (:class:`~fretwear.interface.reduction.ContactCondensation`),
+with the node law of the DLFT (eq. 19-23) applied once per load increment
+instead of once per time sample: for pair ``i``, with ``lambda_u = F - Z_0 q +
+eps q``,
+
+* normal: the predicted force ``lambda_u,N - eps_N g_i`` (``g_i`` the gap plus
+  wear) closes the pair when compressive, else the pair separates (eq. 21);
+* tangential: stick is predicted, ``lambda_u,T - eps_T X_i`` with ``X_i`` the
+  slip variable of the previous increment; beyond the friction limit ``mu
+  lambda_N`` of the same increment the pair slips (eq. 23) and ``X_i`` moves.
+
+Each increment is solved by Newton's method on this piecewise-linear
+residual (exact Jacobian). The load path is the one of the fretting test: the
+normal load ``P`` in ``normal_steps`` increments, then the tangential load
+``Q`` from 0 in ``tangential_steps`` increments. With identical pad and flat
+materials the converged solution reproduces:
+
+* Hertz: ``a = sqrt(4 P R / (pi E*))``, ``p(x) = p0 sqrt(1 - x^2 / a^2)``,
+  ``p0 = 2 P / (pi a)``;
+* Cattaneo-Mindlin: stick zone ``|x| < c`` with ``c = a sqrt(1 - Q / (mu P))``;
+  for ``Q >= mu P`` no static equilibrium exists (gross slip).
+
+Half-widths are measured from the nodal forces by second moments, which are
+exact for the elliptical distributions of the theory and use every node
+(node counting would only bracket them to within one spacing): ``a = 2
+sqrt(sum F_i (x_i - xbar)^2 / sum F_i)`` on the normal forces, and ``c`` the
+same on the stick-zone deficit ``mu F_N,i - sign(Q) F_T,i`` (zero in the slip
+zone, ``mu p0 (c / a) sqrt(1 - x^2 / c^2)`` per unit length in the stick zone).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .fe import CylinderOnFlat, cylinder_on_flat, hertz_half_width, hertz_peak_pressure
+from .reduction import ContactCondensation, craig_bampton
+from .structure import InterfaceModel
+
+__all__ = [
+    "StaticState",
+    "StaticResult",
+    "solve_static",
+    "second_moment_half_width",
+    "static_benchmark",
+]
+
+#: state codes of a pair (as in every solver of fretwear)
+STICK, SLIP, OPEN = 0, 1, 2
+
+
+@dataclass
+class StaticState:
+    """Converged state of one load increment.
+
+    Attributes
+    ----------
+    q : ndarray, shape (2 nc,)
+        Contact coordinates ``(u_T, u_N)`` per pair (m).
+    normal_force, tangential_force : ndarray, shape (nc,)
+        ``lambda_N >= 0`` and ``lambda_T`` per pair (N, or N/m per unit thickness).
+    slip_variable : ndarray, shape (nc,)
+        ``X_T`` per pair (m).
+    state : ndarray of int, shape (nc,)
+        STICK, SLIP or OPEN.
+    iterations : int
+    residual : float
+        Final ``max |R|`` relative to the load scale.
+    """
+
+    q: np.ndarray
+    normal_force: np.ndarray
+    tangential_force: np.ndarray
+    slip_variable: np.ndarray
+    state: np.ndarray
+    iterations: int
+    residual: float
+
+
+@dataclass
+class StaticResult:
+    """Outcome of a quasi-static load path.
+
+    Attributes
+    ----------
+    states : list of StaticState
+        The converged increments (normal ones, then tangential ones).
+    converged : bool
+        Whether every increment converged.
+    message : str
+        Why the path stopped, when it did (``"gross slip: ..."`` when the
+        tangential load exceeds what friction can hold).
+    gross_slip : bool
+        The path stopped because every closed pair slipped.
+    """
+
+    states: list[StaticState]
+    converged: bool
+    message: str
+    gross_slip: bool
+
+    @property
+    def final(self) -> StaticState:
+        return self.states[-1]
+
+
+def _residual(x, Z, F, eps, gap, mu, X_prev):
+    """Residual, Jacobian and fields of the node law at unknowns ``x``."""
+    lu = F - Z @ x + eps * x
+    luT, luN = lu[0::2], lu[1::2]
+    eT, eN = eps[0::2], eps[1::2]
+    predN = luN - eN * gap
+    closed = predN > 0
+    lamN = np.where(closed, predN, 0.0)
+    limit = mu * lamN
+    predT = luT - eT * X_prev
+    slip = closed & (np.abs(predT) >= limit)
+    stick = closed & ~slip
+    sgn = np.sign(predT)
+    lamT = np.where(stick, predT, np.where(slip, sgn * limit, 0.0))
+    X = (luT - lamT) / eT
+    lam = np.empty_like(x)
+    lam[0::2], lam[1::2] = lamT, lamN
+    R = Z @ x + lam - F
+    EZ = np.diag(eps) - Z  # d lambda_u / d x
+    J = Z.copy()
+    J[0::2] += stick[:, None] * EZ[0::2] + (slip * sgn * mu)[:, None] * EZ[1::2]
+    J[1::2] += closed[:, None] * EZ[1::2]
+    state = np.where(stick, STICK, np.where(slip, SLIP, OPEN))
+    return R, J, lamT, lamN, X, state
+
+
+def _increment(x0, Z, F, eps, gap, mu, X_prev, tol, max_iter):
+    """Newton on one increment: returns (state, converged, all_slip)."""
+    scale = max(np.abs(F).max(), 1e-300)
+    x = x0.copy()
+    best = (np.inf, x)
+    it = 0
+    for it in range(max_iter + 1):  # noqa: B007 - the count is reported
+        R, J, lamT, lamN, X, state = _residual(x, Z, F, eps, gap, mu, X_prev)
+        r = np.abs(R).max() / scale
+        if r < best[0]:
+            best = (r, x)
+        if r <= tol or it == max_iter:
+            break
+        try:
+            dx = np.linalg.solve(J, -R)
+        except np.linalg.LinAlgError:
+            break
+        if not np.all(np.isfinite(dx)):
+            break
+        x = x + dx
+    R, J, lamT, lamN, X, state = _residual(best[1], Z, F, eps, gap, mu, X_prev)
+    closed = state != OPEN
+    all_slip = bool(np.any(closed) and np.all(state[closed] == SLIP))
+    return StaticState(best[1], lamN, lamT, X, state, it, best[0]), best[0] <= tol, all_slip
+
+
+def solve_static(
+    condensation: ContactCondensation,
+    tangential_scale: float = 1.0,
+    normal_steps: int = 4,
+    tangential_steps: int = 8,
+    wear: np.ndarray | None = None,
+    eps: np.ndarray | None = None,
+    tol: float = 1e-10,
+    max_iter: int = 60,
+) -> StaticResult:
+    """Quasi-static load path: the static load in increments, then the ``cos`` load pattern.
+
+    Parameters
+    ----------
+    condensation : ContactCondensation
+    tangential_scale : float
+        Final multiple of the excitation pattern ``force_cos`` applied
+        statically after the static load (-); 0 for the normal load alone.
+    normal_steps, tangential_steps : int
+        Increments of each stage, >= 1.
+    wear : ndarray, shape (nc,), optional
+        Worn depth per pair (m), added to the initial gaps.
+    eps : ndarray, shape (2 nc,), optional
+        Penalty per contact coordinate (N/m); default ``|diag Z_0|``. The
+        converged static solution does not depend on it.
+    tol : float
+        Relative residual tolerance per increment.
+    max_iter : int
+        Newton iterations per increment.
+    """
+    for name, v in (("normal_steps", normal_steps), ("tangential_steps", tangential_steps)):
+        if not isinstance(v, (int, np.integer)) or v < 1:
+            raise ValueError(f"{name} must be an integer >= 1, got {v!r}")
+    Z, Fs, Fc = condensation.static
+    contact = condensation.reduced.contact
+    nc = contact.count
+    gap = contact.gap + (np.zeros(nc) if wear is None else np.asarray(wear, dtype=float))
+    eps = np.abs(np.diag(Z)).copy() if eps is None else np.asarray(eps, dtype=float)
+    x = np.zeros(2 * nc)
+    X = np.zeros(nc)
+    states = []
+    path = [(s / normal_steps, 0.0) for s in range(1, normal_steps + 1)]
+    if tangential_scale != 0:
+        path += [(1.0, tangential_scale * s / tangential_steps) for s in range(1, tangential_steps + 1)]
+    for sn, st in path:
+        F = sn * Fs + st * Fc
+        state, ok, all_slip = _increment(x, Z, F, eps, gap, contact.mu, X, tol, max_iter)
+        if not ok:
+            if all_slip and st != 0:
+                msg = (f"gross slip: every closed pair slips at tangential load factor {st:.6g}; friction "
+                       f"cannot hold the tangential load (no static equilibrium)")  # fmt: skip
+                return StaticResult(states, False, msg, True)
+            msg = f"increment ({sn:.4g}, {st:.4g}) did not converge: residual {state.residual:.3g}"
+            return StaticResult(states, False, msg, False)
+        states.append(state)
+        x, X = state.q, state.slip_variable
+    return StaticResult(states, True, "", False)
+
+
+def second_moment_half_width(x: np.ndarray, weights: np.ndarray) -> float:
+    """``2 sqrt(sum w (x - xbar)^2 / sum w)``: the half-width of an elliptical distribution (m).
+
+    For ``w(x) = sqrt(1 - (x - xbar)^2 / a^2)`` this is exactly ``a``; 0 for no weight.
+    """
+    w = np.clip(weights, 0.0, None)
+    total = w.sum()
+    if total <= 0:
+        return 0.0
+    xbar = np.sum(w * x) / total
+    return float(2.0 * np.sqrt(np.sum(w * (x - xbar) ** 2) / total))
+
+
+def static_benchmark(
+    q_ratio: float = 0.5,
+    params: CylinderOnFlat | None = None,
+    model: InterfaceModel | None = None,
+    condensation: ContactCondensation | None = None,
+    **changes,
+) -> dict:
+    """Quasi-static cylinder-on-flat test at ``Q0 / (mu P) = q_ratio`` against Hertz and Cattaneo-Mindlin.
+
+    Parameters
+    ----------
+    q_ratio : float
+        Tangential load ``Q0 / (mu P)`` (-), >= 0.
+    params : CylinderOnFlat, optional
+        Benchmark parameters (``q_ratio`` here overrides theirs).
+    model : InterfaceModel, optional
+        A benchmark model already built (its ``info`` gives ``P``, ``R``, ``E*``,
+        ``mu``); the excitation pattern is rescaled to ``q_ratio``.
+    condensation : ContactCondensation, optional
+        The static condensation of such a model, to reuse over several ``q_ratio``.
+    **changes
+        Parameters to change, e.g. ``contact_nodes=64``.
+
+    Returns
+    -------
+    dict
+        SI values: ``contact_half_width`` (m), ``stick_half_width`` (m),
+        ``peak_pressure`` (Pa), ``normal_load_per_length`` and
+        ``tangential_load_per_length`` (N/m, as applied), ``radius`` (m),
+        ``effective_modulus`` (Pa), ``mu``, ``q_ratio``, ``regime``
+        (``"partial slip"``, ``"gross slip"`` or ``"stick"``), the contact
+        force sums ``normal_force_sum`` and ``tangential_force_sum`` (N/m), the
+        theory (``hertz_half_width``, ``hertz_peak_pressure``,
+        ``mindlin_stick_half_width``, m and Pa), the relative errors
+        ``error_contact_half_width``, ``error_peak_pressure``,
+        ``error_stick_half_width`` (-), ``contact_nodes``, ``node_spacing`` (m),
+        ``converged`` and ``message``.
+    """
+    if not (np.isfinite(q_ratio) and q_ratio >= 0):
+        raise ValueError(f"q_ratio must be a finite number >= 0, got {q_ratio!r}")
+    if condensation is not None:
+        model = condensation.reduced.model
+    elif model is None:
+        model = cylinder_on_flat(params, **{**changes, "q_ratio": max(q_ratio, 1e-3)})
+    info = model.info
+    if not {"normal_load", "radius", "effective_modulus", "mu", "tangential_load"} <= set(info):
+        raise ValueError("static_benchmark needs a cylinder-on-flat model (its info names P, R, E*, mu, Q0)")
+    P, R, e_star, mu = info["normal_load"], info["radius"], info["effective_modulus"], info["mu"]
+    q_model = info["tangential_load"] / (mu * P)
+    cond = condensation or ContactCondensation(craig_bampton(model, 0.0))
+    res = solve_static(cond, tangential_scale=q_ratio / q_model if q_ratio else 0.0)
+    contact = model.contact
+    x = contact.position
+    a_h = hertz_half_width(P, R, e_star)
+    p0_h = hertz_peak_pressure(P, a_h)
+    c_h = a_h * np.sqrt(max(1.0 - q_ratio, 0.0))
+    out = dict(
+        normal_load_per_length=P, tangential_load_per_length=q_ratio * mu * P, radius=R,
+        effective_modulus=e_star, mu=mu, q_ratio=q_ratio, hertz_half_width=a_h, hertz_peak_pressure=p0_h,
+        mindlin_stick_half_width=c_h, contact_nodes=contact.count, node_spacing=float(np.min(contact.area)),
+        converged=res.converged, message=res.message,
+    )  # fmt: skip
+    if res.gross_slip:
+        last = res.states[-1]
+        out.update(regime="gross slip", stick_half_width=0.0, error_stick_half_width=None)
+    elif not res.converged:
+        out.update(regime="not converged", contact_half_width=None, stick_half_width=None, peak_pressure=None)
+        return out
+    else:
+        last = res.final
+        stick = last.state == STICK
+        deficit = np.where(
+            stick, mu * last.normal_force - np.sign(q_ratio or 1.0) * last.tangential_force, 0.0
+        )
+        c = second_moment_half_width(x, deficit) if q_ratio > 0 else None
+        regime = "stick" if q_ratio == 0 else ("partial slip" if np.any(stick) else "gross slip")
+        error = None if c is None or c_h == 0 else (c - c_h) / c_h
+        out.update(regime=regime, stick_half_width=c, error_stick_half_width=error)
+    a = second_moment_half_width(x, last.normal_force)
+    p_peak = float(np.max(last.normal_force / contact.area))
+    out.update(
+        contact_half_width=a, peak_pressure=p_peak, error_contact_half_width=(a - a_h) / a_h,
+        error_peak_pressure=(p_peak - p0_h) / p0_h, normal_force_sum=float(last.normal_force.sum()),
+        tangential_force_sum=float(last.tangential_force.sum()),
+    )  # fmt: skip
+    return out
