@@ -593,7 +593,10 @@ def _start_client(scheduler: str | None, workers: int | None):
     from distributed import Client, LocalCluster
 
     if scheduler is not None:
-        return Client(scheduler, timeout="20s", set_as_default=False), None
+        try:
+            return Client(scheduler, timeout="20s", set_as_default=False), None
+        except OSError as exc:
+            raise SpecError("--scheduler", f"cannot reach a Dask scheduler at {scheduler!r}: {exc}") from None
     n = workers or len(os.sched_getaffinity(0))
     # Ctrl-C reaches the workers too: they start with SIGINT ignored, and the client closes them
     main = threading.current_thread() is threading.main_thread()
