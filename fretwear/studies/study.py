@@ -229,7 +229,7 @@ def _model(work: Work, p: Mapping[str, Any]):
     return model
 
 
-def _method(work: Work, model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
+def _method(model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
     """The slow-time method that runs at a point and the options it takes (``auto``: exact if it applies)."""
     name = p["method"]
     if name == "auto":
@@ -242,7 +242,7 @@ def _method(work: Work, model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any
 def _wear_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i: int) -> int:
     """Wear quantities at point ``i``: fills ``out`` and returns the status code."""
     model = _model(work, p)
-    name, options = _method(work, model, p)
+    name, options = _method(model, p)
     with warnings.catch_warnings():  # the two-scale warning: the spec chose kw and the horizon
         warnings.simplefilter("ignore")
         h = fw.wear_history(
