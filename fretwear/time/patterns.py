@@ -1,0 +1,194 @@
+"""The linear dynamics of one stick pattern, and the pattern table of a model at one frequency.
+
+Between two contact events the motion of a :class:`~fretwear.model.Model` with
+Coulomb contacts (paper eq. 5, 30) is linear: the contacts of the *stick
+pattern* ``S`` keep ``B_S v = 0``, every other contact ``j`` carries a constant
+force ``lambda_j = g_j d_j`` (``g_j = mu_j F_N,j``, ``d_j`` the slip direction,
+``g_j = 0`` for an open contact). In the augmented state
+
+    X = (u, v, lambda, 1, cos omega t, sin omega t),   size D = 2 n + n_f + 3,
+
+(``lambda`` holds the forces of the contacts that are not stuck, zero for the
+stuck ones) the motion is the autonomous linear system ``X' = A_S X`` with
+
+    u' = v,   v' = P_S M^-1 r(X),   r = f(t) - C v - K u - B^T lambda,
+    (cos, sin)' = omega (-sin, cos),   lambda' = 0,
+
+``P_S = I - M^-1 B_S^T W_S^-1 B_S`` the M-orthogonal projector onto
+``B_S v' = 0`` and ``W_S = B_S M^-1 B_S^T`` the Delassus matrix of the stuck
+contacts, whose forces are ``lambda_S = W_S^-1 B_S M^-1 r(X)`` (the rows
+:attr:`Pattern.force`). The same coordinates serve every pattern, so that a
+change of pattern changes no coordinate.
+
+Each pattern is propagated by its Taylor series over steps of length
+``h_S``: ``X(t + s) = sum_k (A_S h_S)^k / k! X(t) (s / h_S)^k`` with
+``K = TAYLOR_ORDER`` terms, ``h_S`` chosen so that the rest of the series is
+below ``1e-20 |X|`` (a bound in a balanced norm, checked here). On a step
+every guard function (a stuck force minus or plus its slip limit, the
+relative velocity of a slipping contact) is then a polynomial of known
+coefficients: :mod:`fretwear.time.kernels` locates its first root with
+certified bounds. The series is exact for any ``A_S``: singular (rigid-body
+motion, a free mass slipping), defective or resonant (undamped, ``omega`` an
+eigenfrequency) patterns need no special case.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import linalg
+
+from ..model import Model
+
+__all__ = ["TAYLOR_ORDER", "Engine"]
+
+#: terms of the Taylor series of a step (polynomial degree)
+TAYLOR_ORDER = 30
+_REMAINDER = 1e-20  # bound on the truncated tail of a step, relative to |X| in the balanced norm
+_STEP_RADIUS = 3.0  # first trial of h_S: growth rate times h_S
+_MIN_STEPS = 4  # at least this many steps per excitation period
+
+
+class Engine:
+    """Pattern table of one model at one excitation frequency.
+
+    The patterns are built on demand (:meth:`require`) and packed into arrays
+    for the compiled kernels; a pattern's slot never changes, so that step
+    records keep their meaning when the table grows.
+
+    Parameters
+    ----------
+    model : Model
+        Friction contacts only, ``M`` positive definite, contacts linearly independent.
+    omega : float
+        Excitation frequency (rad/s), > 0.
+    """
+
+    def __init__(self, model: Model, omega: float) -> None:
+        if model.normal:
+            raise ValueError(
+                "the time integrator supports friction contacts only: unilateral normal contacts "
+                f"(model.normal, {len(model.normal)} given) are not implemented"
+            )
+        M = model.M
+        if np.linalg.eigvalsh(M).min() <= 1e-12 * np.abs(M).max():
+            raise ValueError(
+                "the time integrator requires a positive definite mass matrix M: "
+                "massless DOFs (singular M) are not supported; condense them out first"
+            )
+        self.model, self.omega, self.period = model, float(omega), 2 * np.pi / omega
+        self.n, self.nf = model.n_dofs, len(model.friction)
+        self.dim = 2 * self.n + self.nf + 3
+        self.B = model.relative_map(model.friction)
+        if self.nf and np.linalg.matrix_rank(self.B) < self.nf:
+            raise ValueError(
+                "friction contacts must be linearly independent (relative map B of full row rank): "
+                "redundant contacts make the stuck forces indeterminate"
+            )
+        self.Minv = linalg.inv(M)
+        self.Minv = (self.Minv + self.Minv.T) / 2
+        self.C, self.K = model.C, model.K
+        self.forces = np.column_stack([model.force_static, model.force_cos, model.force_sin])
+        n, D, K = self.n, self.dim, TAYLOR_ORDER
+        self.count = 0
+        cap = 2
+        self.masks = np.full(cap, -1, dtype=np.int64)
+        self.Ah = np.zeros((cap, D, D))  # A_S h_S
+        self.force_rows = np.zeros((cap, self.nf, D))  # X -> friction force of every contact
+        self.phi = np.zeros((cap, 2 * n, 2 * n))  # exp(A_yy h_S): state transition of a full step
+        self.phi_series = np.zeros((cap, K + 1, 2 * n, 2 * n))  # (A_yy h_S)^k / k!
+        self.step = np.zeros(cap)  # h_S (s)
+        self.require(0)  # every contact slipping (or open)
+
+    # -- the table -----------------------------------------------------------
+    def slot(self, mask: int) -> int:
+        """Slot of the pattern whose stuck contacts are the bits of ``mask``; -1 if not built."""
+        hits = np.flatnonzero(self.masks[: self.count] == mask)
+        return int(hits[0]) if hits.size else -1
+
+    def require(self, mask: int) -> int:
+        """Build the pattern of stuck set ``mask`` (bit ``j``: contact ``j`` stuck) if needed; its slot."""
+        found = self.slot(mask)
+        if found >= 0:
+            return found
+        if self.count == len(self.masks):
+            self._grow()
+        stuck = [j for j in range(self.nf) if mask >> j & 1]
+        A, rows = self._matrices(stuck)
+        h = self._step_length(A)
+        yy = A[: 2 * self.n, : 2 * self.n] * h
+        term = np.eye(2 * self.n)
+        k = self.count
+        for order in range(TAYLOR_ORDER + 1):
+            self.phi_series[k, order] = term
+            term = term @ yy / (order + 1)
+        self.phi[k] = self.phi_series[k].sum(axis=0)
+        self.Ah[k], self.force_rows[k], self.step[k] = A * h, rows, h
+        self.masks[k] = mask
+        self.count += 1
+        return k
+
+    def arrays(self) -> tuple:
+        """The table as the kernels take it: ``(masks, Ah, force_rows, phi, phi_series, step, count)``."""
+        return self.masks, self.Ah, self.force_rows, self.phi, self.phi_series, self.step, self.count
+
+    def _grow(self) -> None:
+        cap = 2 * len(self.masks)
+
+        def bigger(a, fill=0):
+            out = np.full((cap, *a.shape[1:]), fill, dtype=a.dtype)
+            out[: len(a)] = a
+            return out
+
+        self.masks = bigger(self.masks, -1)
+        self.Ah, self.force_rows = bigger(self.Ah), bigger(self.force_rows)
+        self.phi, self.phi_series, self.step = bigger(self.phi), bigger(self.phi_series), bigger(self.step)
+
+    # -- one pattern ---------------------------------------------------------
+    def _matrices(self, stuck: list[int]) -> tuple[np.ndarray, np.ndarray]:
+        """``A_S`` and the force rows ``X -> lambda`` of the stick pattern ``stuck``."""
+        n, nf, D, omega = self.n, self.nf, self.dim, self.omega
+        i_lam, i_one = 2 * n, 2 * n + nf
+        R = np.zeros((n, D))  # X -> r = f - C v - K u - B^T lambda
+        R[:, :n], R[:, n : 2 * n], R[:, i_lam:i_one] = -self.K, -self.C, -self.B.T
+        R[:, i_one : i_one + 3] = self.forces
+        rows = np.zeros((nf, D))
+        rows[:, i_lam:i_one] = np.eye(nf)
+        acc = self.Minv @ R
+        if stuck:
+            BS = self.B[stuck]
+            MiBt = self.Minv @ BS.T
+            W = BS @ MiBt
+            L = linalg.solve(W, BS @ acc, assume_a="pos")  # lambda_S = W^-1 B_S M^-1 r
+            rows[stuck] = L
+            acc = acc - MiBt @ L
+        A = np.zeros((D, D))
+        A[:n, n : 2 * n] = np.eye(n)
+        A[n : 2 * n] = acc
+        A[i_one + 1, i_one + 2] = -omega
+        A[i_one + 2, i_one + 1] = omega
+        return A, rows
+
+    def _step_length(self, A: np.ndarray) -> float:
+        """Longest ``h <= T / _MIN_STEPS`` whose Taylor tail is below ``_REMAINDER`` (balanced norm).
+
+        With ``|.|`` the infinity norm after diagonal balancing, the tail of
+        ``sum_k (A h)^k / k!`` beyond ``K`` is at most
+        ``|A^(K+1)| h^(K+1) / (K+1)! exp(|A| h)``.
+        """
+        K = TAYLOR_ORDER
+        Ab, _ = linalg.matrix_balance(A, permute=False)
+        norm = np.abs(Ab).sum(axis=1).max()
+        power = np.linalg.matrix_power(Ab, K + 1)
+        top = np.abs(power).sum(axis=1).max()
+        rate = max(top ** (1 / (K + 1)), self.omega, 1e-300)
+        h = min(self.period / _MIN_STEPS, _STEP_RADIUS / rate)
+
+        def tail(h):
+            return math.exp((K + 1) * math.log(max(top, 1e-300) ** (1 / (K + 1)) * h) - math.lgamma(K + 2)
+                            + norm * h)  # fmt: skip
+
+        while top > 0 and tail(h) > _REMAINDER:
+            h /= 1.25
+        return h
