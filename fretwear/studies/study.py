@@ -304,9 +304,11 @@ def compute_block(work: Work, params: Mapping[str, np.ndarray]) -> dict[str, Any
     -------
     dict
         One array per variable (points first), ``status`` (codes of :data:`STATUS`),
-        ``seconds`` (compute time) and ``messages`` (point index, reason) of the failures.
+        ``seconds`` (compute time), ``cpu_seconds`` (CPU time of the worker process: less than
+        ``seconds`` when other processes take the core) and ``messages`` (point index, reason) of
+        the failures.
     """
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     n = len(next(iter(params.values()))) if params else 1
     points = {k: np.broadcast_to(np.asarray(v), (n,)) for k, v in params.items()}
     points.update({k: np.full(n, v, dtype=object) for k, v in work.fixed.items() if k not in points})
@@ -330,7 +332,8 @@ def compute_block(work: Work, params: Mapping[str, np.ndarray]) -> dict[str, Any
                 code = INVALID if isinstance(exc, ValueError) else ERROR
                 messages.append((i, f"{type(exc).__name__}: {' '.join(str(exc).split())}"))
             status[i] = max(status[i], code)
-    return {**out, "status": status, "seconds": time.perf_counter() - start, "messages": messages}
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+    return {**out, "status": status, "seconds": seconds, "cpu_seconds": cpu, "messages": messages}
 
 
 # -- the store ------------------------------------------------------------------------
@@ -502,6 +505,8 @@ class StudyRun:
         Seconds from the first task submitted to the last block written.
     compute_seconds : float
         Compute time of the tasks of this run, summed.
+    cpu_seconds : float
+        CPU time of the tasks of this run, summed (below ``compute_seconds`` on a busy machine).
     status_counts : dict of str -> int
         Points per status over the whole store.
     messages : list of str
@@ -517,6 +522,7 @@ class StudyRun:
     workers: int = 0
     wall_time: float = 0.0
     compute_seconds: float = 0.0
+    cpu_seconds: float = 0.0
     status_counts: dict[str, int] = field(default_factory=dict)
     messages: list[str] = field(default_factory=list)
 
@@ -698,12 +704,13 @@ def _compute(spec, lay, group, pending, result, client, scheduler, workers, retr
             res = future.result()
             future.release()
             for name, values in res.items():
-                if name in ("seconds", "messages"):
+                if name in ("seconds", "cpu_seconds", "messages"):
                     continue
                 group[name][slices] = values.reshape(shape + values.shape[1:])
             group["task_seconds"][task : task + 1] = [res["seconds"]]  # the block is done: last
             result.computed.append(task)
             result.compute_seconds += res["seconds"]
+            result.cpu_seconds += res["cpu_seconds"]
             failed = int(np.isin(res["status"], FAILED).sum())
             for i, message in res["messages"]:
                 if len(result.messages) < 20:
