@@ -173,23 +173,26 @@ def craig_bampton(
     interior = np.flatnonzero(mask)
     K, M = model.K, model.M
     K_ii = K[interior][:, interior].tocsc()
-    try:
-        # symmetric positive definite: symmetric ordering, no pivoting (half the fill of the default)
-        lu = spla.splu(
-            K_ii, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
-        )
-    except RuntimeError as exc:
-        raise ValueError(
-            "the interior stiffness K_ii (every contact and loaded DOF fixed) is singular: some part of the "
-            f"structure is not held by the boundary DOFs ({exc})"
-        ) from None
     K_ib = K[interior][:, boundary]
-    psi = -lu.solve(K_ib.toarray())
+    lu = None
+    psi = np.zeros((0, len(boundary)))
+    if len(interior):
+        try:
+            # symmetric positive definite: symmetric ordering, no pivoting (half the fill of the default)
+            lu = spla.splu(
+                K_ii, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+            )
+        except RuntimeError as exc:
+            raise ValueError(
+                "the interior stiffness K_ii (every contact and loaded DOF fixed) is singular: some part of "
+                f"the structure is not held by the boundary DOFs ({exc})"
+            ) from None
+        psi = -lu.solve(K_ib.toarray())
     cutoff = factor * f_max
     omega_c = 2 * np.pi * cutoff
     M_ii = M[interior][:, interior].tocsc()
     phi, w2 = np.zeros((len(interior), 0)), np.zeros(0)
-    if len(interior) and cutoff > 0:
+    if lu is not None and cutoff > 0:
         op = spla.LinearOperator(K_ii.shape, matvec=lu.solve, dtype=float)
         k = min(12, len(interior) - 1)
         while k > 0:
@@ -319,6 +322,8 @@ class ContactCondensation:
         D = self.dynamic_stiffness(omega, order)
         q = self.n_q
         D_ss = D[q:, q:]
+        if D_ss.size == 0:  # every coordinate is a contact coordinate
+            return 0.5 * (D + D.T), self.forcing(order), (None, None)
         try:
             fac = sla.lu_factor(D_ss, check_finite=False)
         except (sla.LinAlgError, ValueError) as exc:
@@ -340,6 +345,8 @@ class ContactCondensation:
         Z, F, (fac, _) = self.schur(0.0, 0)
         q = self.n_q
         fc = self.force_harmonic.real
+        if fac is None:
+            return Z, F, fc
         Fc = fc[:q] - self.K[:q, q:] @ sla.lu_solve(fac, fc[q:], check_finite=False)
         return Z, F, Fc
 
@@ -380,7 +387,7 @@ class ContactCondensation:
             D = self.dynamic_stiffness(omega, k)
             qk = q[:, 0] if k == 0 else q[:, 2 * k - 1] - 1j * q[:, 2 * k]
             rhs = self.forcing(k)[self.n_q :] - D[self.n_q :, : self.n_q] @ qk
-            zs = sla.solve(D[self.n_q :, self.n_q :], rhs, check_finite=False)
+            zs = sla.solve(D[self.n_q :, self.n_q :], rhs, check_finite=False) if len(rhs) else rhs
             z = np.concatenate([qk, zs])
             if k == 0:
                 out_z[:, 0] = z.real

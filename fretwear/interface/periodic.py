@@ -1,0 +1,372 @@
+"""Periodic response of an interface at one frequency: harmonic balance with the coupled DLFT law.
+
+The reduced model (:mod:`~fretwear.interface.reduction`) is condensed on the
+contact coordinates of every pair at each harmonic (eq. 11) and eq. 12 is
+solved for their harmonics with the coupled normal/tangential law of
+:mod:`~fretwear.interface.contact` (Newton's method, compiled). The path:
+
+1. the quasi-static state under the static load alone
+   (:func:`~fretwear.interface.static.solve_static`) gives the reference slip
+   variables ``X_ref`` (where pairs stuck when the normal load was applied)
+   and the starting point (its mean harmonics, no oscillation);
+2. Newton from a ``guess`` (a neighbouring solution) when given, else from
+   that start;
+3. if Newton fails, the exact piecewise-linear continuation in the excitation
+   amplitude from 0 (where the start is exact) to 1 (:func:`load_walk`).
+
+The full harmonic basis is used (static normal load: no half-wave symmetry).
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ..hbm.harmonics import HarmonicBasis, default_samples
+from .contact import OPEN, SLIP, STICK, evaluate, slip_work
+from .kernels import load_walk_kernel, newton_kernel
+from .reduction import ContactCondensation
+from .static import solve_static
+
+__all__ = ["EPS_FACTOR", "InterfaceProblem", "InterfaceSolution", "solve_interface", "newton", "load_walk"]
+
+#: default penalty, as a multiple of each coordinate's largest diagonal entry of Z (section 1.4)
+EPS_FACTOR = 10.0
+
+
+@dataclass
+class InterfaceProblem:
+    """Coupled DLFT problem of an interface at one frequency and one wear state.
+
+    Parameters
+    ----------
+    condensation : ContactCondensation
+    omega : float
+        Excitation frequency (rad/s), > 0.
+    harmonics : int
+        Highest harmonic ``Nh >= 1``.
+    samples : int, optional
+        Samples per period (default :func:`~fretwear.hbm.harmonics.default_samples`).
+    wear : ndarray, shape (nc,), optional
+        Worn depth per pair (m), >= 0; opens the gaps (eq. 17b).
+    xref : ndarray, shape (nc,), optional
+        Reference slip variables of pairs that stick all period (m); default:
+        those of the quasi-static state under the static load.
+    eps : ndarray, shape (2 nc,), optional
+        Penalty per contact coordinate (N/m); default ``EPS_FACTOR`` times the
+        coordinate's largest diagonal entry of ``Z`` over the harmonics.
+    force_scale : float
+        Factor on the harmonic excitation (the static load is kept).
+    """
+
+    condensation: ContactCondensation
+    omega: float
+    harmonics: int = 7
+    samples: int | None = None
+    wear: np.ndarray | None = None
+    xref: np.ndarray | None = None
+    eps: np.ndarray | None = None
+    force_scale: float = 1.0
+    basis: HarmonicBasis = field(init=False)
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.omega) and self.omega > 0):
+            raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {self.omega!r}")
+        self.samples = default_samples(self.harmonics) if self.samples is None else self.samples
+        self.basis = HarmonicBasis(self.harmonics, self.samples, False)
+        contact = self.condensation.reduced.contact
+        nc = contact.count
+        self.wear = np.zeros(nc) if self.wear is None else np.asarray(self.wear, dtype=float)
+        if self.wear.shape != (nc,) or not np.all(np.isfinite(self.wear)) or np.any(self.wear < 0):
+            raise ValueError(f"wear must be {nc} finite depths >= 0 m (one per pair)")
+        self.Z, F = self.condensation.harmonic(self.omega, self.basis)
+        H = self.basis.size
+        static = np.zeros(F.shape, dtype=bool)
+        static[::H] = True
+        self.F_static = np.where(static, F, 0.0)
+        self.F_exc = np.where(static, 0.0, F)
+        if self.eps is None:
+            diag = np.abs(np.diag(self.Z)).reshape(2 * nc, H)
+            self.eps = EPS_FACTOR * diag.max(axis=1)
+        self.eps = np.asarray(self.eps, dtype=float)
+        if self.eps.shape != (2 * nc,) or np.any(~np.isfinite(self.eps)) or np.any(self.eps <= 0):
+            raise ValueError(f"eps must be {2 * nc} finite penalties > 0 N/m (tangential, normal per pair)")
+        self.gap = contact.gap + self.wear
+        self.mu = contact.mu
+        if self.xref is None:
+            self.xref = self._static_state()[1]
+        self.xref = np.asarray(self.xref, dtype=float)
+
+    @property
+    def n_pairs(self) -> int:
+        return len(self.gap)
+
+    @property
+    def size(self) -> int:
+        """Unknowns ``2 nc H``."""
+        return 2 * self.n_pairs * self.basis.size
+
+    @property
+    def F(self) -> np.ndarray:
+        """Reduced force at the current excitation scale (N)."""
+        return self.F_static + self.force_scale * self.F_exc
+
+    def _static_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """Contact coordinates and slip variables of the quasi-static state under the static load."""
+        res = solve_static(self.condensation, tangential_scale=0.0, wear=self.wear)
+        if not res.converged:
+            raise ValueError(f"no quasi-static state under the static load: {res.message}")
+        return res.final.q, res.final.slip_variable
+
+    def start(self) -> np.ndarray:
+        """Unknowns of the quasi-static state: its contact coordinates as mean harmonics, exact at zero
+        excitation."""
+        x = np.zeros(self.size)
+        x[:: self.basis.size] = self._static_state()[0]
+        return x
+
+    def with_wear(self, wear: np.ndarray, xref: np.ndarray | None = None) -> InterfaceProblem:
+        """The same problem at worn depths ``wear`` (m): only the gaps change (``Z``, ``F``, ``eps`` reused).
+
+        ``xref`` (m) replaces the reference slip variables (default: kept).
+        """
+        wear = np.asarray(wear, dtype=float)
+        if wear.shape != self.wear.shape or not np.all(np.isfinite(wear)) or np.any(wear < 0):
+            raise ValueError(f"wear must be {self.n_pairs} finite depths >= 0 m (one per pair)")
+        new = copy.copy(self)
+        new.wear = wear
+        new.gap = self.condensation.reduced.contact.gap + wear
+        new.xref = self.xref if xref is None else np.asarray(xref, dtype=float)
+        return new
+
+    def evaluate(self, x: np.ndarray, jacobian: bool = False):
+        """Residual (N) and the time fields ``(lamT, lamN, X, state)`` of the march at unknowns ``x``."""
+        nc, H = self.n_pairs, self.basis.size
+        Ns = self.basis.marched_samples
+        R = np.empty(self.size)
+        A = np.empty((nc, 2 * H, 2 * H))
+        lamT, lamN, X = np.empty((nc, Ns)), np.empty((nc, Ns)), np.empty((nc, Ns))
+        state = np.empty((nc, Ns), dtype=np.int8)
+        evaluate(x, self.Z, self.F, self.eps, self.gap, self.mu, self.xref, self.basis.synthesis,
+                 self.basis.analysis, jacobian, R, A, lamT, lamN, X, state)  # fmt: skip
+        return R, A, lamT, lamN, X, state
+
+    def residual_scale(self) -> float:
+        """Force scale (N) against which residuals are judged."""
+        return max(float(np.abs(self.F).max()), 1e-300)
+
+
+@dataclass
+class NewtonResult:
+    x: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    message: str = ""
+
+
+def newton(problem: InterfaceProblem, x0: np.ndarray, tol: float = 1e-10, max_iter: int = 50) -> NewtonResult:
+    """Newton's method on the coupled DLFT residual (compiled: :func:`~.kernels.newton_kernel`).
+
+    Converged when ``max |R| <= tol * scale``, ``scale`` the largest reduced force (N).
+    """
+    scale = problem.residual_scale()
+    b = problem.basis
+    try:
+        x, ok, it, r, code = newton_kernel(
+            np.asarray(x0, dtype=float).copy(), problem.Z, problem.F, problem.eps, problem.gap, problem.mu,
+            problem.xref, b.synthesis, b.analysis, tol * scale, max_iter,
+        )  # fmt: skip
+    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
+        return NewtonResult(np.asarray(x0, dtype=float), False, 0, np.inf, "singular Jacobian")
+    messages = {0: "", 1: "non-finite Newton step", 2: "line search failed",
+                3: f"no convergence in {max_iter} iterations"}  # fmt: skip
+    return NewtonResult(x, bool(ok), int(it), float(r / scale), messages[code])
+
+
+def load_walk(problem: InterfaceProblem, tol: float = 1e-10, max_pieces: int = 20_000) -> NewtonResult:
+    """Solve ``problem`` by the exact piecewise-linear continuation in the excitation amplitude.
+
+    From the quasi-static start (exact at zero excitation) the solution curve
+    of ``R(x, p) = 0``, with forces ``F_static + p F_exc``, is a polygon followed
+    piece by piece (:func:`~fretwear.interface.kernels.load_walk_kernel`): one
+    linear solve per piece crossed, no Newton iteration that can fail on the
+    way. The end point is polished by Newton's method.
+    """
+    b = problem.basis
+    try:
+        x, p, pieces, arrived = load_walk_kernel(
+            problem.start(), 0.0, problem.Z, problem.F_static, problem.force_scale * problem.F_exc,
+            problem.eps, problem.gap, problem.mu, problem.xref, b.synthesis, b.analysis, max_pieces,
+        )  # fmt: skip
+    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
+        return NewtonResult(problem.start(), False, 0, np.inf, "load walk: singular system")
+    final = newton(problem, x, tol, 20)
+    final.iterations += int(pieces)
+    if not final.converged:
+        final.message = f"load walk ended at excitation scale {p:.6g} after {pieces} pieces; " + final.message
+    return final
+
+
+def solve_interface(
+    problem: InterfaceProblem, guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 50
+) -> InterfaceSolution:
+    """Periodic response of the interface ``problem`` (see the module docstring for the path).
+
+    Parameters
+    ----------
+    problem : InterfaceProblem
+    guess : ndarray, optional
+        Starting unknowns (e.g. ``solution.unknowns`` at a neighbouring frequency or wear state).
+    tol : float
+        Relative residual tolerance.
+    max_iter : int
+        Newton iterations per solve.
+    """
+    if guess is not None:
+        guess = np.asarray(guess, dtype=float)
+        if guess.shape != (problem.size,):
+            raise ValueError(f"guess must have shape ({problem.size},), got {guess.shape}")
+        res = newton(problem, guess, tol, max_iter)
+        if res.converged:
+            return InterfaceSolution(problem, res.x, True, res.iterations, res.residual, "", "dlft")
+    res = newton(problem, problem.start(), tol, max_iter)
+    path = "dlft"
+    if not res.converged:
+        res = load_walk(problem, tol)
+        path = "dlft-load-walk"
+    if res.converged:
+        res.residual = float(np.abs(problem.evaluate(res.x)[0]).max() / problem.residual_scale())
+    return InterfaceSolution(problem, res.x, res.converged, res.iterations, res.residual, res.message, path)
+
+
+@dataclass(eq=False)
+class InterfaceSolution:
+    """Periodic response of an interface and its status.
+
+    Attributes
+    ----------
+    problem : InterfaceProblem
+    unknowns : ndarray
+        Harmonics of the contact coordinates (solver layout), reusable as a ``guess``.
+    converged : bool
+    iterations : int
+    residual : float
+        Final ``max |R|`` relative to the largest reduced force.
+    message : str
+        Why the solve failed, empty on success.
+    path : str
+        ``"dlft"`` or ``"dlft-load-walk"``.
+
+    Time fields are sampled on the DLFT grid of one period, ``t_n = n T / N``.
+    """
+
+    problem: InterfaceProblem
+    unknowns: np.ndarray
+    converged: bool
+    iterations: int
+    residual: float
+    message: str
+    path: str
+
+    @cached_property
+    def _fields(self):
+        return self.problem.evaluate(self.unknowns)[2:]
+
+    @property
+    def position(self) -> np.ndarray:
+        """Coordinate of each pair along the interface (m)."""
+        return self.problem.condensation.reduced.contact.position
+
+    @property
+    def area(self) -> np.ndarray:
+        """Tributary area of each pair (m^2, or m per unit thickness)."""
+        return self.problem.condensation.reduced.contact.area
+
+    @property
+    def tangential_force(self) -> np.ndarray:
+        """``lambda_T`` per pair and sample, shape (nc, N) (N)."""
+        return self._fields[0]
+
+    @property
+    def normal_force(self) -> np.ndarray:
+        """``lambda_N >= 0`` per pair and sample, shape (nc, N) (N)."""
+        return self._fields[1]
+
+    @property
+    def slip_variable(self) -> np.ndarray:
+        """``X_T`` per pair and sample, shape (nc, N) (m)."""
+        return self._fields[2]
+
+    @property
+    def state(self) -> np.ndarray:
+        """STICK, SLIP or OPEN per pair and sample, shape (nc, N)."""
+        return self._fields[3]
+
+    @property
+    def pressure(self) -> np.ndarray:
+        """Contact pressure per pair and sample ``lambda_N / area`` (Pa)."""
+        return self.normal_force / self.area[:, None]
+
+    @property
+    def mean_pressure(self) -> np.ndarray:
+        """Pressure averaged over the period, per pair (Pa)."""
+        return self.pressure.mean(axis=1)
+
+    @cached_property
+    def _slip_work(self) -> tuple[np.ndarray, np.ndarray]:
+        return slip_work(self.slip_variable, self.normal_force, self.state)
+
+    @property
+    def slip_distance(self) -> np.ndarray:
+        """Distance slid per period by each pair, ``s_i`` (m)."""
+        return self._slip_work[0]
+
+    @property
+    def pressure_slip(self) -> np.ndarray:
+        """Archard integrand per period ``int p ds`` of each pair (Pa m): ``dw_i / dN = K_w`` times this."""
+        return self._slip_work[1] / self.area
+
+    @property
+    def friction_energy(self) -> float:
+        """Energy dissipated by friction per period, ``sum_i mu_i int lambda_N ds`` (J, or J/m)."""
+        return float(np.sum(self.problem.mu * self._slip_work[1]))
+
+    def state_fraction(self, which: int = STICK) -> np.ndarray:
+        """Fraction of the period each pair spends in state ``which`` (STICK, SLIP, OPEN)."""
+        return np.mean(self.state == which, axis=1)
+
+    @property
+    def contact_harmonics(self) -> np.ndarray:
+        """Full harmonics of the contact coordinates ``(u_T, u_N)`` per pair, shape (2 nc, 2 Nh + 1) (m)."""
+        b = self.problem.basis
+        return b.to_full(self.unknowns.reshape(2 * self.problem.n_pairs, b.size))
+
+    def dof_harmonics(self, dof: int | str) -> np.ndarray:
+        """Full harmonics ``[a0, a1, b1, ...]`` of one DOF of the full model (m), by name or index."""
+        cond = self.problem.condensation
+        reduced = cond.reduced
+        d = reduced.model.dof(dof)
+        coords = cond.recover(self.problem.omega, self.problem.harmonics, self.contact_harmonics)
+        return reduced.coordinate(d) @ coords
+
+    @property
+    def contact_work(self) -> float:
+        """Work of the contact forces over the period from the harmonics, ``sum_i oint lambda_T du_T`` (J).
+
+        Independent of the march's slip accounting: for a converged solution it
+        equals :attr:`friction_energy` up to the time discretisation.
+        """
+        b = self.problem.basis
+        H = b.size
+        q = self.unknowns.reshape(2 * self.problem.n_pairs, H)[0::2]  # tangential coordinates
+        a_l, a_q = b.to_full(self.tangential_force @ b.analysis.T), b.to_full(q)
+        k = np.arange(1, self.problem.harmonics + 1)
+        # oint lambda du = pi sum_k k (a_k^lam b_k^u - b_k^lam a_k^u)
+        return float(np.pi * np.sum(k * (a_l[:, 1::2] * a_q[:, 2::2] - a_l[:, 2::2] * a_q[:, 1::2])))
+
+
+__all__ += ["NewtonResult", "STICK", "SLIP", "OPEN"]
