@@ -215,6 +215,23 @@ def test_frf_block_matches_a_sweep_and_a_model_file_matches_the_paper_model(tmp_
     )
 
 
+def test_wear_block_matches_a_wear_map_and_flags_stuck_and_horizon_points(tmp_path):
+    path = tmp_path / "wear.toml"
+    path.write_text(
+        '[study]\nquantities = ["wear", "wear_life"]\n[parameters]\nfrequency = [0.3, 0.7]\n'
+        "cycles = 2e3\nharmonics = 5\n[wear]\nncycles = 7\nfractions = [0.1, 0.9]\n"
+    )
+    spec = study_spec.read_spec(path)
+    res = study.compute_block(study.Work.of(spec), {"frequency": spec.grid["frequency"]})
+    wm = fw.wear_map(fw.paper_model(), [0.3, 0.7], spec.cycle_grid(), kw=1e-11, harmonics=5)
+    np.testing.assert_allclose(res["wear_fraction"], wm.wear_fraction[:, :, 0], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(res["wear_amplitude"], wm.amplitude, rtol=1e-12)
+    # 0.3 Hz sticks: infinite life; at 0.7 Hz 10 % of u0 wears off within 2000 cycles, 90 % does not
+    assert res["status"].tolist() == [study.STUCK, study.HORIZON]
+    assert np.isinf(res["cycles_to"][0]).all()
+    assert 0 < res["cycles_to"][1, 0] < 2e3 and np.isnan(res["cycles_to"][1, 1])
+
+
 # -- runs ---------------------------------------------------------------------------
 
 
