@@ -47,8 +47,8 @@ def cluster(workers: int):
     from distributed import Client, LocalCluster
 
     start = time.perf_counter()
-    lc = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                      silence_logs=logging.ERROR)  # fmt: skip
+    lc = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)  # fmt: skip
     client = Client(lc, set_as_default=False)
     up = time.perf_counter() - start
     client.run(warm_up)

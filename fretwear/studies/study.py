@@ -612,7 +612,8 @@ def _start_client(scheduler: str | None, workers: int | None):
             n_workers=n,
             threads_per_worker=1,
             processes=True,
-            dashboard_address=None,
+            host="127.0.0.1",
+            dashboard_address="127.0.0.1:0",  # the scheduler's HTTP server: local, a free port
             silence_logs=logging.ERROR,
         )
     finally:
