@@ -9,7 +9,7 @@ keeping their own lists:
 ========== ============================================== =====================================
 method     module                                         options
 ========== ============================================== =====================================
-exact      :mod:`fretwear.wear.exact` (load path)         harmonics, samples
+exact      :mod:`fretwear.wear.exact` (load path)         harmonics, samples, dynamics
 stepping   :mod:`fretwear.wear.stepping` (eq. 24, RK23)   harmonics, samples, tol, dynamics,
                                                           fixed_step
 polynomial :mod:`fretwear.wear.polynomial` (eq. 25-29)    harmonics, samples, degree, basis
@@ -64,7 +64,8 @@ class Method:
 METHODS: Mapping[str, Method] = {
     m.name: m
     for m in (
-        Method("exact", wear_exact, ("harmonics", "samples"), "exact load path", exact_path_applies),
+        Method("exact", wear_exact, ("harmonics", "samples", "dynamics"), "exact load path",
+               exact_path_applies),  # fmt: skip
         Method(
             "stepping",
             wear_stepping,
@@ -80,12 +81,11 @@ METHODS: Mapping[str, Method] = {
 def resolve_method(model: Model, method: str = "auto", dynamics: str = "dlft", fixed_step=None) -> str:
     """The method that ``method`` names for ``model``: ``"auto"`` is ``"exact"`` where it applies.
 
-    ``"auto"`` falls back to ``"stepping"`` for several contacts, for shooting
-    dynamics and for a fixed step (the options only stepping takes).
+    ``"auto"`` falls back to ``"stepping"`` for several contacts or unilateral
+    contacts, and for a fixed step (an option only stepping takes).
     """
     if method == "auto":
-        exact = METHODS["exact"].applies(model) and dynamics == "dlft" and not fixed_step
-        return "exact" if exact else "stepping"
+        return "exact" if METHODS["exact"].applies(model) and not fixed_step else "stepping"
     if method not in METHODS:
         raise ValueError(f"method must be 'auto' or one of {', '.join(map(repr, METHODS))}, got {method!r}")
     return method
