@@ -220,9 +220,12 @@ def _wear_on_table(
     scale = 1.0 / (kw * kn * fex)
     status = "worn"
     rho_stop = rho_end
-    if scale * table.cycles(rho0, rho_end)[0] > cycles:  # the horizon comes first: bisect on N(rho)
-        a, b = rho_end, rho0
-        for _ in range(80):
+    if scale * table.cycles(rho0, rho_end)[0] > cycles:  # the horizon comes first: invert N(rho)
+        inside = table.rho[(table.rho > rho_end) & (table.rho < rho0)]
+        grid = np.unique(np.concatenate([inside, [rho_end, rho0]]))
+        k = int(np.searchsorted(-scale * table.cycles(rho0, grid), -cycles)) - 1  # N falls as rho grows
+        a, b = grid[k], grid[k + 1]
+        for _ in range(60):
             m = 0.5 * (a + b)
             a, b = (a, m) if scale * table.cycles(rho0, m)[0] > cycles else (m, b)
         rho_stop, status = 0.5 * (a + b), "horizon"

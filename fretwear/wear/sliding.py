@@ -80,6 +80,7 @@ class SlidingTable:
     solves: int = 0
     failures: list[float] = field(default_factory=list)
     verified: set = field(default_factory=set, repr=False)
+    _cumulative: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
 
     def interpolate(self, rho) -> dict[str, np.ndarray]:
         """Every tabulated quantity at ``rho``, linearly interpolated (stuck values from ``rho_stick`` on)."""
@@ -97,16 +98,22 @@ class SlidingTable:
         Multiply by ``1 / (K_w k_n F_ex)`` for the number of cycles from ``rho_from`` down to ``rho``.
         ``inf`` where the integral diverges (a start at or above the stick threshold).
         """
-        rho = np.atleast_1d(np.asarray(rho, dtype=float))
+        return self._primitive(rho) - self._primitive(rho_from)
+
+    def _primitive(self, x) -> np.ndarray:
+        """``integral_x^r_ref dr / (r s_hat(r))`` with ``r_ref`` the last sample (vectorised)."""
+        x = np.atleast_1d(np.asarray(x, dtype=float))
         r = np.append(self.rho, self.rho_stick)
         s = np.append(self.s_hat, 0.0)
-        grid = np.unique(np.concatenate([r[(r > rho.min()) & (r < rho_from)], [rho_from], rho]))
-        sg = np.interp(grid, r, s, right=0.0)
-        piece = _piece_integral(grid[:-1], grid[1:], sg[:-1], sg[1:])
-        total = np.concatenate([np.cumsum(piece[::-1])[::-1], [0.0]])  # from each grid point up to the top
-        top = np.searchsorted(grid, rho_from)
-        return total[np.searchsorted(grid, rho)] - total[top]
-
+        if len(self._cumulative) != len(r):  # from each sample up to the last one (the table grew)
+            piece = _piece_integral(r[:-2], r[1:-1], s[:-2], s[1:-1])
+            self._cumulative = np.concatenate([np.cumsum(piece[::-1])[::-1], [0.0, np.nan]])
+        k = np.clip(np.searchsorted(r, x, side="right") - 1, 0, len(r) - 2)
+        sx = np.interp(x, r, s, right=0.0)
+        below = self._cumulative[k + 1] + _piece_integral(x, r[k + 1], sx, s[k + 1])  # x in the piece below
+        above = -_piece_integral(r[k], x, s[k], sx)  # x in the last piece, above r_ref
+        out = np.where(k < len(r) - 2, below, above)
+        return np.where(x >= self.rho_stick, -np.inf, out)
 
 def _piece_integral(r1, r2, s1, s2) -> np.ndarray:
     """``integral_r1^r2 dr / (r s(r))`` with ``s`` linear from ``s1`` to ``s2`` (closed form)."""
@@ -190,6 +197,15 @@ def _stick_threshold(model: Model, omega: float) -> float:
     if problem.n_active == 0:
         return 0.0
     return problem.stick_ratio() * float(model.slip_forces()[0]) / unit_forcing(model)
+
+
+def _complete(table: SlidingTable, lo: float, hi: float) -> bool:
+    """True when the table reaches ``lo`` and every interval meeting ``[lo, hi]`` passed its check."""
+    r = table.rho
+    if not len(r) or r[0] > lo:
+        return False
+    pairs = [(a, b) for a, b in zip(r[:-1], r[1:], strict=True) if a < hi and b > lo and b > a * (1 + 1e-9)]
+    return all(p in table.verified for p in pairs)
 
 
 def _adapt(table: SlidingTable, sampler: _Sampler, lo: float, hi: float, tol: float, max_solves: int) -> None:
@@ -283,7 +299,7 @@ def sliding_table(
             _cache[key] = table
         lo = min(rho_min, table.rho_stick * (1 - 1e-3))
         hi = table.rho_stick if rho_max is None else min(rho_max, table.rho_stick)
-        if table.rho_stick > 0 and lo < hi:
+        if table.rho_stick > 0 and lo < hi and not _complete(table, lo, hi):
             sampler = _Sampler(model, omega, 2.0 * table.rho_stick)
             sampler.solves = table.solves
             _adapt(table, sampler, lo, hi, tol, max_solves)

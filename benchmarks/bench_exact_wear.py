@@ -1,0 +1,74 @@
+"""Benchmark: the exact wear answer (issue targets next to each figure).
+
+    python benchmarks/bench_exact_wear.py [--quick]
+
+1. the sliding tables of a 101-frequency band (paper model, 0.3-1.3 Hz), built once (cold);
+2. the exact wear map 101 f x 100 N from the cached tables (target <= 1 s);
+3. the same map after a change of F_ex, mu, k_w or u0 (target <= 50 ms of compute each);
+4. cycles to 0.5 and 0.9 u0 at 10 N / 0.7 Hz against direct time integration (target within 2e-3),
+   and the time integration with wear to 0.99 u0 (target <= 0.2 s).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+import fretwear as fw
+from fretwear.wear import integrate_wear
+
+
+def timed(fn, repeats: int = 1):
+    """Median wall time of ``repeats`` calls of ``fn`` and its last result."""
+    times, out = [], None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - start)
+    return float(np.median(times)), out
+
+
+def line(name: str, value: float, target: float | None, unit: str = "s") -> None:
+    ratio = "" if target is None else f"   target {target:g} {unit}, ratio {value / target:.2f}"
+    print(f"{name:<58s} {value:10.4g} {unit}{ratio}", flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="21 frequencies instead of 101")
+    args = parser.parse_args()
+    nf = 21 if args.quick else 101
+    freqs = np.linspace(0.3, 1.3, nf)
+    cycles = fw.wear.cycle_grid(1e5, 100)
+    base = dict(method="exact", dynamics="shooting", kw=1e-11, workers=1)
+
+    fw.wear_history(fw.paper_model(), 2 * np.pi * 0.7, dynamics="shooting", cycles=1e3)  # compile
+    cold, _ = timed(lambda: fw.wear_map(fw.paper_model(fex=10), freqs, cycles, **base))
+    line(f"1. sliding tables, {nf} frequencies, cold (build once)", cold, None)
+    warm, wm = timed(lambda: fw.wear_map(fw.paper_model(fex=10), freqs, cycles, **base), 3)
+    line(f"2. exact wear map {nf} f x {len(cycles)} N, tables cached", warm, 1.0)
+    for name, model, kw in (
+        ("F_ex 10 -> 12 N", fw.paper_model(fex=12), 1e-11),
+        ("mu 1 -> 0.9", fw.paper_model(fex=10, mu=0.9), 1e-11),
+        ("k_w 1e-11 -> 3e-11", fw.paper_model(fex=10), 3e-11),
+        ("u0: F_N 10 -> 11 N", fw.paper_model(fex=10, normal_load=11), 1e-11),
+    ):
+        fw.wear_map(model, freqs, cycles, **{**base, "kw": kw})  # extends the tables where needed
+        t, _ = timed(lambda m=model, k=kw: fw.wear_map(m, freqs, cycles, **{**base, "kw": k}), 3)
+        line(f"3. redraw after {name}", t, 0.05)
+
+    omega = 2 * np.pi * 0.7
+    exact = fw.wear_history(fw.paper_model(fex=10), omega, dynamics="shooting", kw=1e-11, cycles=2e4)
+    t_int, ref = timed(lambda: integrate_wear(fw.paper_model(fex=10), omega, 2e4, kw=1e-11, tol=1e-4))
+    for q in (0.5, 0.9):
+        err = abs(exact.cycles_to(q) / ref.cycles_to(q) - 1)
+        print(f"4. cycles to {q:g} u0: exact table {exact.cycles_to(q):.2f}, time integration "
+              f"{ref.cycles_to(q):.2f}: relative difference {err:.2e} (target 2e-3)")  # fmt: skip
+    t_int, _ = timed(lambda: integrate_wear(fw.paper_model(fex=10), omega, 2e4, kw=1e-11), 3)
+    line("4. time integration with wear to 0.99 u0 (tol 1e-3)", t_int, 0.2)
+
+
+if __name__ == "__main__":
+    main()
