@@ -37,6 +37,7 @@ import numpy as np
 from ..hbm.periodic import Problem, follow_normal_load, newton, solve_problem
 from ..hbm.solution import PeriodicSolution
 from ..model import Model
+from ..time.shooting import shooting
 
 __all__ = [
     "WearHistory",
@@ -231,20 +232,14 @@ class Dynamics:
         if self.kind == "dlft":
             problem = self.problem.with_wear(wear)
             sol = self._solve(problem)
-            if not sol.converged:
-                return None
-            if keep:
-                self.guess, self.last = sol.unknowns, problem
-            slid = sol.sliding_distance
+            self.last = problem if keep and sol.converged else getattr(self, "last", None)
         else:
-            from ..time.shooting import shooting
-
             sol = shooting(self.model, self.omega, self.guess, wear=wear)
-            if not sol.converged:
-                return None
-            if keep:
-                self.guess = sol.y0
-            slid = np.asarray(sol.sliding_distance)
+        if not sol.converged:
+            return None
+        if keep:
+            self.guess = sol.unknowns
+        slid = np.asarray(sol.sliding_distance)
         return self.kw * loads * slid, slid, sol
 
 

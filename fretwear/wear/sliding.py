@@ -179,7 +179,7 @@ class _Sampler:
             sol = self._shoot(rho, None)
         if sol is None or not sol.converged:
             return None
-        self.guesses[rho] = np.asarray(sol.y0)
+        self.guesses[rho] = np.asarray(sol.unknowns)
         return _response(sol)
 
     def _shoot(self, rho: float, guess):
