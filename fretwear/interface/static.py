@@ -135,7 +135,11 @@ def _residual(x, Z, F, eps, gap, mu, X_prev):
 
 
 def _increment(x0, Z, F, eps, gap, mu, X_prev, tol, max_iter):
-    """Newton on one increment: returns (state, converged, all_slip)."""
+    """Newton on one increment: returns (state, converged, all_slip).
+
+    Full steps for the first half of the budget (the active set settles), then
+    a backtracking line search on ``max |R|`` from the best iterate.
+    """
     scale = max(np.abs(F).max(), 1e-300)
     x = x0.copy()
     best = (np.inf, x)
@@ -153,7 +157,17 @@ def _increment(x0, Z, F, eps, gap, mu, X_prev, tol, max_iter):
             break
         if not np.all(np.isfinite(dx)):
             break
-        x = x + dx
+        if it < max_iter // 2:
+            x = x + dx
+            continue
+        x = best[1]
+        step = 1.0
+        for _ in range(20):
+            trial = x + step * dx
+            if np.abs(_residual(trial, Z, F, eps, gap, mu, X_prev)[0]).max() / scale < (1 - 1e-4 * step) * r:
+                break
+            step *= 0.5
+        x = trial
     R, J, lamT, lamN, X, state = _residual(best[1], Z, F, eps, gap, mu, X_prev)
     closed = state != OPEN
     all_slip = bool(np.any(closed) and np.all(state[closed] == SLIP))
@@ -199,12 +213,16 @@ def solve_static(
     gap = contact.gap + (np.zeros(nc) if wear is None else np.asarray(wear, dtype=float))
     eps = np.abs(np.diag(Z)).copy() if eps is None else np.asarray(eps, dtype=float)
     x = np.zeros(2 * nc)
+    x[1::2] = max(gap.min(), 0.0)  # approach that closes the smallest gap (a body held by the contact only)
     X = np.zeros(nc)
     states = []
     path = [(s / normal_steps, 0.0) for s in range(1, normal_steps + 1)]
     if tangential_scale != 0:
         path += [(1.0, tangential_scale * s / tangential_steps) for s in range(1, tangential_steps + 1)]
-    for sn, st in path:
+    done = (0.0, 0.0)
+    targets = path[::-1]  # a stack: failed increments are halved
+    while targets:
+        sn, st = targets[-1]
         F = sn * Fs + st * Fc
         state, ok, all_slip = _increment(x, Z, F, eps, gap, contact.mu, X, tol, max_iter)
         if not ok:
@@ -212,8 +230,13 @@ def solve_static(
                 msg = (f"gross slip: every closed pair slips at tangential load factor {st:.6g}; friction "
                        f"cannot hold the tangential load (no static equilibrium)")  # fmt: skip
                 return StaticResult(states, False, msg, True)
+            if len(targets) < len(path) + 12:  # halve the increment
+                targets.append((0.5 * (done[0] + sn), 0.5 * (done[1] + st)))
+                continue
             msg = f"increment ({sn:.4g}, {st:.4g}) did not converge: residual {state.residual:.3g}"
             return StaticResult(states, False, msg, False)
+        targets.pop()
+        done = (sn, st)
         states.append(state)
         x, X = state.q, state.slip_variable
     return StaticResult(states, True, "", False)

@@ -1,0 +1,251 @@
+"""The ``fretwear interface`` command: the cylinder-on-flat benchmark or an interface model file.
+
+``add_arguments(parser)`` declares the options on an ``argparse`` (sub)parser
+and ``run(args)`` executes them and returns the exit status (0 success, 2
+bad input, 3 a solve did not converge). Three modes:
+
+* ``--static``: the quasi-static limit (normal load, then the tangential load
+  ``Q0 = q_ratio mu P``), JSON on stdout (SI units): ``contact_half_width``,
+  ``stick_half_width``, ``peak_pressure``, ``normal_load_per_length``,
+  ``tangential_load_per_length``, ``radius``, ``effective_modulus``, ``mu``,
+  the Hertz and Mindlin values and the relative errors;
+* ``--kw K --cycles N``: a wear history at ``--f``, one CSV row per (record,
+  pair): ``cycles, x, w, pressure, slip, state_fraction_stick``;
+* otherwise one periodic solve at ``--f``: the same CSV columns at ``cycles = 0``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import sys
+from typing import TextIO
+
+import numpy as np
+
+from .contact import STICK
+from .fe import cylinder_on_flat
+from .modelfile import read_interface_model
+from .periodic import InterfaceProblem, solve_interface
+from .reduction import ContactCondensation, craig_bampton
+from .static import second_moment_half_width, solve_static, static_benchmark
+from .wear import wear_interface
+
+__all__ = ["add_arguments", "run", "COLUMNS"]
+
+EXIT_OK, EXIT_USAGE, EXIT_NOT_CONVERGED = 0, 2, 3
+
+#: CSV columns of the per-pair output
+COLUMNS = ("cycles", "x", "w", "pressure", "slip", "state_fraction_stick")
+
+
+def _number(low: float, strict: bool = False, integer: bool = False, unit: str = ""):
+    def parse(text: str):
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(  # noqa: B904 - the message names the value
+                f"must be {'an integer' if integer else 'a number'}, got {text!r}"
+            )
+        if not np.isfinite(value) or (value <= low if strict else value < low):
+            raise argparse.ArgumentTypeError(f"must be {'>' if strict else '>='} {low:g}{unit}, got {text}")
+        return value
+
+    return parse
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear interface`` on ``parser``."""
+    parser.add_argument(
+        "--model",
+        metavar="FILE.toml",
+        help="interface model file (matrices + contact pairs); default: the cylinder-on-flat benchmark",
+    )
+    parser.add_argument(
+        "--static",
+        action="store_true",
+        help="quasi-static limit: normal load, then the tangential load; JSON on stdout",
+    )
+    parser.add_argument(
+        "--q-ratio",
+        type=_number(0.0),
+        default=0.5,
+        metavar="Q",
+        help="benchmark tangential load Q0 / (mu P) (-), >= 0; default 0.5",
+    )
+    parser.add_argument(
+        "--contact-nodes",
+        type=_number(3, integer=True),
+        default=32,
+        metavar="NC",
+        help="benchmark pairs across the contact window (-), >= 3; default 32",
+    )
+    parser.add_argument(
+        "--window",
+        type=_number(1.0, strict=True),
+        default=1.25,
+        help="benchmark contact window half-width / Hertz a (-), > 1; default 1.25",
+    )
+    parser.add_argument(
+        "--normal-load",
+        type=_number(0.0, strict=True, unit=" N/m"),
+        default=2.0e5,
+        metavar="P",
+        help="benchmark normal load per unit length (N/m), > 0; default 2e5",
+    )
+    parser.add_argument(
+        "--mu", type=_number(0.0), default=0.6, help="benchmark friction coefficient; default 0.6"
+    )
+    parser.add_argument(
+        "--drive",
+        type=_number(0.0, strict=True, unit=" m"),
+        metavar="DELTA",
+        help="benchmark displacement control: amplitude of the loading arm's end (m), with "
+        "--arm-stiffness (replaces --q-ratio)",
+    )
+    parser.add_argument(
+        "--arm-stiffness",
+        type=_number(0.0, strict=True),
+        default=2e10,
+        metavar="KA",
+        help="benchmark loading arm stiffness (N/m per m), > 0; default 2e10 (with --drive)",
+    )
+    parser.add_argument(
+        "--f",
+        type=_number(0.0, strict=True, unit=" Hz"),
+        default=50.0,
+        metavar="HZ",
+        help="excitation frequency (Hz), > 0; default 50",
+    )
+    parser.add_argument(
+        "--harmonics",
+        type=_number(1, integer=True),
+        default=7,
+        metavar="NH",
+        help="highest harmonic Nh (-), >= 1; default 7",
+    )
+    parser.add_argument(
+        "--kw",
+        type=_number(0.0, strict=True, unit=" 1/Pa"),
+        help="Archard coefficient K_w (1/Pa), > 0: runs a wear history",
+    )
+    parser.add_argument(
+        "--cycles",
+        type=_number(0.0, strict=True),
+        default=1e6,
+        help="wear horizon (cycles), > 0; default 1e6",
+    )
+    parser.add_argument(
+        "--converge",
+        type=_number(0.0, strict=True),
+        metavar="TOL",
+        help="stop the wear history once the profile has converged to TOL (-)",
+    )
+    parser.add_argument(
+        "--rtol",
+        type=_number(0.0, strict=True),
+        default=1e-2,
+        help="slow-time step tolerance on the worn depth (-); default 1e-2",
+    )
+    parser.add_argument("--out", metavar="FILE.csv", help="CSV file to write ('-' or omitted: stdout)")
+
+
+def _model(args: argparse.Namespace):
+    if args.model:
+        return read_interface_model(args.model)
+    changes = dict(
+        contact_nodes=args.contact_nodes,
+        window=args.window,
+        normal_load=args.normal_load,
+        mu=args.mu,
+        q_ratio=max(args.q_ratio, 1e-3),
+    )
+    if args.drive is not None:
+        changes.update(drive_displacement=args.drive, arm_stiffness=args.arm_stiffness)
+    return cylinder_on_flat(**changes)
+
+
+def _static_summary(cond: ContactCondensation) -> dict:
+    """Quasi-static state of a model file: its static load, then its ``cos`` pattern applied statically."""
+    res = solve_static(cond, tangential_scale=1.0)
+    out = dict(converged=res.converged, message=res.message, regime="gross slip" if res.gross_slip else None)
+    if not res.states:
+        return out
+    s = res.states[-1]
+    c = cond.reduced.contact
+    mu = c.mu
+    stick = s.state == STICK
+    sign = np.sign(s.tangential_force.sum()) or 1.0
+    deficit = np.where(stick, mu * s.normal_force - sign * s.tangential_force, 0.0)
+    out.update(
+        contact_half_width=second_moment_half_width(c.position, s.normal_force),
+        stick_half_width=0.0 if res.gross_slip else second_moment_half_width(c.position, deficit),
+        peak_pressure=float(np.max(s.normal_force / c.area)), normal_force_sum=float(s.normal_force.sum()),
+        tangential_force_sum=float(s.tangential_force.sum()), mu=float(mu.mean()),
+    )  # fmt: skip
+    if res.converged:
+        out["regime"] = (
+            "partial slip" if stick.any() and (s.state == 1).any() else "stick" if stick.any() else "slip"
+        )
+    return out
+
+
+def _rows(cycles: float, x: np.ndarray, w, pressure, slip, stick):
+    for i in range(len(x)):
+        yield (repr(float(cycles)), repr(float(x[i])), repr(float(w[i])), repr(float(pressure[i])),
+               repr(float(slip[i])), repr(float(stick[i])))  # fmt: skip
+
+
+def _write(path: str | None, rows) -> None:
+    fh: TextIO = sys.stdout if path in (None, "-") else open(path, "w", newline="")
+    try:
+        writer = csv.writer(fh)
+        writer.writerow(COLUMNS)
+        writer.writerows(rows)
+    finally:
+        if fh is not sys.stdout:
+            fh.close()
+
+
+def run(args: argparse.Namespace) -> int:
+    """Execute ``fretwear interface`` with parsed ``args``; returns the exit status."""
+    try:
+        model = _model(args)
+        f_max = 0.0 if args.static else args.harmonics * args.f
+        cond = ContactCondensation(craig_bampton(model, f_max))
+        if args.static:
+            if args.model:
+                out = _static_summary(cond)
+            else:
+                out = static_benchmark(args.q_ratio, condensation=cond)
+            print(json.dumps(out, indent=2))
+            return (
+                EXIT_OK if out.get("converged") or out.get("regime") == "gross slip" else EXIT_NOT_CONVERGED
+            )
+        prob = InterfaceProblem(cond, 2 * np.pi * args.f, harmonics=args.harmonics)
+        x = cond.reduced.contact.position
+        if args.kw is None:
+            sol = solve_interface(prob)
+            _write(args.out, _rows(0.0, x, prob.wear, sol.mean_pressure, sol.slip_distance,
+                                   sol.state_fraction(STICK)))  # fmt: skip
+            if not sol.converged:
+                print(f"fretwear interface: no convergence: {sol.message}", file=sys.stderr)
+                return EXIT_NOT_CONVERGED
+            return EXIT_OK
+        hist = wear_interface(prob, args.kw, args.cycles, rtol=args.rtol, converge=args.converge)
+        rows = (
+            row
+            for k, N in enumerate(hist.cycles)
+            for row in _rows(N, x, hist.wear[k], hist.pressure[k], hist.slip[k], hist.stick_fraction[k])
+        )
+        _write(args.out, rows)
+        print(f"fretwear interface: {len(hist.cycles)} records to N = {hist.cycles[-1]:.6g}, {hist.solves} "
+              f"periodic solves; {hist.message or 'done'}", file=sys.stderr)  # fmt: skip
+        return EXIT_OK if hist.converged else EXIT_NOT_CONVERGED
+    except ValueError as exc:
+        print(f"fretwear interface: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:
+        print(f"fretwear interface: cannot write output: {exc}", file=sys.stderr)
+        return EXIT_USAGE

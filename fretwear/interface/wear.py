@@ -1,0 +1,267 @@
+"""Nodal Archard wear of an interface with pressure redistribution (paper eq. 14-15, 24).
+
+At every pair ``i`` the worn depth grows by Archard's law per cycle,
+
+    dw_i / dN = K_w int_period p_i |ds_i|        (eq. 15, "K_w p_i s_i"),
+
+with ``p_i = lambda_N,i / A_i`` the pressure of the pair and ``ds_i`` its slip
+increments (``K_w`` in 1/Pa, ``w`` in m). The worn depth opens the pair's gap
+(eq. 17b), so at every slow-time step the periodic solve redistributes the
+normal pressure through the elastic bodies: pairs that wear unload, their
+neighbours take the load, and the pressure integral stays equal to the
+normal load.
+
+Slow time is integrated by an adaptive Bogacki-Shampine 3(2) Runge-Kutta
+method in the cycle count ``N``, with warm-started periodic solves (each stage
+starts from the previous solution); the step is controlled on the worn depth
+(``rtol`` on the largest depth plus ``atol``). The history stops at ``cycles``
+or, with ``converge``, when the profile has stopped changing: the largest
+wear rate times the cycles elapsed is below ``converge`` times the largest
+depth (partial slip: the slip annulus unloads and wear dies out).
+
+Pairs that stick all period keep their reference slip variable; after each
+accepted step every pair's reference is moved to its slip variable at the
+start of the period, so that a pair that stops slipping sticks where it is.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .contact import STICK
+from .periodic import InterfaceProblem, InterfaceSolution, solve_interface
+
+__all__ = ["InterfaceWearHistory", "wear_interface", "frf"]
+
+
+@dataclass(eq=False)
+class InterfaceWearHistory:
+    """Wear profile history of an interface.
+
+    Attributes
+    ----------
+    position : ndarray, shape (nc,)
+        Coordinate of each pair along the interface (m).
+    area : ndarray, shape (nc,)
+        Tributary area of each pair (m, per unit thickness in 2-D).
+    cycles : ndarray, shape (m,)
+        Cycle counts ``N`` of the records (starting at 0).
+    wear : ndarray, shape (m, nc)
+        Worn depth ``w(x, N)`` (m).
+    pressure : ndarray, shape (m, nc)
+        Pressure averaged over the cycle, ``p(x, N)`` (Pa).
+    peak_pressure : ndarray, shape (m, nc)
+        Largest pressure over the cycle (Pa).
+    slip : ndarray, shape (m, nc)
+        Distance slid per cycle ``s(x, N)`` (m).
+    stick_fraction : ndarray, shape (m, nc)
+        Fraction of the cycle each pair sticks.
+    wear_rate : ndarray, shape (m, nc)
+        ``dw / dN = K_w int p ds`` (m per cycle).
+    state : ndarray, shape (m, nc, N_samples)
+        Stick/slip/open state over ``(x, phase of the cycle)`` at each record.
+    normal_force_sum : ndarray, shape (m,)
+        Cycle-averaged sum of the normal forces, the pressure integral (N).
+    kw : float
+        Archard coefficient (1/Pa).
+    converged : bool
+        Every periodic solve converged and the history reached its end.
+    message : str
+        Why the history stopped early, if it did.
+    solves : int
+        Periodic solves performed.
+    solutions : list of InterfaceSolution
+        The periodic solution at each record.
+    """
+
+    position: np.ndarray
+    area: np.ndarray
+    kw: float
+    cycles: list = field(default_factory=list)
+    wear: list = field(default_factory=list)
+    pressure: list = field(default_factory=list)
+    peak_pressure: list = field(default_factory=list)
+    slip: list = field(default_factory=list)
+    stick_fraction: list = field(default_factory=list)
+    wear_rate: list = field(default_factory=list)
+    state: list = field(default_factory=list)
+    normal_force_sum: list = field(default_factory=list)
+    solutions: list = field(default_factory=list)
+    converged: bool = True
+    message: str = ""
+    solves: int = 0
+
+    def record(self, N: float, w: np.ndarray, sol: InterfaceSolution) -> None:
+        self.cycles.append(float(N))
+        self.wear.append(w.copy())
+        self.pressure.append(sol.mean_pressure)
+        self.peak_pressure.append(sol.pressure.max(axis=1))
+        self.slip.append(sol.slip_distance)
+        self.stick_fraction.append(sol.state_fraction(STICK))
+        self.wear_rate.append(self.kw * sol.pressure_slip)
+        self.state.append(sol.state.copy())
+        self.normal_force_sum.append(float(sol.normal_force.mean(axis=1).sum()))
+        self.solutions.append(sol)
+
+    def finish(self) -> InterfaceWearHistory:
+        for name in ("cycles", "normal_force_sum"):
+            setattr(self, name, np.array(getattr(self, name)))
+        for name in ("wear", "pressure", "peak_pressure", "slip", "stick_fraction", "wear_rate", "state"):
+            setattr(self, name, np.array(getattr(self, name)))
+        return self
+
+    @property
+    def worn_area(self) -> np.ndarray:
+        """Worn area per unit length ``sum_i w_i A_i`` at each record (m^2 per m of thickness in 2-D)."""
+        return self.wear @ self.area
+
+    @property
+    def worn_area_rate(self) -> np.ndarray:
+        """Archard's worn area per cycle ``K_w sum_i (int p ds)_i A_i`` at each record."""
+        return self.wear_rate @ self.area
+
+    @property
+    def contact_width(self) -> np.ndarray:
+        """Extent of the pairs that carry load at some time of the cycle, at each record (m)."""
+        loaded = self.peak_pressure > 0
+        x = self.position
+        return np.array([x[row].max() - x[row].min() if row.any() else 0.0 for row in loaded])
+
+
+def _rate(problem: InterfaceProblem, w: np.ndarray, guess, kw: float, tol: float):
+    sol = solve_interface(problem.with_wear(np.maximum(w, 0.0)), guess, tol)
+    return kw * sol.pressure_slip, sol
+
+
+def wear_interface(
+    problem: InterfaceProblem,
+    kw: float,
+    cycles: float,
+    rtol: float = 1e-2,
+    atol: float | None = None,
+    converge: float | None = None,
+    first_step: float | None = None,
+    max_steps: int = 400,
+    tol: float = 1e-10,
+) -> InterfaceWearHistory:
+    """Wear history of the interface ``problem`` from its current wear state to ``cycles``.
+
+    Parameters
+    ----------
+    problem : InterfaceProblem
+        The interface at its frequency (its ``wear`` is the initial profile).
+    kw : float
+        Archard coefficient ``K_w`` (1/Pa), > 0.
+    cycles : float
+        Cycle count to reach, > 0.
+    rtol, atol : float
+        Step control: local error on ``w`` below ``atol + rtol max|w|`` (m);
+        default ``atol`` is ``1e-6`` times the first cycle's largest depth
+        increment over ``cycles / 100``.
+    converge : float, optional
+        Stop early once ``max(dw/dN) N < converge max(w)`` (a converged profile).
+    first_step : float, optional
+        First step (cycles); default ``cycles / 1000``.
+    max_steps : int
+        Accepted steps at most.
+    tol : float
+        Relative residual tolerance of the periodic solves.
+    """
+    if not (np.isfinite(kw) and kw > 0):
+        raise ValueError(f"kw must be a finite Archard coefficient > 0 1/Pa, got {kw!r}")
+    if not (np.isfinite(cycles) and cycles > 0):
+        raise ValueError(f"cycles must be finite and > 0, got {cycles!r}")
+    if not (0 < rtol < 1):
+        raise ValueError(f"rtol must be in (0, 1), got {rtol!r}")
+    contact = problem.condensation.reduced.contact
+    hist = InterfaceWearHistory(position=contact.position, area=contact.area, kw=float(kw))
+    w = problem.wear.copy()
+    k1, sol = _rate(problem, w, None, kw, tol)
+    hist.solves += 1
+    if not sol.converged:
+        hist.record(0.0, w, sol)
+        hist.converged, hist.message = False, f"periodic solve failed at N = 0: {sol.message}"
+        return hist.finish()
+    hist.record(0.0, w, sol)
+    if atol is None:
+        atol = 1e-6 * max(float(k1.max()) * cycles / 100, 1e-300)
+    N = 0.0
+    h = cycles / 1000 if first_step is None else float(first_step)
+    dx_dN = np.zeros_like(sol.unknowns)  # secant predictor of the unknowns along the slow time
+    for _ in range(max_steps):
+        if N >= cycles * (1 - 1e-12):
+            break
+        h = min(h, cycles - N)
+        x0 = sol.unknowns
+        k2, s2 = _rate(problem, w + 0.5 * h * k1, x0 + 0.5 * h * dx_dN, kw, tol)
+        k3, s3 = _rate(problem, w + 0.75 * h * k2, x0 + 0.75 * h * dx_dN, kw, tol)
+        w_new = w + h * (2 * k1 + 3 * k2 + 4 * k3) / 9
+        k4, s4 = _rate(problem, w_new, x0 + h * dx_dN, kw, tol)
+        hist.solves += 3
+        if not (s2.converged and s3.converged and s4.converged):
+            bad = next(s for s in (s2, s3, s4) if not s.converged)
+            if h > cycles * 1e-9:
+                h *= 0.25
+                continue
+            hist.converged, hist.message = False, f"periodic solve failed near N = {N:.6g}: {bad.message}"
+            break
+        err_vec = h * (-5 * k1 / 72 + k2 / 12 + k3 / 9 - k4 / 8)
+        err = np.abs(err_vec).max() / (atol + rtol * np.abs(w_new).max())
+        if err > 1.0:
+            h *= max(0.2, 0.9 * err ** (-1 / 3))
+            continue
+        N += h
+        w = np.maximum(w_new, 0.0)
+        dx_dN = (s4.unknowns - x0) / h
+        k1, sol = k4, s4
+        problem = problem.with_wear(problem.wear, xref=sol.slip_variable[:, 0])
+        hist.record(N, w, sol)
+        if converge is not None and np.abs(k1).max() * N < converge * np.abs(w).max():
+            hist.message = f"profile converged at N = {N:.6g}"
+            break
+        h *= min(5.0, 0.9 * max(err, 1e-10) ** (-1 / 3))
+    else:
+        hist.converged, hist.message = False, f"max_steps = {max_steps} reached at N = {N:.6g}"
+    return hist.finish()
+
+
+def frf(
+    make_problem,
+    freqs_hz: np.ndarray,
+    dof: int | str,
+    wear: np.ndarray | None = None,
+    tol: float = 1e-10,
+) -> tuple[np.ndarray, np.ndarray]:
+    """First-harmonic amplitude of one DOF over frequency at a fixed wear profile (pseudo-FRF).
+
+    Parameters
+    ----------
+    make_problem : callable
+        ``make_problem(omega) -> InterfaceProblem`` (rad/s).
+    freqs_hz : ndarray
+        Frequencies (Hz), swept in the given order with warm starts.
+    dof : int or str
+        DOF of the full model (index or name).
+    wear : ndarray, optional
+        Worn depth per pair (m).
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Amplitude ``sqrt(a1^2 + b1^2)`` (m) and a converged flag per frequency.
+    """
+    amp = np.empty(len(freqs_hz))
+    ok = np.zeros(len(freqs_hz), dtype=bool)
+    guess = None
+    for j, f in enumerate(freqs_hz):
+        prob = make_problem(2 * np.pi * f)
+        if wear is not None:
+            prob = prob.with_wear(wear)
+        sol = solve_interface(prob, guess, tol)
+        ok[j] = sol.converged
+        guess = sol.unknowns if sol.converged else None
+        h = sol.dof_harmonics(dof)
+        amp[j] = np.hypot(h[1], h[2])
+    return amp, ok
