@@ -1,4 +1,5 @@
-"""Command line: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map``, ``cost``, ``figures``, ``study``.
+"""Command line: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map``, ``cost``, ``figures``, ``study``,
+``interface``.
 
 The commands are thin wrappers around the library's front functions, the same
 the dashboard and the benchmarks call (:func:`fretwear.sweep`,
@@ -58,6 +59,7 @@ from .hbm.continuation import continuation, sweep
 from .hbm.linear import linear_frf
 from .hbm.periodic import solve_periodic
 from .hbm.solution import PeriodicSolution
+from .interface import cli as interface_command
 from .model import Model, paper_model
 from .model.modelfile import example_names, example_path, read_model_file
 from .studies import study as study_command
@@ -295,6 +297,15 @@ def build_parser() -> argparse.ArgumentParser:
     figures.add_argument("--formats", default="png,svg,csv",
                          help="formats, comma-separated: png, svg, html, csv")  # fmt: skip
 
+    interface_command.add_arguments(
+        commands.add_parser(
+            "interface",
+            help="a contact interface of many nodes: cylinder on flat, or an interface model file",
+            description="The cylinder-on-flat fretting benchmark (2-D plane strain, scikit-fem) or an "
+            "interface model file: the quasi-static limit (--static, JSON), one periodic solve, or a "
+            "wear history with pressure redistribution (CSV, one row per record and contact node).",
+        )
+    )
     study_command.add_arguments(
         commands.add_parser(
             "study",
@@ -656,6 +667,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _figures(args)
         if args.command == "study":
             return study_command.run(args)
+        if args.command == "interface":
+            return interface_command.run(args)
         model, names = _model(args)
         return _COMMANDS[args.command](args, model, names)
     except (UsageError, ValueError) as exc:
