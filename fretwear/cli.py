@@ -400,8 +400,8 @@ def _check(args: argparse.Namespace) -> None:
             raise UsageError(f"argument --fmax: must be >= --fmin = {args.fmin:g} Hz, got {args.fmax:g}")
         if getattr(args, "continuation", False) and args.fmax == args.fmin:
             raise UsageError(f"argument --fmax: must be > --fmin = {args.fmin:g} Hz with --continuation")
-    out = getattr(args, "out", "-")
-    if out != "-" and not Path(out).resolve().parent.is_dir():
+    out = getattr(args, "out", None)
+    if out not in (None, "-") and not Path(out).resolve().parent.is_dir():
         raise UsageError(f"argument --out: the folder of {out!r} does not exist")
     if getattr(args, "samples", None) is not None and args.samples < 2 * args.harmonics + 1:
         raise UsageError(
