@@ -62,6 +62,7 @@ __all__ = [
     "period_map",
     "Engine",
     "engine",
+    "engine_loads",
     "check_state",
     "march",
 ]
@@ -215,6 +216,12 @@ def _engine(model: Model, omega: float) -> Engine:
 
 def engine(model: Model, omega: float, wear) -> tuple[Engine, np.ndarray]:
     """The (cached) engine of ``model`` at ``omega`` (rad/s) and the slip forces ``mu F_N(wear)`` (N)."""
+    eng, g, _ = engine_loads(model, omega, wear)
+    return eng, g
+
+
+def engine_loads(model: Model, omega: float, wear) -> tuple[Engine, np.ndarray, np.ndarray]:
+    """:func:`engine` and the normal loads ``F_N(wear)`` (N)."""
     if not isinstance(model, Model):
         raise TypeError(f"model must be a fretwear.model.Model, got {type(model).__name__}")
     if isinstance(omega, bool) or not isinstance(omega, (int, float, np.integer, np.floating)):
@@ -223,7 +230,8 @@ def engine(model: Model, omega: float, wear) -> tuple[Engine, np.ndarray]:
     if not np.isfinite(omega) or omega <= 0:
         raise ValueError(f"omega must be a finite positive angular frequency (rad/s), got {omega!r}")
     eng = _engine(model, omega)
-    return eng, np.array([c.mu for c in model.friction]) * model.normal_loads(wear)
+    loads = model.normal_loads(wear)
+    return eng, np.array([c.mu for c in model.friction]) * loads, loads
 
 
 def check_state(eng: Engine, y, name: str) -> np.ndarray:

@@ -90,6 +90,7 @@ _BAND = 1e-12  # a force this close to its limit counts as at the limit
 _STICK_TOL = 5e-10  # critical contact: relative acceleration below this (force units, of g_j)
 _RATE_TOL = 1e-11  # derivatives of a critical stuck force below this (of its scale) vanish
 _MAX_NULL = 40  # consecutive events at one instant before giving up
+_STALL = 6  # Newton gives up when its residual has not halved over this many iterations
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
 
 
@@ -813,7 +814,8 @@ def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
 
     Least-squares steps (the Jacobian is singular on orbits with a contact
     stuck during the whole period) and backtracking on the periodicity
-    residual ``|P(y) - y|`` (velocities scaled by ``1 / omega``).
+    residual ``|P(y) - y|`` (velocities scaled by ``1 / omega``). Stops early
+    when the residual has not halved over ``_STALL`` iterations.
 
     Returns ``(status, need, y, converged, iterations, residual, J)`` with the
     residual relative to ``|y|`` and ``J`` the monodromy at ``y``.
@@ -827,12 +829,14 @@ def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
     if status != OK:
         return status, need, y, False, 0, math.inf, J
     res = _scaled_norm(y1 - y, n, omega)
+    history = np.empty(max_iter + 1)
     for it in range(max_iter + 1):
         size = max(_scaled_norm(y, n, omega), 1e-300)
+        history[it] = res / size
         if res <= tol * size:
             return OK, 0, y, True, it, res / size, J
-        if it == max_iter:
-            break
+        if it == max_iter or (it >= _STALL and history[it] > 0.5 * history[it - _STALL]):
+            return OK, 0, y, False, it, res / size, J
         dy = np.linalg.lstsq(J - I, y - y1)[0]
         alpha = 1.0
         while True:
@@ -849,8 +853,7 @@ def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
         if status != OK:
             return status, need, y, False, it, res / size, J
         y, y1, J, res = trial, t1, tJ, tres
-    size = max(_scaled_norm(y, n, omega), 1e-300)
-    return OK, 0, y, False, max_iter, res / size, J
+    return OK, 0, y, False, max_iter, math.inf, J
 
 
 @njit(cache=True, nogil=True)
@@ -952,9 +955,12 @@ def quadrature(Ah, step, st_t, st_len, st_pat, st_X, n_steps, n, F, C, omega):
 def extrema(Ah, step, st_t, st_len, st_pat, st_X, n_steps, rows):
     """Exact maximum and minimum over the recorded steps of ``rows @ u`` (one row per channel).
 
-    Branch and bound on each step's polynomial: an interval is dropped when
-    the bound ``P(m) + |P'(m)| r + M2 r^2 / 2`` cannot beat the best value by
-    more than ``1e-15`` of the channel's range.
+    Branch and bound on each step's polynomial ``P``: on an interval of centre
+    ``m`` and half-width ``r``, ``P <= max(P + P' d + P'' d^2 / 2) + M3 r^3 / 6``
+    (``|d| <= r``, ``M3`` a bound of the third derivative over the step); an
+    interval is dropped when that cannot beat the best value by more than
+    ``1e-15`` of the channel's range, and the vertex of the quadratic is tried
+    as a candidate.
     """
     D = st_X.shape[1]
     nch, n = rows.shape
@@ -964,7 +970,7 @@ def extrema(Ah, step, st_t, st_len, st_pat, st_X, n_steps, rows):
     lo_out = np.full(nch, math.inf)
     stack_lo = np.empty(256)
     stack_hi = np.empty(256)
-    for s in range(n_steps):  # endpoints first: good initial bounds
+    for s in range(n_steps):  # step ends first: good initial bounds
         k = st_pat[s]
         _series(Ah[k], st_X[s], c, n)
         smax = st_len[s] / step[k]
@@ -976,19 +982,19 @@ def extrema(Ah, step, st_t, st_len, st_pat, st_X, n_steps, rows):
                 lo_out[ch] = min(lo_out[ch], p)
     for s in range(n_steps):
         k = st_pat[s]
-        _series(Ah[k], st_X[s], c, n)
         smax = st_len[s] / step[k]
         if smax <= 0:
             continue
+        _series(Ah[k], st_X[s], c, n)
         for ch in range(nch):
             tol = 1e-15 * max(hi_out[ch] - lo_out[ch], abs(hi_out[ch]), abs(lo_out[ch]), 1e-300)
             for side in range(2):
                 sgn = 1.0 if side == 0 else -1.0
                 _row_series(rows[ch], c, 0, n, sgn, a)
-                m2 = 0.0
+                m3 = 0.0
                 x = 1.0
-                for q in range(2, _K + 1):
-                    m2 += q * (q - 1) * abs(a[q]) * x
+                for q in range(3, _K + 1):
+                    m3 += q * (q - 1) * (q - 2) * abs(a[q]) * x
                     x *= smax
                 best = sgn * (hi_out[ch] if side == 0 else lo_out[ch])
                 stack_lo[0], stack_hi[0] = 0.0, smax
@@ -998,9 +1004,15 @@ def extrema(Ah, step, st_t, st_len, st_pat, st_X, n_steps, rows):
                     lo, hi = stack_lo[top], stack_hi[top]
                     r = 0.5 * (hi - lo)
                     mid = lo + r
-                    pm, dm = _poly(a, mid)
-                    best = max(best, pm)
-                    if pm + abs(dm) * r + 0.5 * m2 * r * r <= best + tol or r < 1e-17 or top >= 254:
+                    p0, d1, d2 = _poly2(a, mid)
+                    best = max(best, p0)
+                    bound = max(p0 + abs(d1) * r + 0.5 * d2 * r * r, p0)
+                    if d2 < 0:
+                        vertex = -d1 / d2
+                        if abs(vertex) <= r:
+                            best = max(best, _poly(a, mid + vertex)[0])
+                            bound = max(bound, p0 - 0.5 * d1 * d1 / d2)
+                    if bound + m3 * r * r * r / 6 <= best + tol or r < 1e-17 or top >= 254:
                         continue
                     stack_lo[top], stack_hi[top] = mid, hi
                     stack_lo[top + 1], stack_hi[top + 1] = lo, mid

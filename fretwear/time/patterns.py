@@ -35,19 +35,97 @@ eigenfrequency) patterns need no special case.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
+from numba import njit
 from scipy import linalg
 
 from ..model import Model
 
-__all__ = ["TAYLOR_ORDER", "Engine"]
+__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "structure"]
 
 #: terms of the Taylor series of a step (polynomial degree)
 TAYLOR_ORDER = 30
 _REMAINDER = 1e-20  # bound on the truncated tail of a step, relative to |X| in the balanced norm
 _STEP_RADIUS = 3.0  # first trial of h_S: growth rate times h_S
 _MIN_STEPS = 4  # at least this many steps per excitation period
+
+
+class Structure:
+    """What the stick patterns of one model share at every frequency.
+
+    Checks the model (friction contacts only, ``M`` positive definite,
+    independent contacts) and caches, per stuck set, ``A_S`` without its
+    ``omega`` entries and the force rows.
+    """
+
+    def __init__(self, model: Model) -> None:
+        if model.normal:
+            raise ValueError(
+                "the time integrator supports friction contacts only: unilateral normal contacts "
+                f"(model.normal, {len(model.normal)} given) are not implemented"
+            )
+        M = model.M
+        if np.linalg.eigvalsh(M).min() <= 1e-12 * np.abs(M).max():
+            raise ValueError(
+                "the time integrator requires a positive definite mass matrix M: "
+                "massless DOFs (singular M) are not supported; condense them out first"
+            )
+        self.model = model
+        self.n, self.nf = model.n_dofs, len(model.friction)
+        self.dim = 2 * self.n + self.nf + 3
+        self.B = model.relative_map(model.friction)
+        if self.nf and np.linalg.matrix_rank(self.B) < self.nf:
+            raise ValueError(
+                "friction contacts must be linearly independent (relative map B of full row rank): "
+                "redundant contacts make the stuck forces indeterminate"
+            )
+        Minv = linalg.inv(M)
+        self.Minv = (Minv + Minv.T) / 2
+        self.C, self.K = model.C, model.K
+        self.forces = np.column_stack([model.force_static, model.force_cos, model.force_sin])
+        self._matrices: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def seen(self) -> list[int]:
+        """Stuck sets built so far (at any frequency), and every stuck set when there are at most 8."""
+        masks = set(self._matrices)
+        if self.nf <= 3:
+            masks.update(range(1 << self.nf))
+        return sorted(masks)
+
+    def matrices(self, mask: int) -> tuple[np.ndarray, np.ndarray]:
+        """``A_S`` without its ``omega`` entries and the force rows ``X -> lambda`` of stuck set ``mask``."""
+        found = self._matrices.get(mask)
+        if found is not None:
+            return found
+        n, nf, D = self.n, self.nf, self.dim
+        stuck = [j for j in range(nf) if mask >> j & 1]
+        i_lam, i_one = 2 * n, 2 * n + nf
+        R = np.zeros((n, D))  # X -> r = f - C v - K u - B^T lambda
+        R[:, :n], R[:, n : 2 * n], R[:, i_lam:i_one] = -self.K, -self.C, -self.B.T
+        R[:, i_one : i_one + 3] = self.forces
+        rows = np.zeros((nf, D))
+        rows[:, i_lam:i_one] = np.eye(nf)
+        acc = self.Minv @ R
+        if stuck:
+            BS = self.B[stuck]
+            MiBt = self.Minv @ BS.T
+            W = BS @ MiBt
+            L = linalg.solve(W, BS @ acc, assume_a="pos")  # lambda_S = W^-1 B_S M^-1 r
+            rows[stuck] = L
+            acc = acc - MiBt @ L
+        A = np.zeros((D, D))
+        A[:n, n : 2 * n] = np.eye(n)
+        A[n : 2 * n] = acc
+        self._matrices[mask] = A, rows
+        return A, rows
+
+
+@lru_cache(maxsize=64)
+def structure(model: Model) -> Structure:
+    """The (cached) :class:`Structure` of ``model``."""
+    return Structure(model)
 
 
 class Engine:
@@ -66,33 +144,16 @@ class Engine:
     """
 
     def __init__(self, model: Model, omega: float) -> None:
-        if model.normal:
-            raise ValueError(
-                "the time integrator supports friction contacts only: unilateral normal contacts "
-                f"(model.normal, {len(model.normal)} given) are not implemented"
-            )
-        M = model.M
-        if np.linalg.eigvalsh(M).min() <= 1e-12 * np.abs(M).max():
-            raise ValueError(
-                "the time integrator requires a positive definite mass matrix M: "
-                "massless DOFs (singular M) are not supported; condense them out first"
-            )
-        self.model, self.omega, self.period = model, float(omega), 2 * np.pi / omega
-        self.n, self.nf = model.n_dofs, len(model.friction)
-        self.dim = 2 * self.n + self.nf + 3
-        self.B = model.relative_map(model.friction)
-        if self.nf and np.linalg.matrix_rank(self.B) < self.nf:
-            raise ValueError(
-                "friction contacts must be linearly independent (relative map B of full row rank): "
-                "redundant contacts make the stuck forces indeterminate"
-            )
-        self.Minv = linalg.inv(M)
-        self.Minv = (self.Minv + self.Minv.T) / 2
-        self.C, self.K = model.C, model.K
-        self.forces = np.column_stack([model.force_static, model.force_cos, model.force_sin])
+        st = structure(model)
+        self.structure, self.model = st, model
+        self.omega, self.period = float(omega), 2 * np.pi / omega
+        self.n, self.nf, self.dim = st.n, st.nf, st.dim
+        self.B, self.Minv, self.C, self.K, self.forces = st.B, st.Minv, st.C, st.K, st.forces
         n, D, K = self.n, self.dim, TAYLOR_ORDER
         self.count = 0
-        cap = 2
+        self._slots: dict[int, int] = {}
+        seen = st.seen()
+        cap = max(2, len(seen) + 1)
         self.masks = np.full(cap, -1, dtype=np.int64)
         self.Ah = np.zeros((cap, D, D))  # A_S h_S
         self.force_rows = np.zeros((cap, self.nf, D))  # X -> friction force of every contact
@@ -100,12 +161,13 @@ class Engine:
         self.phi_series = np.zeros((cap, K + 1, 2 * n, 2 * n))  # (A_yy h_S)^k / k!
         self.step = np.zeros(cap)  # h_S (s)
         self.require(0)  # every contact slipping (or open)
+        for mask in seen:  # the patterns this model needed at other frequencies
+            self.require(mask)
 
     # -- the table -----------------------------------------------------------
     def slot(self, mask: int) -> int:
         """Slot of the pattern whose stuck contacts are the bits of ``mask``; -1 if not built."""
-        hits = np.flatnonzero(self.masks[: self.count] == mask)
-        return int(hits[0]) if hits.size else -1
+        return self._slots.get(mask, -1)
 
     def require(self, mask: int) -> int:
         """Build the pattern of stuck set ``mask`` (bit ``j``: contact ``j`` stuck) if needed; its slot."""
@@ -114,18 +176,13 @@ class Engine:
             return found
         if self.count == len(self.masks):
             self._grow()
-        stuck = [j for j in range(self.nf) if mask >> j & 1]
-        A, rows = self._matrices(stuck)
-        h = self._step_length(A)
-        yy = A[: 2 * self.n, : 2 * self.n] * h
-        term = np.eye(2 * self.n)
+        A0, rows = self.structure.matrices(mask)
         k = self.count
-        for order in range(TAYLOR_ORDER + 1):
-            self.phi_series[k, order] = term
-            term = term @ yy / (order + 1)
-        self.phi[k] = self.phi_series[k].sum(axis=0)
-        self.Ah[k], self.force_rows[k], self.step[k] = A * h, rows, h
+        self.step[k] = _prepare(A0, self.omega, self.period, 2 * self.n, self.Ah[k], self.phi_series[k],
+                                self.phi[k])  # fmt: skip
+        self.force_rows[k] = rows
         self.masks[k] = mask
+        self._slots[mask] = k
         self.count += 1
         return k
 
@@ -145,50 +202,82 @@ class Engine:
         self.Ah, self.force_rows = bigger(self.Ah), bigger(self.force_rows)
         self.phi, self.phi_series, self.step = bigger(self.phi), bigger(self.phi_series), bigger(self.step)
 
-    # -- one pattern ---------------------------------------------------------
-    def _matrices(self, stuck: list[int]) -> tuple[np.ndarray, np.ndarray]:
-        """``A_S`` and the force rows ``X -> lambda`` of the stick pattern ``stuck``."""
-        n, nf, D, omega = self.n, self.nf, self.dim, self.omega
-        i_lam, i_one = 2 * n, 2 * n + nf
-        R = np.zeros((n, D))  # X -> r = f - C v - K u - B^T lambda
-        R[:, :n], R[:, n : 2 * n], R[:, i_lam:i_one] = -self.K, -self.C, -self.B.T
-        R[:, i_one : i_one + 3] = self.forces
-        rows = np.zeros((nf, D))
-        rows[:, i_lam:i_one] = np.eye(nf)
-        acc = self.Minv @ R
-        if stuck:
-            BS = self.B[stuck]
-            MiBt = self.Minv @ BS.T
-            W = BS @ MiBt
-            L = linalg.solve(W, BS @ acc, assume_a="pos")  # lambda_S = W^-1 B_S M^-1 r
-            rows[stuck] = L
-            acc = acc - MiBt @ L
-        A = np.zeros((D, D))
-        A[:n, n : 2 * n] = np.eye(n)
-        A[n : 2 * n] = acc
-        A[i_one + 1, i_one + 2] = -omega
-        A[i_one + 2, i_one + 1] = omega
-        return A, rows
 
-    def _step_length(self, A: np.ndarray) -> float:
-        """Longest ``h <= T / _MIN_STEPS`` whose Taylor tail is below ``_REMAINDER`` (balanced norm).
+# ---------------------------------------------------------------------------
+# step data of one pattern at one frequency
+# ---------------------------------------------------------------------------
+@njit(cache=True, nogil=True)
+def _balance(A):
+    """Diagonally balanced copy of ``A`` (rows and columns of equal off-diagonal 1-norms; zero ones kept)."""
+    D = A.shape[0]
+    Ab = A.copy()
+    for _ in range(30):
+        done = True
+        for i in range(D):
+            r = 0.0
+            c = 0.0
+            for j in range(D):
+                if j != i:
+                    r += abs(Ab[i, j])
+                    c += abs(Ab[j, i])
+            if r == 0.0 or c == 0.0:
+                continue
+            f = math.sqrt(c / r)
+            if abs(f - 1.0) > 0.05:
+                done = False
+                for j in range(D):
+                    Ab[i, j] *= f
+                    Ab[j, i] /= f
+        if done:
+            break
+    return Ab
 
-        With ``|.|`` the infinity norm after diagonal balancing, the tail of
-        ``sum_k (A h)^k / k!`` beyond ``K`` is at most
-        ``|A^(K+1)| h^(K+1) / (K+1)! exp(|A| h)``.
-        """
-        K = TAYLOR_ORDER
-        Ab, _ = linalg.matrix_balance(A, permute=False)
-        norm = np.abs(Ab).sum(axis=1).max()
-        power = np.linalg.matrix_power(Ab, K + 1)
-        top = np.abs(power).sum(axis=1).max()
-        rate = max(top ** (1 / (K + 1)), self.omega, 1e-300)
-        h = min(self.period / _MIN_STEPS, _STEP_RADIUS / rate)
 
-        def tail(h):
-            return math.exp((K + 1) * math.log(max(top, 1e-300) ** (1 / (K + 1)) * h) - math.lgamma(K + 2)
-                            + norm * h)  # fmt: skip
+@njit(cache=True, nogil=True)
+def _inf_norm(A):
+    best = 0.0
+    for i in range(A.shape[0]):
+        best = max(best, np.abs(A[i]).sum())
+    return best
 
-        while top > 0 and tail(h) > _REMAINDER:
+
+@njit(cache=True, nogil=True)
+def _prepare(A0, omega, period, n2, Ah, series, phi):
+    """Step ``h_S`` of ``A_S`` (``A0`` plus the rotation ``omega``); fills ``A h``, the series, ``phi``.
+
+    With ``|.|`` the infinity norm after diagonal balancing, the tail of
+    ``sum_k (A h)^k / k!`` beyond ``K`` is at most
+    ``|A^(K+1)| h^(K+1) / (K+1)! exp(|A| h)``; ``h`` is the longest step
+    ``<= T / 4`` and ``<= 3 / |A^(K+1)|^(1 / (K+1))`` with a tail below ``1e-20``.
+    """
+    K = TAYLOR_ORDER
+    D = A0.shape[0]
+    A = A0.copy()
+    A[D - 2, D - 1] = -omega
+    A[D - 1, D - 2] = omega
+    Ab = _balance(A)
+    norm = _inf_norm(Ab)
+    power = np.eye(D)  # Ab^(K+1) by repeated squaring
+    base = Ab.copy()
+    e = K + 1
+    while e:
+        if e & 1:
+            power = power @ base
+        base = base @ base
+        e >>= 1
+    top = _inf_norm(power)
+    root = top ** (1.0 / (K + 1)) if top > 0 else 0.0
+    rate = max(root, omega)
+    h = min(period / _MIN_STEPS, _STEP_RADIUS / rate)
+    if root > 0:
+        while (K + 1) * math.log(root * h) - math.lgamma(K + 2) + norm * h > math.log(_REMAINDER):
             h /= 1.25
-        return h
+    Ah[:, :] = A * h
+    term = np.eye(n2)
+    yy = np.ascontiguousarray(Ah[:n2, :n2])
+    phi[:, :] = 0.0
+    for k in range(K + 1):
+        series[k] = term
+        phi += term
+        term = term @ yy / (k + 1)
+    return h

@@ -26,7 +26,16 @@ from scipy import linalg
 
 from ..model import STICK, Model
 from . import kernels
-from .integrator import ContactEvent, Engine, Trajectory, check_state, engine, model_arrays, trajectory
+from .integrator import (
+    ContactEvent,
+    Engine,
+    Trajectory,
+    check_state,
+    engine,
+    engine_loads,
+    model_arrays,
+    trajectory,
+)
 
 __all__ = ["ShootingSolution", "shooting", "periodic_state", "steady_state", "shooting_sweep"]
 
@@ -265,8 +274,9 @@ def _solve(eng: Engine, g: np.ndarray, guess, tol: float, max_iter: int, transie
         return None
 
     found = None if guess is None else attempt("the guess", guess)
-    y = _stuck_state(eng, g)
+    y = guess
     if found is None:
+        y = _stuck_state(eng, g)
         found = attempt("the rigid linear state", y)
     marched = 0
     for periods in _MARCHES:
@@ -285,8 +295,8 @@ def _solve(eng: Engine, g: np.ndarray, guess, tol: float, max_iter: int, transie
     return y, False, iterations, residual, message
 
 
-def _solution(eng: Engine, g: np.ndarray, wear, y0: np.ndarray, converged: bool, iterations: int,
-              residual: float, message: str, samples: int) -> ShootingSolution:  # fmt: skip
+def _solution(eng: Engine, g: np.ndarray, loads: np.ndarray, wear, y0: np.ndarray, converged: bool,
+              iterations: int, residual: float, message: str, samples: int) -> ShootingSolution:  # fmt: skip
     model, n, nf, T = eng.model, eng.n, eng.nf, eng.period
     wear = np.zeros(nf) if wear is None else np.asarray(wear, dtype=float)
     try:
@@ -297,7 +307,7 @@ def _solution(eng: Engine, g: np.ndarray, wear, y0: np.ndarray, converged: bool,
             model=model, omega=eng.omega, y0=y0, converged=False, iterations=iterations, residual=np.inf,
             message=f"{message}; the orbit could not be evaluated: {exc}".lstrip("; "),
             monodromy=np.full((2 * n, 2 * n), np.nan), floquet_multipliers=np.full(2 * n, np.nan + 0j),
-            neutral_multipliers=0, wear=wear, normal_loads=model.normal_loads(wear), slip_forces=g,
+            neutral_multipliers=0, wear=wear, normal_loads=loads, slip_forces=g,
             samples=samples, first_harmonic=np.full((n, 2), np.nan), half_peak_to_peak=nan,
             relative_half_peak_to_peak=np.full(nf, np.nan), sliding_distance=np.full(nf, np.nan),
             friction_energy=np.full(nf, np.nan), input_work=np.nan, viscous_dissipation=np.nan, events=(),
@@ -310,7 +320,7 @@ def _solution(eng: Engine, g: np.ndarray, wear, y0: np.ndarray, converged: bool,
     )
     hpp = (hi - lo) / 2
     residual = _scaled_norm(eng, traj.y - y0) / max(_scaled_norm(eng, y0), 1e-300)
-    mult = linalg.eigvals(traj.jacobian)
+    mult = np.linalg.eigvals(traj.jacobian)
     coef = 2 / T * traj.fourier
     always_stuck = np.all(traj.segment_state == STICK, axis=0) & (g > 0)
     return ShootingSolution(
@@ -325,7 +335,7 @@ def _solution(eng: Engine, g: np.ndarray, wear, y0: np.ndarray, converged: bool,
         floquet_multipliers=mult[np.argsort(-np.abs(mult), kind="stable")],
         neutral_multipliers=int(always_stuck.sum()),
         wear=wear,
-        normal_loads=model.normal_loads(wear),
+        normal_loads=loads,
         slip_forces=g,
         samples=samples,
         first_harmonic=np.column_stack([coef.real, -coef.imag]),
@@ -399,12 +409,12 @@ def shooting(
         ``iterations`` counts the Newton iterations of every start; a solve
         that fails has ``converged=False`` and says why in ``message``.
     """
-    eng, g = engine(model, omega, wear)
+    eng, g, loads = engine_loads(model, omega, wear)
     samples = _check_samples(samples)
     _check_options(tol, max_iter)
     guess = None if y_guess is None else check_state(eng, y_guess, "y_guess")
     y, converged, iterations, residual, message = _solve(eng, g, guess, tol, max_iter, transient_periods)
-    return _solution(eng, g, wear, y, converged, iterations, residual, message, samples)
+    return _solution(eng, g, loads, wear, y, converged, iterations, residual, message, samples)
 
 
 def periodic_state(
@@ -485,7 +495,7 @@ def steady_state(
     ShootingSolution
         With ``iterations`` the number of periods marched.
     """
-    eng, g = engine(model, omega, wear)
+    eng, g, loads = engine_loads(model, omega, wear)
     samples = _check_samples(samples)
     y = _stuck_state(eng, g) if y_guess is None else check_state(eng, y_guess, "y_guess").copy()
     status, y, marched, change = _settle(eng, g, y, int(max_periods), float(tol))
@@ -496,7 +506,7 @@ def steady_state(
         message = f"the change over one period is {change:.2e} > tol = {tol:.1e} after {marched} periods"
     else:
         message = ""
-    return _solution(eng, g, wear, y, converged, marched, change, message, samples)
+    return _solution(eng, g, loads, wear, y, converged, marched, change, message, samples)
 
 
 def shooting_sweep(model: Model, omegas, **options) -> list[ShootingSolution]:

@@ -181,13 +181,13 @@ def test_den_hartog_continuous_sliding(beta, ratio):
     assert v_max < 0 and margin > 0  # the exact motion neither stops inside a half cycle nor sticks
     sol = ti.shooting(coulomb_oscillator(ratio), beta)
     assert sol.converged and sol.residual <= 1e-10
-    assert sol.half_peak_to_peak[0] == pytest.approx(X_exact, rel=1e-8)
-    assert sol.relative_half_peak_to_peak[0] == pytest.approx(X_exact, rel=1e-8)
+    assert sol.half_peak_to_peak[0] == pytest.approx(X_exact, rel=1e-10)
+    assert sol.relative_half_peak_to_peak[0] == pytest.approx(X_exact, rel=1e-10)
     assert [e.kind for e in sol.events] == ["reversal", "reversal"]
     assert not np.any(sol.state == STICK)
     assert np.all(np.abs(sol.contact_force) == pytest.approx(ratio))
     # continuous sliding: the slid distance is 4 X per period
-    assert sol.sliding_distance[0] == pytest.approx(4 * X_exact, rel=1e-8)
+    assert sol.sliding_distance[0] == pytest.approx(4 * X_exact, rel=1e-10)
     assert sol.stable
 
 
@@ -198,7 +198,7 @@ def test_den_hartog_boundary_zero_velocity_at_the_friction_limit(beta, bracket):
     for r in (ratio, ratio * (1 + 1e-9)):  # on the boundary, and just inside the stop regime
         sol = ti.shooting(coulomb_oscillator(r), beta)
         assert sol.converged and sol.residual <= 1e-10
-        assert sol.half_peak_to_peak[0] == pytest.approx(den_hartog_amplitude(beta, r), rel=1e-8)
+        assert sol.half_peak_to_peak[0] == pytest.approx(den_hartog_amplitude(beta, r), rel=1e-10)
 
 
 # ---------------------------------------------------------------------------
