@@ -26,6 +26,56 @@ def _residual(x, Z, F, eps, gap, mu, xref, Phi, Psi, R, A, J, lamT, lamN, X, sta
 
 
 @njit(cache=True, nogil=True)
+def _newton_step(J, R, A, eps):
+    """Solve ``J dx = -R``, eliminating the pairs whose block is the identity first.
+
+    A pair closed and stuck all period at its reference slip variable has
+    ``A_i = I``, so its rows of ``J`` are ``diag(eps)``: its step is ``-R / eps``
+    and only the other pairs enter the dense solve (in partial slip the whole
+    stick zone drops out).
+    """
+    nc, H2 = A.shape[0], A.shape[1]
+    H = H2 // 2
+    n = J.shape[0]
+    fixed = np.zeros(nc, dtype=np.bool_)
+    n_free = 0
+    for i in range(nc):
+        dev = 0.0
+        for a in range(H2):
+            for b in range(H2):
+                dev = max(dev, abs(A[i, a, b] - (1.0 if a == b else 0.0)))
+        fixed[i] = dev < 1e-12
+        if not fixed[i]:
+            n_free += H2
+    if n_free == n:
+        return np.linalg.solve(J, -R)
+    dx = np.zeros(n)
+    free = np.empty(n_free, dtype=np.int64)
+    k = 0
+    for i in range(nc):
+        for a in range(H2):
+            r = i * H2 + a
+            if fixed[i]:
+                dx[r] = -R[r] / (eps[2 * i] if a < H else eps[2 * i + 1])
+            else:
+                free[k] = r
+                k += 1
+    if n_free == 0:
+        return dx
+    rhs = -R - J @ dx
+    Jr = np.empty((n_free, n_free))
+    br = np.empty(n_free)
+    for a in range(n_free):
+        br[a] = rhs[free[a]]
+        for b in range(n_free):
+            Jr[a, b] = J[free[a], free[b]]
+    sol = np.linalg.solve(Jr, br)
+    for a in range(n_free):
+        dx[free[a]] = sol[a]
+    return dx
+
+
+@njit(cache=True, nogil=True)
 def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter):
     """Newton's method from ``x0``: returns ``(x, converged, iterations, max|R|, code)``.
 
@@ -47,7 +97,7 @@ def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter):
     while it < max_iter:
         if r <= target:
             return x, True, it, r, 0
-        dx = np.linalg.solve(J, -R)  # a singular J raises: the caller reports it
+        dx = _newton_step(J, R, A, eps)  # a singular J raises: the caller reports it
         if not np.all(np.isfinite(dx)):
             if damped:
                 return x, False, it, r, 1

@@ -1,0 +1,105 @@
+"""Interface benchmarks (issue 11): the cylinder-on-flat test with many contact pairs.
+
+Run ``python benchmarks/bench_interface.py`` (``--quick`` skips the wear history
+and the 128-pair row). Prints warm wall times next to their targets and the
+ratio (time / target, <= 1 meets it):
+
+* one periodic solve, 32 pairs, ``Nh = 7`` (partial slip, from the quasi-static
+  start): target 1 s;
+* a wear history to a converged profile, 32 pairs, ``Nh = 7``: target 2 min;
+* Craig-Bampton reduction of a 20 000-DOF mesh (modes by the frequency
+  criterion): target 10 s;
+* cost against the number of contact pairs (16, 32, 64, 128): reduction,
+  condensation, one periodic solve and its Newton iterations.
+
+The machine's load is printed first: timings on a shared machine scale with it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+
+from fretwear.interface.fe import cylinder_on_flat
+from fretwear.interface.periodic import InterfaceProblem, solve_interface
+from fretwear.interface.reduction import ContactCondensation, craig_bampton
+from fretwear.interface.wear import wear_interface
+
+F_HZ, NH = 50.0, 7
+
+
+def timed(fn, repeat=1):
+    best, out = np.inf, None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t)
+    return best, out
+
+
+def report(label: str, seconds: float, target: float) -> None:
+    print(f"{label}: {seconds:.3g} s (target <= {target:g} s: ratio {seconds / target:.2f})")
+
+
+def setup(nodes: int, **changes):
+    model = cylinder_on_flat(contact_nodes=nodes, **changes)
+    t_red, reduced = timed(lambda: craig_bampton(model, NH * F_HZ))
+    cond = ContactCondensation(reduced)
+    t_cond, prob = timed(lambda: InterfaceProblem(cond, 2 * np.pi * F_HZ, harmonics=NH))
+    return model, reduced, prob, t_red, t_cond
+
+
+def bench_solve() -> None:
+    _, _, prob, _, _ = setup(32)
+    solve_interface(prob)  # warm-up: compiles or loads the kernels
+    t, sol = timed(lambda: solve_interface(prob), repeat=3)
+    report(f"periodic solve, 32 pairs, Nh = {NH} ({sol.iterations} Newton iterations, {sol.path})", t, 1.0)
+
+
+def bench_wear() -> None:
+    model, _, prob, _, _ = setup(32)
+    solve_interface(prob)
+    t, hist = timed(lambda: wear_interface(prob, 1e-14, 1e8, converge=1e-3))
+    print(f"  {hist.message}; {len(hist.cycles)} records, {hist.solves} periodic solves")
+    report("wear history to a converged profile, 32 pairs, Nh = 7 (partial slip, Q0 = 0.5 mu P)", t, 120.0)
+
+
+def bench_reduction() -> None:
+    model = cylinder_on_flat(contact_nodes=32, growth=1.12)
+    craig_bampton(model, 1e4)  # warm-up (imports, caches)
+    t, red = timed(lambda: craig_bampton(model, 5e4))
+    report(
+        f"Craig-Bampton, {model.n_dofs} DOFs, {len(red.boundary)} boundary DOFs, {red.n_modes} modes "
+        f"below {red.cutoff:.3g} Hz",
+        t,
+        10.0,
+    )
+
+
+def bench_scaling(counts: tuple[int, ...]) -> None:
+    print("\n| pairs | DOFs | reduction (s) | condensation (s) | periodic solve (s) | Newton iterations |")
+    print("|---|---|---|---|---|---|")
+    for n in counts:
+        model, _, prob, t_red, t_cond = setup(n)
+        solve_interface(prob)
+        t, sol = timed(lambda prob=prob: solve_interface(prob), repeat=2)
+        print(f"| {n} | {model.n_dofs} | {t_red:.2f} | {t_cond:.2f} | {t:.3f} | {sol.iterations} |")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="no wear history, no 128-pair row")
+    args = parser.parse_args()
+    print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs")
+    bench_solve()
+    bench_reduction()
+    if not args.quick:
+        bench_wear()
+    bench_scaling((16, 32, 64) if args.quick else (16, 32, 64, 128))
+
+
+if __name__ == "__main__":
+    main()
