@@ -1,50 +1,82 @@
-"""Polynomial slow-time DLFT (paper eq. 25-29).
+"""Polynomial slow-time DLFT (paper eq. 25-29), with a slow-time basis built for wear curves.
 
-The Fourier coefficients of the contact unknowns and the wear depth are
-polynomials of the slow time ``eta`` (Legendre basis by default, the paper's
-monomials on request); a Galerkin projection on Gauss-Legendre nodes of
-``eta`` turns the whole wear history at one frequency into one nonlinear
-system, solved by Newton's method with exact derivatives of the DLFT march.
+The whole wear history at one frequency comes from the periodic DLFT response
+at a few slow times (the Gauss-Legendre nodes of the slow interval) and
+polynomials of the slow time between them. Three bases (``basis=``):
+
+* ``"saturating"`` (default, one friction contact): the slow variable is the
+  wear itself, through ``z = -ln(1 - w / u0)``. Archard's law then reads
+  ``dN/dz = 1 / (K_w k_n s(z))``, ``s`` the distance slid per cycle, and
+  ``w = u0 (1 - exp(-z))`` stays in ``[0, u0)`` by construction. ``z`` is linear
+  in ``N`` when ``s`` does not depend on the load (exact at degree 1), and again
+  above the point of maximal slope, where the contact is nearly unloaded and
+  ``s`` levels off. In maintenance-engineering terms ``w / u0`` is a life
+  distribution with cumulative hazard ``z`` (a Weibull law has ``z = (N / N_c)^k``)
+  and hazard rate ``K_w k_n s``. The harmonics ``x`` and the cycle count ``N``
+  are polynomials of degree ``m`` in a time-like map ``v`` of ``z`` (below); the
+  DLFT equations (eq. 29) hold exactly at the ``2 m + 2`` Gauss nodes of ``v``,
+  where the response is solved at the node's known wear, and ``dN/dv`` is
+  projected on the polynomials of degree ``< m`` (Galerkin). In ``z`` the slow
+  system is explicit: no Newton iteration in slow time.
+* ``"legendre"`` and ``"monomial"``: the paper's method. ``w`` and ``x`` are
+  polynomials of degree ``m`` in ``N`` over ``[0, cycles]`` (Legendre
+  polynomials, or the paper's powers of ``N / cycles``, eq. 25-27); the DLFT
+  residual (eq. 29) and Archard's law ``dw/dN = K_w F_N(w) s`` are projected on
+  them with a Gauss-Legendre rule of ``2 m + 2`` nodes (Galerkin), and the whole
+  system is solved by Newton's method with its exact Jacobian.
+
+Why the wear variable: with a load-dependent ``s``, Archard's law in ``N`` is
+unstable while the wear accelerates (``d(dz/dN)/dz = K_w k_n ds/dz > 0``): a
+perturbation of ``z`` grows like ``s(z) / s(0)`` along the history, which is
+up to 70 for the paper's 10 N case at 0.6 Hz. A projection in ``N`` spreads its
+residual over the whole history and this growth amplifies it; the Galerkin
+system may then have no solution near the physical one, and its Newton
+iteration (on a residual that is only piecewise smooth: the DLFT march changes
+stick/slip pattern hundreds of times along the history at ``Nh = 21``) stalls.
+In ``z`` nothing feeds back.
+
+The map ``v(z)``: the cycles ``N^(z)`` that Archard's law takes with the sliding
+distance ``s^(z) = s(0) + z ds/dz(0)`` held between ``s(0)`` and ``s(z_end)``
+(the exact tangent at the start and the exact end value), normalised to
+``[0, 1]``. Nodes uniform in ``v`` are uniform in time for that model: dense
+where the wear is slow.
+
+The slow interval ends at the wear ``FIT_FRACTION u0`` (or at the horizon, if
+that comes first); beyond, the contact is nearly unloaded, ``s`` no longer
+changes (by < 1 % on the paper cases) and Archard's law is integrated in closed
+form from the end state (``z`` linear in ``N``) up to ``stop_fraction u0``.
 """
 
 from __future__ import annotations
 
 import time
+from functools import lru_cache
 from typing import Literal
 
 import numpy as np
+from numba import njit
 
 from ..hbm import dlft
-from ..hbm.periodic import NewtonResult, Problem, solve_problem
-from ..hbm.solution import PeriodicSolution
+from ..hbm.condensation import recover
+from ..hbm.harmonics import amplitude, extrema, full_synthesis
+from ..hbm.kernels import NEWTON, newton_kernel, walk_kernel
+from ..hbm.periodic import solve_problem
+from ..hbm.problem import Problem
 from ..model import Model
-from .common import (
-    Dynamics,
-    Recorder,
-    WearHistory,
-    check_wear_inputs,
-    clip_wear,
-    two_scale_warning,
-)
+from .common import Recorder, WearHistory, check_wear_inputs, two_scale_warning
 
-__all__ = ["wear_polynomial"]
-from .stepping import wear_stepping
+__all__ = ["wear_polynomial", "BASES", "FIT_FRACTION", "MISFIT_LIMIT"]
 
+#: slow-time bases of :func:`wear_polynomial`, the default first
+BASES = ("saturating", "legendre", "monomial")
 
-def _basis(kind: str, degree: int, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Values and d/dxi of the slow-time basis at ``xi`` in [-1, 1], shape (len(xi), degree + 1)."""
-    if kind == "legendre":
-        V = np.polynomial.legendre.legvander(xi, degree)
-        D = np.stack([np.polynomial.legendre.legval(xi, np.polynomial.legendre.legder(np.eye(degree + 1)[q]))
-                      for q in range(degree + 1)], axis=1)  # fmt: skip
-    elif kind == "monomial":  # powers of the normalised slow time eta / N_end = (xi + 1) / 2
-        s = (xi + 1) / 2
-        q = np.arange(degree + 1)
-        V = s[:, None] ** q
-        D = np.where(q > 0, 0.5 * q * s[:, None] ** np.maximum(q - 1, 0), 0.0)
-    else:
-        raise ValueError(f"basis must be 'legendre' or 'monomial', got {kind!r}")
-    return V, D
+#: the saturating basis covers the wear up to this fraction of ``u0``; Archard's law in closed form beyond
+FIT_FRACTION = 0.95
+
+#: a fit whose cycles to reach its own wear miss its own Archard law by more than this is flagged
+MISFIT_LIMIT = 0.02
+
+_W_MAX = 1.0 - 1e-12  # w / u0 stays below 1: the load relaxes to zero only asymptotically
 
 
 def wear_polynomial(
@@ -56,268 +88,627 @@ def wear_polynomial(
     harmonics: int = 3,
     samples: int | None = None,
     degree: int = 4,
-    basis: Literal["legendre", "monomial"] = "legendre",
-    tol: float = 1e-9,
-    max_iter: int = 60,
+    basis: Literal["saturating", "legendre", "monomial"] = "saturating",
+    tol: float = 1e-10,
+    max_iter: int = 40,
     outputs: int = 101,
+    stop_fraction: float = 0.99,
 ) -> WearHistory:
     """Wear evolution at one frequency by the polynomial slow-time DLFT (eq. 25-29).
 
-    The harmonics ``x`` of the contact coordinates and the wear ``w`` are
-    polynomials of degree ``m`` in the slow time ``eta`` in [0, cycles] (eq.
-    25-27). Galerkin projection on the polynomial basis, with Gauss-Legendre
-    quadrature in ``eta``, of the DLFT equations (eq. 29) and of the Archard law
-    ``dw/deta = K_w F_N(w) s``, with ``w(0) = 0``, gives one nonlinear system of
-    ``(m + 1) (n_c H + n_f)`` unknowns per frequency (``H = 2 Nh + 1`` slots per
-    contact, fewer with half-wave symmetry), solved by Newton's method with the
-    exact derivatives of the DLFT march. When Newton fails from the frozen-
-    dynamics start, the horizon is grown from a short one.
+    The default basis is ``"saturating"``: the slow variable is the wear
+    variable ``z = -ln(1 - w/u0)`` (see the module docstring), for one friction
+    contact; ``"legendre"`` and ``"monomial"`` are the paper's polynomials in the
+    cycle count ``N`` (any number of friction contacts).
 
-    The fit is checked afterwards at ``outputs`` points: ``info["wear_defect"]``
-    is the largest misfit of the Archard law integrated over the horizon, as a
-    fraction of ``u0``, and ``info["poor_fit"]`` flags misfits above 2 % (the
-    paper notes that polynomials cannot follow abrupt changes of the wear rate).
+    Saturating: the history ends at ``stop_fraction u0`` (status ``"worn"``) or
+    at the horizon (``"horizon"``); records are ``outputs`` cycle counts evenly
+    spread over the polynomial's interval, then ``outputs / 4`` over the
+    closed-form tail. Legendre and monomial: the interval is ``[0, cycles]`` and
+    Newton's method solves the Galerkin system from a start that integrates
+    Archard's law on a coarse grid of wear levels; a failure is reported in
+    ``converged``, ``status`` and ``info["residual"]``.
+
+    The fit is checked at its records, where the response is the degree-``m``
+    polynomial of the harmonics: its sliding distance gives Archard's rate,
+    ``info["misfit"]`` is the largest relative difference between the cycles
+    Archard's law takes to reach the fit's wear and the fit's cycles (records
+    beyond 1 % of ``u0``), and ``info["wear_defect"]`` the largest difference
+    between the fit's wear and Archard's law integrated in ``N`` (fraction of
+    ``u0``). Above :data:`MISFIT_LIMIT` a warning names the frequency (Hz) and
+    the misfit. The recorded ``rate`` is the fit's ``dw/dN``, limited so that
+    :meth:`WearHistory.at` is monotone and stays in ``[0, u0)``.
+
+    Compiled: the periodic solves at the nodes, the Galerkin assembly and its
+    Jacobian, the sliding distances of the records.
 
     Parameters
     ----------
+    model : Model
+        Structure whose contacts are all loaded friction contacts.
+    omega : float
+        Excitation frequency (rad/s).
+    kw : float
+        Archard coefficient (1/Pa), >= 0.
+    cycles : float
+        Horizon (cycles), > 0.
+    harmonics, samples : int
+        Harmonic balance settings (``Nh``, samples per period); the paper uses ``Nh = 3``.
     degree : int
-        Polynomial degree ``m`` in [0, 12] (the paper uses 4).
-    basis : {"legendre", "monomial"}
-        Legendre polynomials on the slow interval (well conditioned, default) or
-        the paper's monomials (in normalised slow time).
-    Other parameters as in :func:`wear_stepping`.
+        Polynomial degree ``m`` in [1, 12] (the paper uses 4); ``2 m + 2`` nodes.
+    basis : {"saturating", "legendre", "monomial"}
+        Slow-time basis (see the module docstring).
+    tol : float
+        Newton tolerance on the Galerkin residual (legendre, monomial), in (0, 1).
+    max_iter : int
+        Newton iterations (legendre, monomial).
+    outputs : int
+        Records over the polynomial's interval, >= 2.
+    stop_fraction : float
+        The history ends when the wear reaches ``stop_fraction u0``, in (0, 1).
     """
     check_wear_inputs(model, kw, cycles, degree)
+    if degree < 1:
+        raise ValueError(f"degree must be >= 1 for the polynomial method (w(0) = 0 takes one), got {degree}")
+    if basis not in BASES:
+        raise ValueError(f"basis must be one of {', '.join(map(repr, BASES))}, got {basis!r}")
+    if basis == "saturating" and len(model.friction) != 1:
+        raise ValueError(
+            f"basis 'saturating' needs exactly one friction contact (its wear is the slow variable), the "
+            f"model has {len(model.friction)}: use basis 'legendre' or 'monomial'"
+        )
+    if not 0 < stop_fraction < 1:
+        raise ValueError(f"stop_fraction must be in (0, 1), got {stop_fraction!r}")
+    if not (isinstance(outputs, (int, np.integer)) and outputs >= 2):
+        raise ValueError(f"outputs must be an integer >= 2, got {outputs!r}")
+    if not 0 < tol < 1:
+        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
     start = time.perf_counter()
-    dyn = Dynamics(model, omega, harmonics, samples, kw, "dlft")
-    first = dyn(np.zeros(len(model.friction)))
-    if first is None:
-        raise RuntimeError("the periodic solve of the unworn structure failed")
-    g0, slid0, sol0 = first
+    problem = Problem(model, omega, harmonics, samples)
+    sol0 = solve_problem(problem)
+    if not sol0.converged:
+        raise RuntimeError(f"the periodic solve of the unworn structure failed: {sol0.message}")
     u0 = np.array([c.u0 for c in model.friction])
-    rec = Recorder()
-    if not np.any(g0 > 0):
+    slid0 = sol0.sliding_distance
+    rate0 = kw * model.normal_loads() * slid0
+    info = {"basis": basis, "degree": degree, "nodes": 2 * degree + 2}
+    if not np.any(rate0 > 0):
+        rec = Recorder()
         for N in (0.0, float(cycles)):
-            rec.add(N, np.zeros_like(u0), g0, slid0, sol0, model)
-        return rec.history(omega, "polynomial", model, kw, status="stuck", solves=1,
+            rec.add(N, np.zeros_like(u0), rate0, slid0, sol0, model)
+        return rec.history(omega, "polynomial", model, kw, status="stuck", solves=1, info=info,
                            wall_time=time.perf_counter() - start)  # fmt: skip
-    notes = two_scale_warning(g0, u0)
-    problem = dyn.problem
     if problem.n_active != len(model.friction) or np.any(problem.kinds != dlft.FRICTION):
         raise ValueError("wear_polynomial needs every contact to be a loaded friction contact")
-    system = _PolySystem(problem, kw, degree, basis)
-    x0 = sol0.unknowns
-    # frozen dynamics start: x constant, w = u0 (1 - exp(-kw kn s0 eta)) projected on the basis
-    result, start_kind = None, "frozen dynamics, growing horizon"
-    for horizon in _horizons(cycles, g0, u0):
-        guess = system.initial(x0, slid0, horizon) if result is None else system.rescale(result, horizon)
-        result, ok, its, res = system.solve(guess, horizon, tol, max_iter)
-        if not ok:
-            break
-    if not ok:  # start again from a coarse stepping solution sampled at the quadrature nodes
-        coarse = wear_stepping(
-            model, omega, kw=kw, cycles=cycles, harmonics=harmonics, samples=samples, tol=1e-2
+    notes = two_scale_warning(rate0, u0)
+    slow = _Slow(problem, kw, degree, basis)
+    if basis == "saturating":
+        hist = slow.saturating(sol0.unknowns, float(cycles), outputs, stop_fraction)
+    else:
+        hist = slow.galerkin(sol0.unknowns, float(cycles), outputs, stop_fraction, tol, max_iter)
+    hist.omega, hist.solves, hist.warnings = omega, slow.solves + 1, notes
+    hist.info.update(info)
+    if hist.info["poor_fit"]:
+        hist.warnings.append(
+            f"polynomial fit ({basis} basis, degree {degree}) at {hist.frequency:.4g} Hz misses its own "
+            f"Archard law: the cycles to reach its wear differ by {hist.info['misfit']:.1%} "
+            f"(its wear by {hist.info['wear_defect']:.1%} of u0); raise the degree"
         )
-        result, ok, more, res = system.solve(system.from_history(coarse, cycles), cycles, tol, max_iter)
-        its += more
-        start_kind = "coarse stepping"
-    status = "horizon" if ok else f"Newton did not converge (residual {res:.2e})"
-    etas = np.linspace(0.0, cycles, outputs)
-    defect = 0.0
-    prev_w = None
-    for eta in etas:
-        x, w = system.evaluate_at(result, eta, cycles)
-        p = problem.with_wear(clip_wear(w, u0))
-        sol = PeriodicSolution.build(p, x, _newton_stub(p, x), "polynomial")
-        slid = sol.sliding_distance
-        rate = kw * model.normal_loads(clip_wear(w, u0)) * slid
-        rec.add(eta, clip_wear(w, u0), rate, slid, sol, model)
-        if prev_w is not None:  # trapezoidal Archard integral between records vs the polynomial's increment
-            prev_eta, prev_w_val, prev_rate, acc = prev_w
-            acc = acc + 0.5 * (eta - prev_eta) * (rate + prev_rate)
-            defect = max(defect, float(np.max(np.abs(acc - w) / u0)))
-            prev_w = (eta, w, rate, acc)
-        else:
-            prev_w = (eta, w, rate, np.zeros_like(w))
-    info = {"wear_defect": defect, "poor_fit": defect > 0.02, "iterations": its, "degree": degree,
-            "basis": basis, "start": start_kind}  # fmt: skip
-    if info["poor_fit"]:
-        notes.append(f"polynomial fit is poor: Archard-law misfit {defect:.1%} of u0 (raise the degree)")
-    hist = rec.history(omega, "polynomial", model, kw, converged=ok, status=status, solves=its,
-                       wall_time=time.perf_counter() - start, warnings=notes, info=info)  # fmt: skip
-    if ok and np.all(hist.wear[-1] >= 0.99 * u0):
-        hist.status = "worn"
+    hist.wall_time = time.perf_counter() - start
     return hist
 
 
-def _horizons(cycles: float, g0: np.ndarray, u0: np.ndarray) -> list[float]:
-    """Horizons for the continuation in the slow interval: from ~5 % wear up to ``cycles``."""
-    short = float(np.min(0.05 * u0[g0 > 0] / g0[g0 > 0]))
-    if short >= cycles:
-        return [cycles]
-    return list(np.geomspace(short, cycles, max(2, int(np.ceil(np.log(cycles / short) / np.log(4))) + 1)))
+# -- compiled kernels ---------------------------------------------------------------------------------
 
 
-def _newton_stub(problem: Problem, x: np.ndarray):
+@njit(cache=True, nogil=True)
+def _node_solve(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target):
+    """Periodic DLFT solution from ``x0``: Newton, then the global Newton homotopy and a polish.
 
-    R = problem.evaluate(x, jacobian=False)[0]
-    return NewtonResult(x, True, 0, float(np.abs(R).max() / problem.residual_scale()))
+    The residual is piecewise linear: far from the start, Newton alone can jump
+    between stick/slip patterns; the homotopy follows the pieces exactly.
+    """
+    x, ok, it, r, code = newton_kernel(x0.copy(), Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, 12)
+    if ok:
+        return x, True
+    n, nc = x0.shape[0], kinds.shape[0]
+    Ns, H = Phi.shape
+    R = np.empty(n)
+    A = np.empty((nc, H, H))
+    lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
+    state = np.empty((nc, Ns), dtype=np.int8)
+    dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, False, R, A, lam, X, state)
+    none = np.empty((0, n))
+    x, p, pieces, arrived, k = walk_kernel(x, 0.0, 1.0, NEWTON, Z, F, R, eps, kinds, limits, Phi, Psi,
+                                           half_wave, 5000, none, np.empty(0), np.empty(0))  # fmt: skip
+    x, ok, it, r, code = newton_kernel(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, 20)
+    return x, ok
 
 
-class _PolySystem:
-    """Galerkin system of the polynomial slow-time DLFT for friction-only problems."""
+@njit(cache=True, nogil=True)
+def _slid(x, Z, F, eps, limits, Phi, half_wave, s, dsdL):
+    """Distance slid per period by each contact (m) at unknowns ``x``, and its partial derivative in ``L``."""
+    Ns, H = Phi.shape
+    lam, X, dlam, dsu = np.empty(Ns), np.empty(Ns), np.empty(Ns), np.empty(Ns)
+    st = np.empty(Ns, dtype=np.int8)
+    lu = F - Z @ x
+    for c in range(limits.shape[0]):
+        u = Phi @ (lu[c * H : (c + 1) * H] + eps[c] * x[c * H : (c + 1) * H])
+        s[c], dsdL[c] = dlft.friction_sensitivity(u, limits[c], eps[c], half_wave, lam, X, st, dlam, dsu)
+
+
+@njit(cache=True, nogil=True)
+def _chain(limits, x0, Z, F, eps, kinds, Phi, Psi, half_wave, target, X, S):
+    """Periodic solutions at the friction limits ``limits[k]`` (K, nc), each from the previous one.
+
+    Fills ``X`` (K, n) and the sliding distances ``S`` (K, nc); False when a solve fails.
+    """
+    nc = limits.shape[1]
+    dsdL = np.empty(nc)
+    x = x0.copy()
+    for k in range(limits.shape[0]):
+        x, ok = _node_solve(x, Z, F, eps, kinds, limits[k], Phi, Psi, half_wave, target)
+        if not ok:
+            return False
+        X[k] = x
+        _slid(x, Z, F, eps, limits[k], Phi, half_wave, S[k], dsdL)
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _slope(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave):
+    """Total derivative ``ds/dL`` (nc,) of the sliding distance of each contact along the solution.
+
+    ``dx/dL = -J^-1 dR/dL`` (exact on the current stick/slip pattern); contact ``c``'s own limit only.
+    """
+    n, nc = x.shape[0], kinds.shape[0]
+    Ns, H = Phi.shape
+    R, J = np.empty(n), np.empty((n, n))
+    A = np.empty((nc, H, H))
+    lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
+    st = np.empty((nc, Ns), dtype=np.int8)
+    dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, True, R, A, lam, X, st)
+    dlft.jacobian_from_blocks(Z, eps, A, J)
+    lam_c, X_c, dlam, dsu = np.empty(Ns), np.empty(Ns), np.empty(Ns), np.empty(Ns)
+    st_c = np.empty(Ns, dtype=np.int8)
+    lu = F - Z @ x
+    out = np.empty(nc)
+    for c in range(nc):
+        lo = c * H
+        u = Phi @ (lu[lo : lo + H] + eps[c] * x[lo : lo + H])
+        s, own = dlft.friction_sensitivity(u, limits[c], eps[c], half_wave, lam_c, X_c, st_c, dlam, dsu)
+        dRdL = np.zeros(n)
+        dRdL[lo : lo + H] = Psi @ dlam
+        v = Phi.T @ dsu
+        g = -(v @ np.ascontiguousarray(Z[lo : lo + H, :]))
+        g[lo : lo + H] += eps[c] * v
+        out[c] = own + g @ (-np.linalg.solve(J, dRdL))
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _galerkin(Cx, a, H, V, D, wq, V0, kw, kn, mu, u0, Z, F, eps, kinds, Phi, Psi, half_wave, scale, want):
+    """Galerkin residual of the paper's polynomial DLFT and its exact Jacobian (with ``want``).
+
+    Unknowns: harmonics ``Cx`` (m+1, nx) and wear ``a`` (m+1, nc) in the slow-time
+    basis ``V`` (values at the K nodes, ``D`` = d/dtau), ``N = (tau + 1) H / 2``, wear
+    unknown ``y = w / u0``. Rows: the DLFT residual (eq. 29) projected on the
+    basis (per unit of ``scale``); per contact ``y(0) = 0``, then Archard's law
+    ``dy/dtau = (H / 2) K_w k_n (1 - y) s`` projected on the first ``m`` functions.
+    """
+    K, nq = V.shape
+    m = nq - 1
+    nx, nc = Cx.shape[1], a.shape[1]
+    Ns, Hs = Phi.shape
+    nX = nq * nx
+    n = nX + nq * nc
+    G = np.zeros(n)
+    J = np.zeros((n, n))
+    R, Jk = np.empty(nx), np.empty((nx, nx))
+    A = np.empty((nc, Hs, Hs))
+    lam, Xs = np.empty((nc, Ns)), np.empty((nc, Ns))
+    st = np.empty((nc, Ns), dtype=np.int8)
+    lam_c, X_c, dlam, dsu = np.empty(Ns), np.empty(Ns), np.empty(Ns), np.empty(Ns)
+    st_c = np.empty(Ns, dtype=np.int8)
+    L, dL, s, dsL = np.empty(nc), np.empty(nc), np.empty(nc), np.empty(nc)
+    dRdL, g = np.zeros((nx, nc)), np.zeros((nc, nx))
+    y = V @ a
+    dy = D @ a
+    for k in range(K):
+        x = V[k] @ Cx
+        for j in range(nc):
+            yc = min(max(y[k, j], 0.0), _W_MAX)
+            L[j] = mu[j] * kn[j] * u0[j] * (1.0 - yc)
+            dL[j] = -mu[j] * kn[j] * u0[j] if 0.0 < y[k, j] < _W_MAX else 0.0
+        dlft.evaluate(x, Z, F, eps, kinds, L, Phi, Psi, half_wave, want, R, A, lam, Xs, st)
+        lu = F - Z @ x
+        for c in range(nc):
+            lo = c * Hs
+            u = Phi @ (lu[lo : lo + Hs] + eps[c] * x[lo : lo + Hs])
+            s[c], dsL[c] = dlft.friction_sensitivity(u, L[c], eps[c], half_wave, lam_c, X_c, st_c, dlam, dsu)
+            if want:
+                dRdL[lo : lo + Hs, c] = Psi @ dlam
+                v = Phi.T @ dsu
+                g[c] = -(v @ np.ascontiguousarray(Z[lo : lo + Hs, :]))
+                g[c, lo : lo + Hs] += eps[c] * v
+        wk = wq[k]
+        for q in range(nq):
+            for i in range(nx):
+                G[q * nx + i] += wk * V[k, q] * R[i] / scale
+        for j in range(nc):
+            c = kw * kn[j]
+            fac = 1.0 - min(max(y[k, j], 0.0), _W_MAX)
+            dfac = -1.0 if 0.0 < y[k, j] < _W_MAX else 0.0
+            rate = c * fac * s[j]
+            E = dy[k, j] - 0.5 * H * rate
+            for q in range(m):
+                G[nX + nc + q * nc + j] += wk * V[k, q] * E
+            if not want:
+                continue
+            drate = c * (fac * dsL[j] * dL[j] + dfac * s[j])  # d rate / d y_j at fixed x
+            for q in range(m):
+                row = nX + nc + q * nc + j
+                t = wk * V[k, q]
+                for r in range(nq):
+                    cu = -t * 0.5 * H * c * fac * V[k, r]
+                    for i in range(nx):
+                        J[row, r * nx + i] += cu * g[j, i]
+                    J[row, nX + r * nc + j] += t * (D[k, r] - 0.5 * H * drate * V[k, r])
+        if not want:
+            continue
+        dlft.jacobian_from_blocks(Z, eps, A, Jk)
+        for q in range(nq):
+            for r in range(nq):
+                f = wk * V[k, q] * V[k, r] / scale
+                for i in range(nx):
+                    for i2 in range(nx):
+                        J[q * nx + i, r * nx + i2] += f * Jk[i, i2]
+                    for l in range(nc):
+                        J[q * nx + i, nX + r * nc + l] += f * dRdL[i, l] * dL[l]
+    for j in range(nc):
+        for r in range(nq):
+            G[nX + j] += V0[r] * a[r, j]
+            J[nX + j, nX + r * nc + j] = V0[r]
+    return G, J
+
+
+@njit(cache=True, nogil=True)
+def _sliding(X, limits, Z, F, eps, Phi, half_wave):
+    """Sliding distances (K, nc) of the responses ``X`` (K, n) at friction limits ``limits`` (K, nc)."""
+    K, nc = limits.shape
+    out, dsdL = np.empty((K, nc)), np.empty(nc)
+    for k in range(K):
+        _slid(X[k], Z, F, eps, limits[k], Phi, half_wave, out[k], dsdL)
+    return out
+
+
+# -- the slow-time systems ----------------------------------------------------------------------------
+
+
+class _Slow:
+    """The polynomial slow-time DLFT of one problem: both formulations, their start and their records."""
 
     def __init__(self, problem: Problem, kw: float, degree: int, basis: str):
-        self.p, self.kw, self.m, self.kind = problem, kw, degree, basis
-        self.nq = degree + 1
-        nodes, weights = np.polynomial.legendre.leggauss(max(2 * degree + 2, 4))
-        self.xi, self.wq = nodes, weights
-        self.V, self.D = _basis(basis, degree, nodes)  # (K, m+1)
-        self.nc, self.H = problem.n_active, problem.basis.size
-        self.nx = self.nc * self.H
-        self.mu = np.array([c.mu for c in problem.model.friction])
-        self.kn = np.array([c.kn for c in problem.model.friction])
-        self.u0 = np.array([c.u0 for c in problem.model.friction])
-        self.eps_diag = np.repeat(problem.eps, self.H)
+        friction = problem.model.friction
+        self.p, self.kw, self.m, self.basis = problem, kw, degree, basis
+        self.mu = np.array([c.mu for c in friction])
+        self.kn = np.array([c.kn for c in friction])
+        self.u0 = np.array([c.u0 for c in friction])
+        self.L0 = self.mu * self.kn * self.u0  # friction limits of the unworn contacts (N)
+        self.nc, self.nx = len(friction), problem.size
+        self.scale = problem.residual_scale()
+        self.target = 1e-10 * self.scale
+        b = problem.basis
+        self.dyn = (problem.Z, problem.F, problem.eps, problem.kinds, b.synthesis, b.analysis, b.half_wave)
+        self.solves = 0
 
-    # unknowns: Cx (m+1, nx) then Cw (m+1, nc), flattened
-    def split(self, y):
-        return y[: self.nq * self.nx].reshape(self.nq, self.nx), y[self.nq * self.nx :].reshape(
-            self.nq, self.nc
+    def _chain(self, limits: np.ndarray, x0: np.ndarray):
+        """Periodic solutions (compiled, warm-started in turn) at friction limits (K, nc); the library's
+        solver where the kernel fails."""
+        limits = np.ascontiguousarray(limits)
+        X, S = np.empty((len(limits), self.nx)), np.empty((len(limits), self.nc))
+        Z, F, eps, kinds, Phi, Psi, half_wave = self.dyn
+        self.solves += len(limits)
+        try:
+            if _chain(limits, x0, Z, F, eps, kinds, Phi, Psi, half_wave, self.target, X, S):
+                return X, S
+        except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
+            pass
+        for k, L in enumerate(limits):  # stuck start and exact load continuation
+            sol = solve_problem(self.p.with_wear(self.u0 * np.maximum(1 - L / self.L0, 0.0)))
+            if not sol.converged:
+                raise RuntimeError(f"the periodic solve at friction limits {L} N failed: {sol.message}")
+            X[k], S[k] = sol.unknowns, sol.sliding_distance
+        return X, S
+
+    # -- saturating basis: the wear variable as the slow variable ----------------------------------
+    def saturating(self, x0: np.ndarray, cycles: float, outputs: int, stop_fraction: float) -> WearHistory:
+        """History in the wear variable ``z`` (one contact); see the module docstring."""
+        Z, F, eps, kinds, Phi, Psi, half_wave = self.dyn
+        c = float(self.kw * self.kn[0])  # dz/dN = c s
+        s0 = _sliding(x0[None], self.L0[None], Z, F, eps, Phi, half_wave)[0, 0]
+        s1 = -self.L0[0] * _slope(x0, Z, F, eps, kinds, self.L0, Phi, Psi, half_wave)[0]  # ds/dz at z = 0
+        z_stop = -np.log1p(-stop_fraction)
+        z_end = -np.log1p(-min(FIT_FRACTION, stop_fraction))
+        tau, wq, Vq, _, _, _ = _quadrature("legendre", self.m)
+        v = (tau + 1) / 2
+        for attempt in range(2):
+            (X_end,), (s_end,) = self._chain(self.L0 * np.exp(-np.array([[z_end]])), x0)
+            ramp = _Ramp(c, s0, s1, s_end[0], z_end)
+            zk = ramp.z(v * ramp.N_end)
+            X, S = self._chain(self.L0 * np.exp(-zk[:, None]), x0)
+            if np.any(S[:, 0] <= 0):
+                raise RuntimeError(
+                    f"the contact sticks at wear {self.u0[0] * -np.expm1(-zk[S[:, 0] <= 0])} m"
+                )
+            f = ramp.N_end * ramp.s(zk) / S[:, 0]  # dN/dv at the nodes
+            coef = (
+                (2 * np.arange(self.m) + 1) / 2 * (Vq[:, : self.m].T @ (wq * f))
+            )  # projection, degree m - 1
+            N_of_v = np.polynomial.legendre.legint(coef, lbnd=-1) * 0.5  # N(v) in 2 v - 1, N(0) = 0
+            N_poly = float(np.polynomial.legendre.legval(1.0, N_of_v))
+            if cycles >= N_poly * (1 - 1e-9) or attempt:
+                break
+            z_end = float(ramp.z(_invert(N_of_v, cycles)[0] * ramp.N_end))  # the horizon comes first
+        grid = np.polynomial.legendre.legval(np.linspace(-1, 1, 401), coef)
+        if not np.all(grid > 0):
+            raise RuntimeError(
+                f"the degree-{self.m - 1} projection of dN/dz changes sign on the slow interval: "
+                "raise the degree"
+            )
+        # records on the polynomial's interval
+        N = np.linspace(0.0, min(N_poly, cycles), outputs)
+        vr = _invert(N_of_v, N)
+        z = ramp.z(vr * ramp.N_end)
+        dz = ramp.N_end * c * ramp.s(z) / np.polynomial.legendre.legval(2 * vr - 1, coef)  # dz/dN
+        rho = np.exp(-np.concatenate([[z_end], zk[::-1], [0.0]]))  # increasing load fraction
+        Xp = np.vstack([X_end, X[::-1], x0])
+        Xr = np.stack([np.interp(np.exp(-z), rho, col) for col in Xp.T], axis=1)
+        w = self.u0 * -np.expm1(-z[:, None])
+        dw = self.u0 * np.exp(-z[:, None]) * dz[:, None]
+        slid = _sliding(Xr, self.L0 * np.exp(-z[:, None]), Z, F, eps, Phi, half_wave)
+        # Archard's law at the nodes integrated without truncation: the interpolant of dN/dv (collocation)
+        K = len(f)
+        full = (2 * np.arange(K) + 1) / 2 * (np.polynomial.legendre.legvander(tau, K - 1).T @ (wq * f))
+        N_col = np.polynomial.legendre.legint(full, lbnd=-1) * 0.5
+        far = (w[:, 0] > 0.1 * self.u0[0]) & (N > 0)
+        misfit = float(
+            np.max(np.abs(np.polynomial.legendre.legval(2 * vr[far] - 1, N_col) / N[far] - 1), initial=0)
         )
+        w_col = -np.expm1(-ramp.z(_invert(N_col, N) * ramp.N_end))
+        defect = float(np.max(np.abs(w_col - w[:, 0] / self.u0[0])))
+        # closed-form tail: z linear in N at the end state's sliding distance
+        N_stop = N[-1] + (z_stop - z[-1]) / (c * s_end[0])
+        status = "worn" if N_stop <= cycles else "horizon"
+        if N[-1] < min(N_stop, cycles):
+            Nt = np.linspace(N[-1], min(N_stop, cycles), outputs // 4 + 2)[1:]
+            zt = z[-1] + c * s_end[0] * (Nt - N[-1])
+            N, w = np.concatenate([N, Nt]), np.vstack([w, self.u0 * -np.expm1(-zt[:, None])])
+            dw = np.vstack([dw, self.u0 * np.exp(-zt[:, None]) * c * s_end[0]])
+            slid = np.vstack([slid, np.repeat(s_end[None], len(Nt), axis=0)])
+            Xr = np.vstack([Xr, np.repeat(X_end[None], len(Nt), axis=0)])
+        info = {"misfit": misfit, "wear_defect": defect, "poor_fit": misfit > MISFIT_LIMIT, "end": N_poly,
+                "sliding_ratio": float(s_end[0] / s0)}  # fmt: skip
+        return self._history(N, w, dw, Xr, slid, status, info)
 
-    def initial(self, x0, s0, horizon):
-        eta = (self.xi + 1) / 2 * horizon
-        w = self.u0 * (1 - np.exp(-self.kw * self.kn * s0 * eta[:, None]))
-        fit = np.linalg.lstsq(self.V, w, rcond=None)[0]
-        Cx = np.zeros((self.nq, self.nx))
-        Cx[:] = np.linalg.lstsq(self.V, np.tile(x0, (len(eta), 1)), rcond=None)[0]
-        return np.concatenate([Cx.ravel(), fit.ravel()])
+    # -- legendre, monomial: the paper's Galerkin system in N -----------------------------------------
+    def galerkin(self, x0, cycles, outputs, stop_fraction, tol, max_iter) -> WearHistory:
+        """The paper's coupled Galerkin system in ``N`` over ``[0, cycles]``, by Newton's method."""
+        tau, wq, V, D, V0, _ = _quadrature(self.basis, self.m)
+        Cx, a = self._start(x0, cycles, tau, wq, V, V0, stop_fraction)
+        Cx, a, ok, its, res = self._newton(Cx, a, cycles, V, D, wq, V0, tol, max_iter)
+        N = np.linspace(0.0, cycles, outputs)
+        Vr, Dr = _slow_basis(self.basis, self.m, 2 * N / cycles - 1)
+        y, dy = Vr @ a, Dr @ a * (2 / cycles)
+        w = self.u0 * np.clip(y, 0.0, _W_MAX)
+        dw = np.where(y < _W_MAX, self.u0 * dy, 0.0)
+        Xr = Vr @ Cx
+        Z, F, eps, kinds, Phi, Psi, half_wave = self.dyn
+        slid = _sliding(Xr, self.mu * self.kn * (self.u0 - w), Z, F, eps, Phi, half_wave)
+        misfit, defect = _misfit(N, w, dw, self.kw * self.kn * (self.u0 - w) * slid, self.u0)
+        status = ("worn" if np.all(w[-1] >= stop_fraction * self.u0) else "horizon") if ok else (
+            f"Newton did not converge (Galerkin residual {res:.2e})")  # fmt: skip
+        info = {"misfit": misfit, "wear_defect": defect, "poor_fit": misfit > MISFIT_LIMIT,
+                "iterations": its, "residual": res}  # fmt: skip
+        hist = self._history(N, w, dw, Xr, slid, status, info)
+        hist.converged = ok
+        return hist
 
-    def from_history(self, history: WearHistory, horizon: float):
-        """Coefficients fitted to a stepping history at the quadrature nodes (x from fresh solves)."""
-        eta = (self.xi + 1) / 2 * horizon
-        w = history.at(eta)["wear"]
-        xs, guess = [], None
-        for wk in w:
-            sol = solve_problem(self.p.with_wear(clip_wear(wk, self.u0)), guess)
-            guess = sol.unknowns
-            xs.append(sol.unknowns)
-        self._horizon = horizon
-        return np.concatenate([np.linalg.lstsq(self.V, np.array(xs), rcond=None)[0].ravel(),
-                               np.linalg.lstsq(self.V, w, rcond=None)[0].ravel()])  # fmt: skip
+    def _start(self, x0, cycles, tau, wq, V, V0, stop_fraction):
+        """Archard's law integrated on a coarse grid of wear levels with exact periodic solutions there;
+        its ``z(N)`` and harmonics, fitted at the nodes of ``[0, cycles]``."""
+        levels = -np.log1p(-stop_fraction) * np.linspace(0.0, 1.0, 9) ** 2  # finer where wear is slowest
+        Xg, S = self._chain(self.L0 * np.exp(-levels[:, None]), x0)
+        rate = np.mean(self.kw * self.kn * S, axis=1)  # dz/dN
+        Ng = np.concatenate([[0.0], np.cumsum(np.diff(levels) * 0.5 * (1 / rate[1:] + 1 / rate[:-1]))])
+        zk = np.interp((tau + 1) / 2 * cycles, Ng, levels)
+        sw = np.sqrt(wq)[:, None]
+        rows = np.vstack([V * sw, 10 * V0[None]])
+        a = np.linalg.lstsq(rows, np.concatenate([-np.expm1(-zk) * sw[:, 0], [0.0]]), rcond=None)[0]
+        X = np.stack([np.interp(zk, levels, col) for col in Xg.T], axis=1)
+        Cx = np.linalg.lstsq(V * sw, X * sw, rcond=None)[0]
+        return np.ascontiguousarray(Cx), np.ascontiguousarray(np.repeat(a[:, None], self.nc, axis=1))
 
-    def evaluate_at(self, y, eta, horizon):
-        Cx, Cw = self.split(y)
-        V, _ = _basis(self.kind, self.m, np.array([2 * eta / horizon - 1]))
-        return V[0] @ Cx, V[0] @ Cw
+    def _newton(self, Cx, a, H, V, D, wq, V0, tol, max_iter):
+        """Newton's method, non-monotone (full steps while the residual stays within 1e3 of the best) for
+        half the budget, then damped from the best iterate: the residual is only piecewise smooth."""
+        Z, F, eps, kinds, Phi, Psi, half_wave = self.dyn
+        nX = Cx.size
 
-    def rescale(self, y, horizon_new):
-        """Re-fit a solution on a longer horizon: reuse its values at the new nodes (held past its end)."""
-        Cx, Cw = self.split(y)
-        eta_new = (self.xi + 1) / 2 * horizon_new
-        old = self._horizon
-        xi_old = np.clip(2 * eta_new / old - 1, -1, 1)
-        V_old, _ = _basis(self.kind, self.m, xi_old)
-        xs, ws = V_old @ Cx, V_old @ Cw
-        beyond = eta_new > old
-        ws[beyond] = self.u0 - (self.u0 - ws[beyond]) * np.exp(-(eta_new[beyond, None] - old) * 1e-3 / old)
-        ws = np.minimum(ws, self.u0 * 0.999)
-        return np.concatenate([np.linalg.lstsq(self.V, xs, rcond=None)[0].ravel(),
-                               np.linalg.lstsq(self.V, ws, rcond=None)[0].ravel()])  # fmt: skip
+        def evaluate(v):
+            return _galerkin(v[:nX].reshape(Cx.shape), v[nX:].reshape(a.shape), H, V, D, wq, V0, self.kw,
+                             self.kn, self.mu, self.u0, Z, F, eps, kinds, Phi, Psi, half_wave, self.scale,
+                             True)  # fmt: skip
 
-    def residual(self, y, horizon, jacobian=True):
-        p, nq, nx, nc, H = self.p, self.nq, self.nx, self.nc, self.H
-        Cx, Cw = self.split(y)
-        X, W = self.V @ Cx, self.V @ Cw  # values at the quadrature nodes
-        dW = self.D @ Cw * (2.0 / horizon)  # d w / d eta
-        K = len(self.xi)
-        Rx = np.zeros((K, nx))
-        Rw = np.zeros((K, nc))
-        if jacobian:
-            Jxx = np.zeros((K, nx, nx))
-            Jxw = np.zeros((K, nx, nc))
-            Jwx = np.zeros((K, nc, nx))
-            Jww = np.zeros((K, nc, nc))
-        phi, psi = p.basis.synthesis, p.basis.analysis
-        Ns = phi.shape[0]
-        lam, Xs, st = np.empty(Ns), np.empty(Ns), np.empty(Ns, dtype=np.int8)
-        dlam, dsu = np.empty(Ns), np.empty(Ns)
-        for k in range(K):
-            wk = clip_wear(W[k], self.u0)
-            fn = np.maximum(self.kn * (self.u0 - W[k]), 0.0)
-            q = p.with_wear(wk)
-            R, J, *_ = q.evaluate(X[k], jacobian=jacobian)
-            Rx[k] = R
-            lu = q.F - q.Z @ X[k] + self.eps_diag * X[k]
-            for c in range(nc):
-                u = phi @ lu[c * H : (c + 1) * H]
-                s, ds_dL = dlft.friction_sensitivity(u, q.limits[c], q.eps[c], p.basis.half_wave,
-                                                     lam, Xs, st, dlam, dsu)  # fmt: skip
-                Rw[k, c] = dW[k, c] - self.kw * fn[c] * s
-                if jacobian:
-                    dL_dw = -self.mu[c] * self.kn[c] if fn[c] > 0 else 0.0
-                    dfn_dw = -self.kn[c] if fn[c] > 0 else 0.0
-                    Jxw[k, c * H : (c + 1) * H, c] = (psi @ dlam) * dL_dw
-                    # d s / d x = (d lambda_u / d x)^T Phi^T ds/du, lambda_u = F + (E - Z) x
-                    ds_dlu = phi.T @ dsu
-                    dlu_dx = -q.Z[c * H : (c + 1) * H, :].copy()
-                    dlu_dx[:, c * H : (c + 1) * H] += q.eps[c] * np.eye(H)
-                    Jwx[k, c] = -self.kw * fn[c] * (ds_dlu @ dlu_dx)
-                    Jww[k, c, c] = -self.kw * (dfn_dw * s + fn[c] * ds_dL * dL_dw)
-            if jacobian:
-                Jxx[k] = J
-        wV = self.wq[:, None] * self.V  # (K, m+1) quadrature-weighted test functions
-        # dynamics: Galerkin on all m+1 test functions; wear: initial condition + m test functions
-        G = np.concatenate([(wV.T @ Rx).ravel(), (self.V0 @ Cw).ravel(),
-                            (wV[:, :-1].T @ Rw).ravel()])  # fmt: skip
-        if not jacobian:
-            return G, None
-        n = y.size
-        Jac = np.zeros((n, n))
-        # rows: dyn (q, i) ; cols: Cx (r, j) -> sum_k wV[k,q] V[k,r] Jxx[k,i,j]
-        Jac[: nq * nx, : nq * nx] = np.einsum("kq,kr,kij->qirj", wV, self.V, Jxx).reshape(nq * nx, nq * nx)
-        Jac[: nq * nx, nq * nx :] = np.einsum("kq,kr,kij->qirj", wV, self.V, Jxw).reshape(nq * nx, nq * nc)
-        r0 = nq * nx
-        Jac[r0 : r0 + nc, nq * nx :] = np.kron(self.V0, np.eye(nc))
-        r1 = r0 + nc
-        Jac[r1:, : nq * nx] = np.einsum("kq,kr,kij->qirj", wV[:, :-1], self.V, Jwx).reshape(
-            (nq - 1) * nc, nq * nx
-        )
-        dWdC = self.D * (2.0 / horizon)
-        Jww_full = np.einsum("kq,kr,kij->qirj", wV[:, :-1], self.V, Jww) + np.einsum(
-            "kq,kr,ij->qirj", wV[:, :-1], dWdC, np.eye(nc)
-        )
-        Jac[r1:, nq * nx :] = Jww_full.reshape((nq - 1) * nc, nq * nc)
-        return G, Jac
-
-    @property
-    def V0(self):
-        return _basis(self.kind, self.m, np.array([-1.0]))[0]  # basis at eta = 0, shape (1, m+1)
-
-    def solve(self, y, horizon, tol, max_iter):
-        self._horizon = horizon
-        scale = max(self.p.residual_scale(), 1e-300)
-        wscale = float(np.max(self.u0)) / horizon
-        weights = np.concatenate([np.full(self.nq * self.nx, 1 / scale), np.full(self.nc, 1 / self.u0.max()),
-                                  np.full((self.nq - 1) * self.nc, 1 / wscale)])  # fmt: skip
-        G, Jac = self.residual(y, horizon)
-        r = np.abs(G * weights).max()
-        its = 0
-        for its in range(1, max_iter + 1):
-            if r <= tol:
-                return y, True, its - 1, r
+        col = np.concatenate([np.full(nX, max(np.abs(Cx).max(), 1e-300)), np.ones(a.size)])
+        v = np.concatenate([Cx.ravel(), a.ravel()])
+        G, J = evaluate(v)
+        r = float(np.abs(G).max())
+        best = (r, v, G, J)
+        damped, it = False, 0
+        while it < max_iter and r > tol:
+            it += 1
             try:
-                dy = np.linalg.lstsq(Jac * weights[:, None], -G * weights, rcond=None)[0]
+                d = np.linalg.solve(J * col, -G) * col
             except np.linalg.LinAlgError:
-                return y, False, its, r
+                break
+            if not damped:
+                Gt, Jt = evaluate(v + d)
+                rt = float(np.abs(Gt).max())
+                if np.isfinite(rt) and rt < 1e3 * best[0] and it <= max_iter // 2:
+                    v, G, J, r = v + d, Gt, Jt, rt
+                    if r < best[0]:
+                        best = (r, v, G, J)
+                    continue
+                damped = True
+                r, v, G, J = best
+                continue
             step = 1.0
-            for _ in range(20):
-                yt = y + step * dy
-                Gt, Jt = self.residual(yt, horizon)
-                rt = np.abs(Gt * weights).max()
-                if rt < r or step < 1e-3:
+            while step > 1e-9:
+                Gt, Jt = evaluate(v + step * d)
+                rt = float(np.abs(Gt).max())
+                if rt < (1 - 1e-4 * step) * r:
                     break
                 step *= 0.5
-            y, G, Jac, r = yt, Gt, Jt, rt
-        return y, r <= tol, its, r
+            else:
+                break
+            v, G, J, r = v + step * d, Gt, Jt, rt
+            if r < best[0]:
+                best = (r, v, G, J)
+        r, v = best[0], best[1]
+        return v[:nX].reshape(Cx.shape), v[nX:].reshape(a.shape), r <= tol, it, r
+
+    # -- records -----------------------------------------------------------------------------------
+    def _history(self, N, w, dw, X, slid, status, info) -> WearHistory:
+        rows, index = np.unique(X, axis=0, return_inverse=True)  # the tail repeats the end state
+        amp, hp2p, rel = (o[index.ravel()] for o in _observables(self.p, np.ascontiguousarray(rows)))
+        return WearHistory(
+            0.0, "polynomial", N, w, self.kn * (self.u0 - w), _monotone_slopes(N, w, dw), slid, amp, hp2p,
+            rel, u0=self.u0, kn=self.kn, kw=self.kw, status=status, info=info,
+        )  # fmt: skip
+
+
+class _Ramp:
+    """The map's model of the sliding distance: ``s(0) + z ds/dz(0)`` held between ``s(0)`` and ``s(z_end)``.
+
+    ``N(z)`` is the cycle count Archard's law takes with it (closed form) and
+    ``z(N)`` its inverse; ``N_end = N(z_end)``.
+    """
+
+    def __init__(self, c: float, s0: float, s1: float, s_end: float, z_end: float):
+        self.c, self.s0, self.lo, self.hi = c, s0, min(s0, s_end), max(s0, s_end)
+        reach = s_end if (s_end - s0) * s1 > 0 else s0  # the value the tangent runs to
+        self.s1 = s1 if reach != s0 else 0.0
+        self.zc = min((reach - s0) / self.s1, z_end) if self.s1 else 0.0  # end of the ramp
+        self.sc = s0 + self.s1 * self.zc
+        self.Nc = self._ramp_cycles(self.zc)
+        self.N_end = float(self.N(np.array([z_end]))[0])
+
+    def s(self, z):
+        return np.clip(self.s0 + self.s1 * z, self.lo, self.hi)
+
+    def _ramp_cycles(self, z):
+        if self.s1 == 0.0:
+            return z / (self.c * self.s0)
+        return np.log1p(self.s1 * z / self.s0) / (self.c * self.s1)
+
+    def N(self, z):
+        return np.where(
+            z <= self.zc,
+            self._ramp_cycles(np.minimum(z, self.zc)),
+            self.Nc + (z - self.zc) / (self.c * self.sc),
+        )
+
+    def z(self, N):
+        if self.s1 == 0.0:
+            ramp = N * self.c * self.s0
+        else:
+            ramp = self.s0 * np.expm1(self.c * self.s1 * np.minimum(N, self.Nc)) / self.s1
+        return np.where(N <= self.Nc, ramp, self.zc + (N - self.Nc) * self.c * self.sc)
+
+
+def _invert(coef: np.ndarray, N) -> np.ndarray:
+    """``v`` in [0, 1] with ``N(v) = N`` for the increasing Legendre series ``coef`` in ``2 v - 1``."""
+    vg = np.linspace(0.0, 1.0, 4001)
+    Ng = np.maximum.accumulate(np.polynomial.legendre.legval(2 * vg - 1, coef))
+    return np.interp(np.atleast_1d(N), Ng, vg)
+
+
+def _slow_basis(kind: str, degree: int, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Values and d/dtau of the slow-time basis at ``tau`` in [-1, 1], shape (len(tau), degree + 1)."""
+    q = np.arange(degree + 1)
+    if kind == "monomial":  # powers of the normalised slow time eta / N_end = (tau + 1) / 2
+        s = (tau + 1) / 2
+        V = s[:, None] ** q
+        D = np.where(q > 0, 0.5 * q * s[:, None] ** np.maximum(q - 1, 0), 0.0)
+    else:
+        V = np.polynomial.legendre.legvander(tau, degree)
+        D = V[:, :-1] @ np.polynomial.legendre.legder(np.eye(degree + 1))
+    return np.ascontiguousarray(V), np.ascontiguousarray(D)
+
+
+@lru_cache(maxsize=64)
+def _quadrature(basis: str, degree: int):
+    """Gauss-Legendre nodes and weights (2 m + 2) and the slow-time basis there and at both ends."""
+    tau, wq = np.polynomial.legendre.leggauss(2 * degree + 2)
+    V, D = _slow_basis(basis, degree, tau)
+    V0 = _slow_basis(basis, degree, np.array([-1.0]))[0][0]
+    V1 = _slow_basis(basis, degree, np.array([1.0]))[0][0]
+    for arr in (tau, wq, V, D, V0, V1):
+        arr.setflags(write=False)
+    return tau, wq, V, D, V0, V1
+
+
+def _misfit(N, w, dw, archard, u0) -> tuple[float, float]:
+    """How far a fit is from Archard's law with its own sliding distances.
+
+    Returns the largest relative difference between the cycles Archard's law
+    takes to reach the fit's wear, ``integral dw / rate``, and the fit's cycles
+    (records beyond 10 % of ``u0``; at most 10, i.e. 1000 %: where the contact
+    sticks and the fit still wears, Archard's law never gets there), and the
+    largest difference (fraction of ``u0``) between the fit's wear and
+    ``integral rate dN``.
+    """
+    dN = np.diff(N)[:, None]
+    zero = np.zeros((1, w.shape[1]))
+    w_archard = np.concatenate([zero, np.cumsum(0.5 * dN * (archard[1:] + archard[:-1]), axis=0)])
+    defect = float(np.max(np.abs(w_archard - w) / u0))
+    idle = np.abs(dw) <= 1e-9 * u0 / N[-1]  # neither the fit nor Archard's law wears: time runs alike
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(archard > 0, dw / archard, np.where(idle, 1.0, np.inf))
+    N_archard = np.concatenate([zero, np.cumsum(0.5 * dN * (ratio[1:] + ratio[:-1]), axis=0)])
+    far = (w > 0.1 * u0) & (N[:, None] > 0)
+    rel = np.abs(N_archard / np.where(N[:, None] > 0, N[:, None], 1.0) - 1)
+    return min(float(np.max(rel[far], initial=0.0)), 10.0), defect
+
+
+def _monotone_slopes(N, w, dw):
+    """Slopes for a monotone cubic Hermite interpolation of ``w(N)`` (Fritsch-Carlson limiter).
+
+    Where the records are monotone the interpolant stays between them, hence in ``[0, u0)``.
+    """
+    secant = np.diff(w, axis=0) / np.diff(N)[:, None]
+    left, right = np.vstack([secant[:1], secant]), np.vstack([secant, secant[-1:]])
+    d = np.where((left * right <= 0) | (dw * right < 0), 0.0, dw)
+    return np.sign(d) * np.minimum(np.abs(d), 3 * np.minimum(np.abs(left), np.abs(right)))
+
+
+def _observables(problem: Problem, xs: np.ndarray):
+    """Amplitude and half peak-to-peak of every DOF, and relative half peak-to-peak, at unknowns ``xs``.
+
+    The DOF harmonics are affine in the contact-force harmonics ``Lambda = F_r - Z_r x``.
+    """
+    model, b = problem.model, problem.basis
+    nh = b.harmonics
+    lam = problem.F[None, :] - xs @ problem.Z.T
+    base = recover(model, problem.B, problem.omega, nh, np.zeros((problem.n_active, 2 * nh + 1)))
+    unit = np.stack([recover(model, problem.B, problem.omega, nh, b.to_full(e.reshape(-1, b.size))) - base
+                     for e in np.eye(problem.size)])  # fmt: skip
+    U = base[None] + np.einsum("kj,jnm->knm", lam, unit)
+    K = len(xs)
+    grid = full_synthesis(nh, 8 * nh + 8)
+    dof = U.reshape(-1, U.shape[-1])
+    hi, lo = extrema(dof, dof @ grid.T)
+    rel = np.einsum("cn,knm->kcm", model.relative_map(), U).reshape(-1, U.shape[-1])
+    rhi, rlo = extrema(rel, rel @ grid.T)
+    return amplitude(U), ((hi - lo) / 2).reshape(K, -1), ((rhi - rlo) / 2).reshape(K, -1)
