@@ -66,6 +66,7 @@ import threading
 import time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -597,6 +598,22 @@ def _block_params(spec: StudySpec, lay: Layout, draws: Mapping[str, np.ndarray],
     return params, slices, shape
 
 
+@contextmanager
+def _no_interrupt():
+    """Hold Ctrl-C (SIGINT, main thread only) until the end of the block, then raise it."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
+
+
 def _ready() -> int:
     """Nothing: run on every worker, it makes the worker import this module (and fretwear)."""
     return os.getpid()
@@ -715,11 +732,12 @@ def _compute(spec, lay, group, pending, result, client, scheduler, workers, retr
                 continue
             res = future.result()
             future.release()
-            for name, values in res.items():
-                if name in ("seconds", "cpu_seconds", "messages"):
-                    continue
-                group[name][slices] = values.reshape(shape + values.shape[1:])
-            group["task_seconds"][task : task + 1] = [res["seconds"]]  # the block is done: last
+            with _no_interrupt():  # a block is written whole, then marked done
+                for name, values in res.items():
+                    if name in ("seconds", "cpu_seconds", "messages"):
+                        continue
+                    group[name][slices] = values.reshape(shape + values.shape[1:])
+                group["task_seconds"][task : task + 1] = [res["seconds"]]
             result.computed.append(task)
             result.compute_seconds += res["seconds"]
             result.cpu_seconds += res["cpu_seconds"]
