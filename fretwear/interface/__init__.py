@@ -1,1 +1,62 @@
-"""Contact interfaces with many node pairs: finite-element structures, reduction, coupled DLFT, nodal wear."""
+"""Contact interfaces with many node pairs: the paper's stated aim (section 1.2), wear at every contact node.
+
+Layers, bottom up:
+
+* :mod:`~fretwear.interface.structure`: :class:`InterfaceModel` (sparse ``M``,
+  ``K``, ``C``, loads) and :class:`ContactPairs` (node pairs, normals,
+  tributary areas, gaps);
+* :mod:`~fretwear.interface.mesh`, :mod:`~fretwear.interface.fe`: the
+  cylinder-on-flat fretting benchmark in plane strain, meshed and assembled
+  with scikit-fem (:func:`cylinder_on_flat`);
+* :mod:`~fretwear.interface.modelfile`: matrices exported from another FE code
+  (Matrix Market or ``.npz``) plus the contact pairs, in a TOML file
+  (:func:`read_interface_model`);
+* :mod:`~fretwear.interface.reduction`: Craig-Bampton reduction
+  (:func:`craig_bampton`) and the condensation on the contact coordinates
+  (:class:`ContactCondensation`, eq. 11);
+* :mod:`~fretwear.interface.static`: quasi-static contact (Hertz,
+  Cattaneo-Mindlin; :func:`static_benchmark`);
+* :mod:`~fretwear.interface.contact`, :mod:`~fretwear.interface.kernels`: the
+  coupled normal/tangential DLFT law of eq. 17-23 per pair (Numba) and the
+  compiled Newton loop and load walk;
+* :mod:`~fretwear.interface.periodic`: the periodic response
+  (:class:`InterfaceProblem`, :func:`solve_interface`);
+* :mod:`~fretwear.interface.wear`: nodal Archard wear with pressure
+  redistribution (:func:`wear_interface`) and FRFs before/after wear (:func:`frf`);
+* :mod:`~fretwear.interface.cli`: the ``fretwear interface`` command.
+"""
+
+from importlib import import_module
+
+#: public names and their modules, imported on first use (``fretwear interface --help`` stays light)
+_EXPORTS = {
+    "ContactCondensation": "reduction",
+    "ContactPairs": "structure",
+    "CylinderOnFlat": "fe",
+    "InterfaceModel": "structure",
+    "InterfaceProblem": "periodic",
+    "InterfaceSolution": "periodic",
+    "InterfaceWearHistory": "wear",
+    "ReducedModel": "reduction",
+    "craig_bampton": "reduction",
+    "cylinder_on_flat": "fe",
+    "frf": "wear",
+    "read_interface_model": "modelfile",
+    "solve_interface": "periodic",
+    "solve_static": "static",
+    "static_benchmark": "static",
+    "wear_interface": "wear",
+    "write_interface_model": "modelfile",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        return getattr(import_module(f".{_EXPORTS[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(list(globals()) + __all__)

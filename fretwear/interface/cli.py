@@ -12,6 +12,9 @@ bad input, 3 a solve did not converge). Three modes:
 * ``--kw K --cycles N``: a wear history at ``--f``, one CSV row per (record,
   pair): ``cycles, x, w, pressure, slip, state_fraction_stick``;
 * otherwise one periodic solve at ``--f``: the same CSV columns at ``cycles = 0``.
+
+The numerical modules are imported when the command runs, so that declaring
+the options costs nothing to the rest of the command line.
 """
 
 from __future__ import annotations
@@ -23,14 +26,6 @@ import sys
 from typing import TextIO
 
 import numpy as np
-
-from .contact import STICK
-from .fe import cylinder_on_flat
-from .modelfile import read_interface_model
-from .periodic import InterfaceProblem, solve_interface
-from .reduction import ContactCondensation, craig_bampton
-from .static import second_moment_half_width, solve_static, static_benchmark
-from .wear import wear_interface
 
 __all__ = ["add_arguments", "run", "COLUMNS"]
 
@@ -152,6 +147,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _model(args: argparse.Namespace):
+    from .fe import cylinder_on_flat
+    from .modelfile import read_interface_model
+
     if args.model:
         return read_interface_model(args.model)
     changes = dict(
@@ -166,8 +164,11 @@ def _model(args: argparse.Namespace):
     return cylinder_on_flat(**changes)
 
 
-def _static_summary(cond: ContactCondensation) -> dict:
+def _static_summary(cond) -> dict:
     """Quasi-static state of a model file: its static load, then its ``cos`` pattern applied statically."""
+    from .contact import STICK
+    from .static import second_moment_half_width, solve_static
+
     res = solve_static(cond, tangential_scale=1.0)
     out = dict(converged=res.converged, message=res.message, regime="gross slip" if res.gross_slip else None)
     if not res.states:
@@ -210,6 +211,12 @@ def _write(path: str | None, rows) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``fretwear interface`` with parsed ``args``; returns the exit status."""
+    from .contact import STICK
+    from .periodic import InterfaceProblem, solve_interface
+    from .reduction import ContactCondensation, craig_bampton
+    from .static import static_benchmark
+    from .wear import wear_interface
+
     try:
         model = _model(args)
         f_max = 0.0 if args.static else args.harmonics * args.f

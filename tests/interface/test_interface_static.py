@@ -101,3 +101,13 @@ def test_benchmark_dictionary_has_the_cli_keys(cond32):
         assert isinstance(d[key], float) and np.isfinite(d[key])
     with pytest.raises(ValueError, match="q_ratio must be"):
         static_benchmark(-0.1, condensation=cond32)
+
+
+@pytest.mark.slow
+def test_anchors_on_the_fine_mesh():
+    """64 pairs across the window (a spacing of a / 25): Hertz and the three Mindlin cases."""
+    cond = _condensation(64)
+    hertz = static_benchmark(0.0, condensation=cond)
+    assert abs(hertz["error_contact_half_width"]) < 0.03 and abs(hertz["error_peak_pressure"]) < 0.03
+    for q in (0.3, 0.5, 0.8):
+        assert abs(static_benchmark(q, condensation=cond)["error_stick_half_width"]) < 0.05
