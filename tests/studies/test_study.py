@@ -379,6 +379,7 @@ def test_a_killed_worker_is_replaced_and_the_result_is_identical(scheduler, spec
         xr.testing.assert_identical(result[name], reference[name])
 
 
+@pytest.mark.slow  # a study process started and interrupted, then resumed: the longest of the file
 def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
     scheduler, spec_path, local_run, tmp_path, capsys
 ):
