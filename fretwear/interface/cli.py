@@ -166,7 +166,7 @@ def _model(args: argparse.Namespace):
 
 def _static_summary(cond) -> dict:
     """Quasi-static state of a model file: its static load, then its ``cos`` pattern applied statically."""
-    from .contact import STICK
+    from .contact import SLIP, STICK
     from .static import second_moment_half_width, solve_static
 
     res = solve_static(cond, tangential_scale=1.0)
@@ -187,7 +187,7 @@ def _static_summary(cond) -> dict:
     )  # fmt: skip
     if res.converged:
         out["regime"] = (
-            "partial slip" if stick.any() and (s.state == 1).any() else "stick" if stick.any() else "slip"
+            "partial slip" if stick.any() and (s.state == SLIP).any() else "stick" if stick.any() else "slip"
         )
     return out
 

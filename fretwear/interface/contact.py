@@ -45,9 +45,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["STICK", "SLIP", "OPEN", "march_pair", "evaluate", "jacobian", "slip_work"]
+from ..model.structure import OPEN, SLIP, STICK
 
-STICK, SLIP, OPEN = 0, 1, 2
+__all__ = ["STICK", "SLIP", "OPEN", "march_pair", "evaluate", "jacobian", "slip_work", "boundary_distance"]
 
 # how the tangential force of a sample depends on lambda_u (see _march_pair)
 _OPEN_ROW, _SLIP_ROW, _STICK_FROM, _STICK_REF = 0, 1, 2, 3

@@ -26,12 +26,20 @@ from functools import cached_property
 import numpy as np
 
 from ..hbm.harmonics import HarmonicBasis, default_samples
-from .contact import OPEN, SLIP, STICK, evaluate, slip_work
+from .contact import STICK, evaluate, slip_work
 from .kernels import load_walk_kernel, newton_kernel
 from .reduction import ContactCondensation
 from .static import solve_static
 
-__all__ = ["EPS_FACTOR", "InterfaceProblem", "InterfaceSolution", "solve_interface", "newton", "load_walk"]
+__all__ = [
+    "EPS_FACTOR",
+    "InterfaceProblem",
+    "InterfaceSolution",
+    "NewtonResult",
+    "solve_interface",
+    "newton",
+    "load_walk",
+]
 
 #: default penalty, as a multiple of each coordinate's largest diagonal entry of Z (section 1.4)
 EPS_FACTOR = 10.0
@@ -367,6 +375,3 @@ class InterfaceSolution:
         k = np.arange(1, self.problem.harmonics + 1)
         # oint lambda du = pi sum_k k (a_k^lam b_k^u - b_k^lam a_k^u)
         return float(np.pi * np.sum(k * (a_l[:, 1::2] * a_q[:, 2::2] - a_l[:, 2::2] * a_q[:, 1::2])))
-
-
-__all__ += ["NewtonResult", "STICK", "SLIP", "OPEN"]

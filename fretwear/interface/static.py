@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.structure import OPEN, SLIP, STICK
 from .fe import CylinderOnFlat, cylinder_on_flat, hertz_half_width, hertz_peak_pressure
 from .reduction import ContactCondensation, craig_bampton
 from .structure import InterfaceModel
@@ -48,9 +49,6 @@ __all__ = [
     "second_moment_half_width",
     "static_benchmark",
 ]
-
-#: state codes of a pair (as in every solver of fretwear)
-STICK, SLIP, OPEN = 0, 1, 2
 
 
 @dataclass

@@ -5,7 +5,8 @@ import pytest
 
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.reduction import ContactCondensation, craig_bampton
-from fretwear.interface.static import SLIP, STICK, second_moment_half_width, solve_static, static_benchmark
+from fretwear.interface.static import second_moment_half_width, solve_static, static_benchmark
+from fretwear.model.structure import SLIP, STICK
 
 
 def _condensation(nodes):
