@@ -9,10 +9,11 @@ their ratio:
    0.5-1.0 Hz where the contact slips, K_w = 1e-11, a horizon of 1.25 x the exact cycles to 0.9 u0).
    Target: within 2 %.
 2. The polynomial wear map (saturating basis, degree 4) against the stepping wear map with the
-   loosest tolerance whose cycles to 0.5 and 0.9 u0 are within 2 % at every frequency of the map.
+   loosest tolerance whose cycles to 0.5 and 0.9 u0 are within 2 % at every frequency of the map,
+   with the polynomial's worst error, and where the polynomial's misfit does not flag its fit.
    Target: >= 3x faster.
-3. The stepping wear map (issue 3): <= 1 s for 101 frequencies at Nh = 21.
-4. Time integration against stepping with shooting dynamics at matched accuracy.
+3. The stepping wear map (issue 3): <= 1 s for 101 frequencies at Nh = 21 (not with ``--quick``).
+4. Time integration against stepping with shooting dynamics at matched accuracy (not with ``--quick``).
 """
 
 from __future__ import annotations
@@ -83,45 +84,58 @@ def bench_bases(harmonics: tuple[int, ...], forces, freqs) -> None:
         print("    (! = Newton did not converge)")
 
 
-def map_errors(wm, refs) -> float:
-    """Worst relative error of the cycles to 0.5 and 0.9 u0 over the map's frequencies that wear."""
-    worst = 0.0
-    for hist, ref in zip(wm.histories, refs, strict=True):
-        if ref.status == "worn":
-            worst = max(worst, *np.abs(cycle_errors(hist, ref)))
-    return worst
+def map_errors(wm, refs) -> np.ndarray:
+    """Per frequency, the worst relative error of the cycles to 0.5 and 0.9 u0 (0 where it does not wear)."""
+    return np.array([max(np.abs(cycle_errors(h, r))) if r.status == "worn" else 0.0
+                     for h, r in zip(wm.histories, refs, strict=True)])  # fmt: skip
 
 
 def bench_map_speed(freqs, fex: float, nh: int, repeat: int) -> None:
     model, cycles = paper_model(fex=fex), np.geomspace(1, 1e5, 100)
     refs = [exact(fex, f, nh) for f in freqs]
+    band = f"[{freqs[0]:.2f}, {freqs[-1]:.2f}] Hz"
+    print(f"2. wear map {len(freqs)} f in {band} x 100 N, {fex:.0f} N, Nh = {nh}, 1 thread, "
+          f"error = worst over the frequencies of the errors of the cycles to 0.5 and 0.9 u0:")  # fmt: skip
     wear_map(model, freqs[:2], cycles, method="polynomial", harmonics=nh, workers=1)  # compile
     t_poly, poly = timed(lambda: wear_map(model, freqs, cycles, method="polynomial", harmonics=nh, workers=1),
                          repeat)  # fmt: skip
     e_poly = map_errors(poly, refs)
-    band = f"[{freqs[0]:.2f}, {freqs[-1]:.2f}] Hz"
-    print(f"2. wear map {len(freqs)} f in {band} x 100 N, {fex:.0f} N, Nh = {nh}, 1 thread:")
-    print(f"  polynomial (saturating, degree 4): {t_poly * 1e3:7.1f} ms, worst error {e_poly:.1%} "
-          f"(target {TARGET_ERROR:.0%}: x{e_poly / TARGET_ERROR:.2f})")  # fmt: skip
-    t_step = np.nan
+    flagged = np.array([h.info.get("poor_fit", False) for h in poly.histories])
+    print(f"  polynomial (saturating, degree 4): {t_poly * 1e3:7.1f} ms, error {e_poly.max():.1%} (target "
+          f"{TARGET_ERROR:.0%}: x{e_poly.max() / TARGET_ERROR:.2f}); {np.sum(e_poly > TARGET_ERROR)} of "
+          f"{len(freqs)} frequencies beyond the target, {np.sum(flagged)} flagged by the misfit "
+          f"(all beyond: {'yes' if np.all(flagged[e_poly > TARGET_ERROR]) else 'no'}); "
+          f"error where not flagged {e_poly[~flagged].max(initial=0):.1%}")  # fmt: skip
+    steps = {}
     for tol in (1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4):
         t, step = timed(lambda tol=tol: wear_map(model, freqs, cycles, method="stepping", harmonics=nh,
                                                  tol=tol, workers=1), repeat)  # fmt: skip
-        e = map_errors(step, refs)
-        print(f"  stepping tol {tol:6.0e}:           {t * 1e3:7.1f} ms, worst error {e:.1%}")
-        if e <= TARGET_ERROR:
-            t_step = t
+        steps[tol] = (t, map_errors(step, refs))
+        print(f"  stepping tol {tol:6.0e}:           {t * 1e3:7.1f} ms, error {steps[tol][1].max():.1%}")
+        if steps[tol][1].max() <= TARGET_ERROR:
             break
-    print(f"  -> stepping (within {TARGET_ERROR:.0%}) / polynomial time: {t_step / t_poly:.1f} "
-          f"(target >= {TARGET_SPEEDUP:g}: x{t_step / t_poly / TARGET_SPEEDUP:.2f})")  # fmt: skip
+
+    def ratio(label, ok):
+        tols = [tol for tol, (_, e) in steps.items() if ok(e)]
+        if not tols:
+            print(f"  -> {label}: no stepping tolerance tried gets there")
+            return
+        t_step = steps[tols[0]][0]
+        print(f"  -> {label}: stepping tol {tols[0]:g} / polynomial time {t_step / t_poly:.1f} "
+              f"(target >= {TARGET_SPEEDUP:g}: x{t_step / t_poly / TARGET_SPEEDUP:.2f})")  # fmt: skip
+
+    ratio("stepping within 2 % at every frequency", lambda e: e.max() <= TARGET_ERROR)
+    ratio("matched worst error", lambda e: e.max() <= e_poly.max())
+    clean = max(e_poly[~flagged].max(initial=0), TARGET_ERROR)
+    ratio("matched where the polynomial is not flagged", lambda e: e[~flagged].max(initial=0) <= clean)
 
 
-def bench_many_harmonics() -> None:
+def bench_many_harmonics(bases) -> None:
     """The case that did not converge at Nh = 21 with the paper's Galerkin system (10 N, 0.7 Hz)."""
     ref = exact(10, 0.7, 21)
     print("   Nh = 21, 10 N, 0.7 Hz, 1e4 cycles (failed before: residual 8.4e-3):")
     model = paper_model(fex=10)
-    for basis in BASES:
+    for basis in bases:
         t, hist = timed(lambda basis=basis: wear_polynomial(model, TWO_PI * 0.7, kw=KW, cycles=1e4,
                                                             harmonics=21, basis=basis))  # fmt: skip
         e = cycle_errors(hist, ref)
@@ -176,13 +190,12 @@ def main() -> None:
     wear_polynomial(paper_model(fex=10), TWO_PI * 0.7, kw=KW, cycles=1e4)  # compile the kernels
     if args.quick:
         bench_bases((3,), (6, 10, 14), (0.6, 0.7, 0.9))
-        bench_many_harmonics()
+        bench_many_harmonics(("saturating",))
         bench_map_speed(np.linspace(0.5, 1.0, 11), 10.0, 3, repeat=1)
-        bench_stepping_map(26, workers=2)
-        bench_time_integration((3e-2, 1e-2))
+        print("3, 4: the stepping wear map at Nh = 21 and time integration run without --quick")
     else:
         bench_bases((3, 7, 21), (6, 10, 14), (0.5, 0.6, 0.7, 0.8, 0.9, 1.0))
-        bench_many_harmonics()
+        bench_many_harmonics(BASES)
         for fex in (6.0, 10.0, 14.0):
             bench_map_speed(np.linspace(0.5, 1.0, 26), fex, 3, repeat=3)
         bench_map_speed(np.linspace(0.5, 1.0, 26), 10.0, 7, repeat=3)

@@ -1,45 +1,50 @@
 """Polynomial slow-time DLFT (paper eq. 25-29), with a slow-time basis built for wear curves.
 
 The whole wear history at one frequency comes from the periodic DLFT response
-at a few slow times (the Gauss-Legendre nodes of the slow interval) and
-polynomials of the slow time between them. Three bases (``basis=``):
+at the Gauss-Legendre nodes of a slow interval and polynomials of the slow
+variable between them. Three bases (``basis=``):
 
 * ``"saturating"`` (default, one friction contact): the slow variable is the
-  wear itself, through ``z = -ln(1 - w / u0)``. Archard's law then reads
-  ``dN/dz = 1 / (K_w k_n s(z))``, ``s`` the distance slid per cycle, and
-  ``w = u0 (1 - exp(-z))`` stays in ``[0, u0)`` by construction. ``z`` is linear
-  in ``N`` when ``s`` does not depend on the load (exact at degree 1), and again
-  above the point of maximal slope, where the contact is nearly unloaded and
-  ``s`` levels off. In maintenance-engineering terms ``w / u0`` is a life
-  distribution with cumulative hazard ``z`` (a Weibull law has ``z = (N / N_c)^k``)
-  and hazard rate ``K_w k_n s``. The harmonics ``x`` and the cycle count ``N``
-  are polynomials of degree ``m`` in a time-like map ``v`` of ``z`` (below); the
-  DLFT equations (eq. 29) hold exactly at the ``2 m + 2`` Gauss nodes of ``v``,
-  where the response is solved at the node's known wear, and ``dN/dv`` is
-  projected on the polynomials of degree ``< m`` (Galerkin). In ``z`` the slow
-  system is explicit: no Newton iteration in slow time.
-* ``"legendre"`` and ``"monomial"``: the paper's method. ``w`` and ``x`` are
-  polynomials of degree ``m`` in ``N`` over ``[0, cycles]`` (Legendre
+  wear itself, through ``z = -ln(1 - w / u0)``, and ``w = u0 (1 - exp(-z))``
+  stays in ``[0, u0)`` by construction. Archard's law reads ``dz/dN = K_w k_n s``
+  (``s`` the distance slid per cycle): ``z`` is linear in ``N`` when ``s`` does not
+  depend on the load (exact at degree 1), and again above the point of maximal
+  slope, where the contact is nearly unloaded and ``s`` levels off. In
+  maintenance-engineering terms ``w / u0`` is a life distribution with
+  cumulative hazard ``z`` and hazard rate ``K_w k_n s`` (a Weibull law has
+  ``z = (N / N_c)^k``). The slow interval ``0 <= z <= z_end`` is mapped onto a
+  time-like variable ``v`` in [0, 1] (below); at the ``2 m + 2`` Gauss nodes of
+  ``v`` the wear is known, the DLFT equations (eq. 29) are solved there
+  exactly, and ``dN/dv = (dz/dv) / (K_w k_n s)`` is projected on the Legendre
+  polynomials of degree ``< m`` (Galerkin), so that the cycle count ``N(v)`` is a
+  polynomial of degree ``m`` with ``N(0) = 0``. Where that projection is not
+  positive (a sliding distance that grows by orders of magnitude along the
+  history, near the stick limit), ``log dN/dv`` is projected instead. In ``z``
+  the slow-time system is explicit: no Newton iteration in slow time. Between
+  the nodes the harmonics are linear in the load fraction ``exp(-z)``, in which
+  the DLFT response is piecewise linear.
+* ``"legendre"`` and ``"monomial"``: the paper's method. ``w`` and the harmonics
+  ``x`` are polynomials of degree ``m`` in ``N`` over ``[0, cycles]`` (Legendre
   polynomials, or the paper's powers of ``N / cycles``, eq. 25-27); the DLFT
   residual (eq. 29) and Archard's law ``dw/dN = K_w F_N(w) s`` are projected on
-  them with a Gauss-Legendre rule of ``2 m + 2`` nodes (Galerkin), and the whole
-  system is solved by Newton's method with its exact Jacobian.
+  them with a Gauss-Legendre rule of ``2 m + 2`` nodes (Galerkin), and the
+  whole system is solved by Newton's method with its exact Jacobian.
 
 Why the wear variable: with a load-dependent ``s``, Archard's law in ``N`` is
 unstable while the wear accelerates (``d(dz/dN)/dz = K_w k_n ds/dz > 0``): a
 perturbation of ``z`` grows like ``s(z) / s(0)`` along the history, which is
-up to 70 for the paper's 10 N case at 0.6 Hz. A projection in ``N`` spreads its
-residual over the whole history and this growth amplifies it; the Galerkin
-system may then have no solution near the physical one, and its Newton
-iteration (on a residual that is only piecewise smooth: the DLFT march changes
-stick/slip pattern hundreds of times along the history at ``Nh = 21``) stalls.
-In ``z`` nothing feeds back.
+70 for the paper's 10 N case at 0.6 Hz with ``Nh = 7`` and 10^4 near the stick
+limit. A projection in ``N`` spreads its residual over the whole history and
+this growth amplifies it: the Galerkin system may have no solution near the
+physical one, and its Newton iteration (on a residual that is only piecewise
+smooth: the DLFT march changes stick/slip pattern hundreds of times along the
+history at ``Nh = 21``) stalls. In ``z`` nothing feeds back.
 
-The map ``v(z)``: the cycles ``N^(z)`` that Archard's law takes with the sliding
-distance ``s^(z) = s(0) + z ds/dz(0)`` held between ``s(0)`` and ``s(z_end)``
-(the exact tangent at the start and the exact end value), normalised to
-``[0, 1]``. Nodes uniform in ``v`` are uniform in time for that model: dense
-where the wear is slow.
+The map ``v(z)``: the cycles that Archard's law takes with the sliding
+distance ``s(0) + z ds/dz(0)`` held between ``s(0)`` and ``s(z_end)`` (the exact
+tangent at the start and the exact end value), normalised to [0, 1]. Nodes
+evenly spread in ``v`` are evenly spread in time for that model: dense where
+the wear is slow.
 
 The slow interval ends at the wear ``FIT_FRACTION u0`` (or at the horizon, if
 that comes first); beyond, the contact is nearly unloaded, ``s`` no longer
@@ -96,31 +101,32 @@ def wear_polynomial(
 ) -> WearHistory:
     """Wear evolution at one frequency by the polynomial slow-time DLFT (eq. 25-29).
 
-    The default basis is ``"saturating"``: the slow variable is the wear
-    variable ``z = -ln(1 - w/u0)`` (see the module docstring), for one friction
-    contact; ``"legendre"`` and ``"monomial"`` are the paper's polynomials in the
-    cycle count ``N`` (any number of friction contacts).
+    The default basis is ``"saturating"``, for one friction contact: the slow
+    variable is the wear variable ``z = -ln(1 - w/u0)`` (see the module
+    docstring). ``"legendre"`` and ``"monomial"`` are the paper's polynomials in
+    the cycle count ``N`` (any number of friction contacts).
 
     Saturating: the history ends at ``stop_fraction u0`` (status ``"worn"``) or
     at the horizon (``"horizon"``); records are ``outputs`` cycle counts evenly
-    spread over the polynomial's interval, then ``outputs / 4`` over the
-    closed-form tail. Legendre and monomial: the interval is ``[0, cycles]`` and
+    spread over the polynomial's interval, then ``outputs // 4 + 1`` over the
+    closed-form tail. Legendre and monomial: the interval is ``[0, cycles]``;
     Newton's method solves the Galerkin system from a start that integrates
-    Archard's law on a coarse grid of wear levels; a failure is reported in
+    Archard's law on a coarse grid of wear levels, and a failure is reported in
     ``converged``, ``status`` and ``info["residual"]``.
 
-    The fit is checked at its records, where the response is the degree-``m``
-    polynomial of the harmonics: its sliding distance gives Archard's rate,
-    ``info["misfit"]`` is the largest relative difference between the cycles
-    Archard's law takes to reach the fit's wear and the fit's cycles (records
-    beyond 1 % of ``u0``), and ``info["wear_defect"]`` the largest difference
-    between the fit's wear and Archard's law integrated in ``N`` (fraction of
-    ``u0``). Above :data:`MISFIT_LIMIT` a warning names the frequency (Hz) and
-    the misfit. The recorded ``rate`` is the fit's ``dw/dN``, limited so that
-    :meth:`WearHistory.at` is monotone and stays in ``[0, u0)``.
+    The fit is checked against its own Archard law: ``info["misfit"]`` is the
+    largest relative difference, over the records beyond 10 % of ``u0``, between
+    the fit's cycles and the cycles Archard's law takes to reach the fit's wear
+    with the fit's own sliding distances: at the nodes without truncation (the
+    interpolant of ``dN/dv`` through every node) for the saturating basis, along
+    the records' response for the others. ``info["wear_defect"]`` is the
+    largest difference in wear (fraction of ``u0``). Above :data:`MISFIT_LIMIT`
+    a warning names the frequency (Hz) and the misfit. The recorded ``rate`` is
+    the fit's ``dw/dN``, limited so that :meth:`WearHistory.at` is monotone
+    between monotone records and stays in ``[0, u0)``.
 
-    Compiled: the periodic solves at the nodes, the Galerkin assembly and its
-    Jacobian, the sliding distances of the records.
+    Compiled: the periodic solves at the nodes (Newton, then the global Newton
+    homotopy), the Galerkin assembly and its Jacobian, the sliding distances.
 
     Parameters
     ----------
@@ -137,7 +143,7 @@ def wear_polynomial(
     degree : int
         Polynomial degree ``m`` in [1, 12] (the paper uses 4); ``2 m + 2`` nodes.
     basis : {"saturating", "legendre", "monomial"}
-        Slow-time basis (see the module docstring).
+        Slow-time basis (see the module docstring); default ``"saturating"``.
     tol : float
         Newton tolerance on the Galerkin residual (legendre, monomial), in (0, 1).
     max_iter : int
@@ -146,6 +152,14 @@ def wear_polynomial(
         Records over the polynomial's interval, >= 2.
     stop_fraction : float
         The history ends when the wear reaches ``stop_fraction u0``, in (0, 1).
+
+    Returns
+    -------
+    WearHistory
+        ``info``: ``basis``, ``degree``, ``nodes``, ``misfit``, ``wear_defect``,
+        ``poor_fit``; saturating: ``end`` (cycles at the end of the polynomial),
+        ``log_density``, ``sliding_ratio`` (``s`` at the end over ``s`` at the
+        start); legendre, monomial: ``iterations``, ``residual``.
     """
     check_wear_inputs(model, kw, cycles, degree)
     if degree < 1:
@@ -442,41 +456,26 @@ class _Slow:
                     f"the contact sticks at wear {self.u0[0] * -np.expm1(-zk[S[:, 0] <= 0])} m"
                 )
             f = ramp.N_end * ramp.s(zk) / S[:, 0]  # dN/dv at the nodes
-            coef = (
-                (2 * np.arange(self.m) + 1) / 2 * (Vq[:, : self.m].T @ (wq * f))
-            )  # projection, degree m - 1
-            N_of_v = np.polynomial.legendre.legint(coef, lbnd=-1) * 0.5  # N(v) in 2 v - 1, N(0) = 0
-            N_poly = float(np.polynomial.legendre.legval(1.0, N_of_v))
-            if cycles >= N_poly * (1 - 1e-9) or attempt:
+            density = _Density(f, wq, Vq[:, : self.m])  # projection on degree m - 1
+            if cycles >= density.N[-1] * (1 - 1e-9) or attempt:
                 break
-            z_end = float(ramp.z(_invert(N_of_v, cycles)[0] * ramp.N_end))  # the horizon comes first
-        grid = np.polynomial.legendre.legval(np.linspace(-1, 1, 401), coef)
-        if not np.all(grid > 0):
-            raise RuntimeError(
-                f"the degree-{self.m - 1} projection of dN/dz changes sign on the slow interval: "
-                "raise the degree"
-            )
+            z_end = float(ramp.z(density.v(cycles)[0] * ramp.N_end))  # the horizon comes first
         # records on the polynomial's interval
-        N = np.linspace(0.0, min(N_poly, cycles), outputs)
-        vr = _invert(N_of_v, N)
+        N = np.linspace(0.0, min(density.N[-1], cycles), outputs)
+        vr = density.v(N)
         z = ramp.z(vr * ramp.N_end)
-        dz = ramp.N_end * c * ramp.s(z) / np.polynomial.legendre.legval(2 * vr - 1, coef)  # dz/dN
+        dz = ramp.N_end * c * ramp.s(z) / density(vr)  # dz/dN = (dz/dv) / (dN/dv)
         rho = np.exp(-np.concatenate([[z_end], zk[::-1], [0.0]]))  # increasing load fraction
         Xp = np.vstack([X_end, X[::-1], x0])
         Xr = np.stack([np.interp(np.exp(-z), rho, col) for col in Xp.T], axis=1)
         w = self.u0 * -np.expm1(-z[:, None])
         dw = self.u0 * np.exp(-z[:, None]) * dz[:, None]
         slid = _sliding(Xr, self.L0 * np.exp(-z[:, None]), Z, F, eps, Phi, half_wave)
-        # Archard's law at the nodes integrated without truncation: the interpolant of dN/dv (collocation)
-        K = len(f)
-        full = (2 * np.arange(K) + 1) / 2 * (np.polynomial.legendre.legvander(tau, K - 1).T @ (wq * f))
-        N_col = np.polynomial.legendre.legint(full, lbnd=-1) * 0.5
+        # the misfit: against Archard's law at the nodes without truncation (the interpolant, collocation)
+        col = _Density(f, wq, np.polynomial.legendre.legvander(tau, len(tau) - 1))
         far = (w[:, 0] > 0.1 * self.u0[0]) & (N > 0)
-        misfit = float(
-            np.max(np.abs(np.polynomial.legendre.legval(2 * vr[far] - 1, N_col) / N[far] - 1), initial=0)
-        )
-        w_col = -np.expm1(-ramp.z(_invert(N_col, N) * ramp.N_end))
-        defect = float(np.max(np.abs(w_col - w[:, 0] / self.u0[0])))
+        misfit = float(np.max(np.abs(np.interp(vr[far], col.grid, col.N) / N[far] - 1), initial=0.0))
+        defect = float(np.max(np.abs(-np.expm1(-ramp.z(col.v(N) * ramp.N_end)) - w[:, 0] / self.u0[0])))
         # closed-form tail: z linear in N at the end state's sliding distance
         N_stop = N[-1] + (z_stop - z[-1]) / (c * s_end[0])
         status = "worn" if N_stop <= cycles else "horizon"
@@ -487,8 +486,8 @@ class _Slow:
             dw = np.vstack([dw, self.u0 * np.exp(-zt[:, None]) * c * s_end[0]])
             slid = np.vstack([slid, np.repeat(s_end[None], len(Nt), axis=0)])
             Xr = np.vstack([Xr, np.repeat(X_end[None], len(Nt), axis=0)])
-        info = {"misfit": misfit, "wear_defect": defect, "poor_fit": misfit > MISFIT_LIMIT, "end": N_poly,
-                "sliding_ratio": float(s_end[0] / s0)}  # fmt: skip
+        info = {"misfit": misfit, "wear_defect": defect, "poor_fit": misfit > MISFIT_LIMIT, "end": N[-1],
+                "log_density": density.log, "sliding_ratio": float(s_end[0] / s0)}  # fmt: skip
         return self._history(N, w, dw, Xr, slid, status, info)
 
     # -- legendre, monomial: the paper's Galerkin system in N -----------------------------------------
@@ -627,11 +626,35 @@ class _Ramp:
         return np.where(N <= self.Nc, ramp, self.zc + (N - self.Nc) * self.c * self.sc)
 
 
-def _invert(coef: np.ndarray, N) -> np.ndarray:
-    """``v`` in [0, 1] with ``N(v) = N`` for the increasing Legendre series ``coef`` in ``2 v - 1``."""
-    vg = np.linspace(0.0, 1.0, 4001)
-    Ng = np.maximum.accumulate(np.polynomial.legendre.legval(2 * vg - 1, coef))
-    return np.interp(np.atleast_1d(N), Ng, vg)
+class _Density:
+    """The time density ``dN/dv`` and its integral ``N(v)``, ``N(0) = 0``, from its values ``f`` at the nodes.
+
+    ``dN/dv`` is the Legendre series in ``2 v - 1`` that projects ``f`` (Gauss
+    weights ``wq``) on the columns of ``basis``; if that series is not positive
+    on [0, 1] (a density that varies by orders of magnitude, near the stick
+    limit), ``exp`` of the projection of ``log f``, positive by construction.
+    Either way ``N`` increases with ``v``, so the wear increases with ``N``.
+    """
+
+    def __init__(self, f: np.ndarray, wq: np.ndarray, basis: np.ndarray):
+        weights = (2 * np.arange(basis.shape[1]) + 1) / 2
+        self.grid = np.linspace(0.0, 1.0, 2001)
+        self.log = False
+        self.coef = weights * (basis.T @ (wq * f))
+        d = self(self.grid)
+        if np.any(d <= 0):
+            self.log = True
+            self.coef = weights * (basis.T @ (wq * np.log(f)))
+            d = self(self.grid)
+        self.N = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(self.grid) * (d[1:] + d[:-1]))])
+
+    def __call__(self, v):
+        p = np.polynomial.legendre.legval(2 * np.asarray(v) - 1, self.coef)
+        return np.exp(p) if self.log else p
+
+    def v(self, N):
+        """``v`` with ``N(v) = N`` (N in [0, N(1)])."""
+        return np.interp(np.atleast_1d(N), self.N, self.grid)
 
 
 def _slow_basis(kind: str, degree: int, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -99,6 +99,15 @@ def test_poor_fit_is_flagged_with_frequency_and_misfit_and_a_higher_degree_fixes
     assert max(abs(cycles_error(high, ref, q)) for q in np.linspace(0.1, 0.9, 9)) < 0.02
 
 
+def test_near_the_stick_limit_the_density_stays_positive_and_the_miss_is_reported():
+    """10 N at 0.55 Hz: the sliding distance grows 770-fold along the history; no degree-4 fit follows it."""
+    hist = wear_polynomial(paper_model(fex=10), TWO_PI * 0.55, kw=KW, cycles=1e5)
+    dense = hist.at(np.linspace(0, 1e5, 4001))["wear"][:, 0]
+    assert hist.info["sliding_ratio"] > 100 and hist.info["log_density"]
+    assert np.all(np.diff(dense) >= 0) and np.all(dense < hist.u0[0]) and hist.status == "worn"
+    assert hist.info["poor_fit"] and any("0.55 Hz" in n for n in hist.warnings)
+
+
 def test_many_harmonics_converge():
     """The case that failed at Nh = 21 (10 N, 0.7 Hz): node solves with the Newton homotopy fallback."""
     ref = exact(10, 0.7, harmonics=21)
