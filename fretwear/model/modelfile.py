@@ -523,8 +523,9 @@ def _toml_dof(index: int, names: tuple[str, ...] | None) -> str:
 
 # -- bundled examples -----------------------------------------------------------
 def example_names() -> tuple[str, ...]:
-    """Names of the bundled example model files (without ``.toml``), sorted."""
-    return tuple(sorted(p.stem for p in DATA_DIR.glob("*.toml")))
+    """Names of the bundled example model files (without ``.toml``), sorted (study specs left out)."""
+    files = DATA_DIR.glob("*.toml")
+    return tuple(sorted(p.stem for p in files if "[study]" not in p.read_text(encoding="utf-8")))
 
 
 def example_path(name: str) -> Path:
