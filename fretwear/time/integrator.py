@@ -65,6 +65,11 @@ __all__ = [
     "engine_loads",
     "check_state",
     "march",
+    "recorded",
+    "make_trajectory",
+    "Records",
+    "clear_engines",
+    "slip_forces",
 ]
 
 #: event location tolerance, relative to the period (the refinement reaches round-off of a step)
@@ -214,6 +219,17 @@ def _engine(model: Model, omega: float) -> Engine:
     return Engine(model, omega)
 
 
+def clear_engines() -> None:
+    """Forget the cached engines (benchmarks time the preparation of a new frequency)."""
+    _engine.cache_clear()
+
+
+def slip_forces(model: Model, wear) -> tuple[np.ndarray, np.ndarray]:
+    """Slip forces ``mu F_N(wear)`` and normal loads ``F_N(wear)`` (N) of the friction contacts."""
+    loads = model.normal_loads(wear)
+    return np.array([c.mu for c in model.friction]) * loads, loads
+
+
 def engine(model: Model, omega: float, wear) -> tuple[Engine, np.ndarray]:
     """The (cached) engine of ``model`` at ``omega`` (rad/s) and the slip forces ``mu F_N(wear)`` (N)."""
     eng, g, _ = engine_loads(model, omega, wear)
@@ -230,8 +246,8 @@ def engine_loads(model: Model, omega: float, wear) -> tuple[Engine, np.ndarray, 
     if not np.isfinite(omega) or omega <= 0:
         raise ValueError(f"omega must be a finite positive angular frequency (rad/s), got {omega!r}")
     eng = _engine(model, omega)
-    loads = model.normal_loads(wear)
-    return eng, np.array([c.mu for c in model.friction]) * loads, loads
+    g, loads = slip_forces(model, wear)
+    return eng, g, loads
 
 
 def check_state(eng: Engine, y, name: str) -> np.ndarray:
@@ -248,7 +264,9 @@ def model_arrays(eng: Engine) -> tuple:
 
 
 @dataclass(frozen=True)
-class _Buffers:
+class Records:
+    """Buffers the compiled march records into: steps, phases and events (capacities are their lengths)."""
+
     st_t: np.ndarray
     st_len: np.ndarray
     st_pat: np.ndarray
@@ -263,79 +281,49 @@ class _Buffers:
     ev_dir: np.ndarray
 
     @classmethod
-    def empty(cls, steps: int, phases: int, dim: int, nf: int) -> _Buffers:
+    def empty(cls, steps: int, phases: int, dim: int, nf: int) -> Records:
         i8 = np.int64
         steps_ = (np.zeros(steps), np.zeros(steps), np.zeros(steps, i8), np.zeros(steps, i8))
         phases_ = (np.zeros(phases), np.zeros((phases, nf), np.int8), np.zeros((phases, nf), np.int8))
         events_ = (np.zeros(phases), np.zeros(phases, i8), np.zeros(phases, i8), np.zeros(phases, i8))
         return cls(*steps_, np.zeros((steps, dim)), *phases_, *events_)
 
+    def grown(self, factor: int) -> Records:
+        """Copy with ``factor`` times the capacities (the recorded content kept)."""
+        out = Records.empty(factor * len(self.st_t), factor * len(self.ph_t), self.st_X.shape[1],
+                            self.ph_state.shape[1])  # fmt: skip
+        for name in self.__dataclass_fields__:
+            a = getattr(self, name)
+            getattr(out, name)[: len(a)] = a
+        return out
+
     def args(self) -> tuple:
+        """The buffers in the order of the kernels' arguments."""
         return (self.st_t, self.st_len, self.st_pat, self.st_phase, self.st_X, self.ph_t, self.ph_state,
                 self.ph_dir, self.ev_t, self.ev_c, self.ev_kind, self.ev_dir)  # fmt: skip
 
 
-_NO_RECORD = _Buffers.empty(0, 0, 0, 0)
+_NO_RECORD = Records.empty(0, 0, 0, 0)
 
 
-def _failure(status: int, t: float) -> str:
-    if status == kernels.DEGENERATE:
-        return f"contact states could not be resolved near t = {t!r} s (cascade of events at one instant)"
-    return f"the state became non-finite near t = {t!r} s (unbounded motion)"
+def make_trajectory(table: Engine, i: int, rec: Records, steps: slice, phases: slice, events: slice, *,
+                    t0: float, t1: float, times: np.ndarray | None, y: np.ndarray, J: np.ndarray | None,
+                    sliding: np.ndarray, g: np.ndarray, work: float, viscous: float,
+                    fourier: np.ndarray) -> Trajectory:  # fmt: skip
+    """The :class:`Trajectory` over ``[t0, t1]`` recorded in ``rec`` for frequency ``i`` of ``table``.
 
-
-def march(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, *, jacobian: bool = False,
-          record: bool = False):  # fmt: skip
-    """Run the compiled march, building patterns and growing buffers on demand.
-
-    Returns ``(status, y, J, sliding, counts, buffers)``: ``status`` is
-    :data:`~fretwear.time.kernels.OK`, ``DEGENERATE`` or ``NONFINITE``.
+    ``steps``, ``phases``, ``events``: its slices of the records (a step's
+    phase index counts from ``phases.start``); ``times``: sorted sample times
+    (s) of the dense output, or None.
     """
-    periods = max((t1 - t0) / eng.period, 1.0)
-    max_phases = int(_PHASES_PER_PERIOD * min(periods, 1e4))
-    if record:
-        steps = int(1.5 * (t1 - t0) / eng.step[: eng.count].min()) + 64
-        buf = _Buffers.empty(steps, 64, eng.dim, eng.nf)
-    else:
-        buf = _NO_RECORD
-    while True:
-        status, need, y, J, sliding, ns, nph, nev = kernels.march(
-            *model_arrays(eng), *eng.arrays(), g, y0, float(t0), float(t1), jacobian, record, max_phases,
-            *buf.args(),
-        )  # fmt: skip
-        if status == kernels.NEED_PATTERN:
-            eng.require(int(need))
-        elif status == kernels.NEED_SPACE:
-            steps = len(buf.st_t) * (4 if ns >= len(buf.st_t) else 1)
-            phases = len(buf.ph_t) * (4 if max(nph, nev) >= len(buf.ph_t) else 1)
-            buf = _Buffers.empty(steps, phases, eng.dim, eng.nf)
-        else:
-            return status, y, J, sliding, (ns, nph, nev), buf
-
-
-def trajectory(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, times, *,
-               jacobian: bool) -> Trajectory:  # fmt: skip
-    """Recorded march from ``t0`` to ``t1`` with samples at ``times`` (sorted) and the period integrals.
-
-    Raises ``RuntimeError`` when the march fails (:func:`_failure`).
-    """
-    status, y, J, sliding, (ns, nph, nev), buf = march(eng, g, y0, t0, t1, jacobian=jacobian, record=True)
-    if status != kernels.OK:
-        raise RuntimeError(_failure(status, buf.st_t[ns - 1] if ns else t0))
-    rec = _Record(eng, eng.arrays(), buf.st_t[:ns].copy(), buf.st_len[:ns].copy(), buf.st_pat[:ns].copy(),
-                  buf.st_phase[:ns].copy(), buf.st_X[:ns].copy(), buf.ph_state[:nph].copy())  # fmt: skip
-    n = eng.n
-    work, visc, fre, fim = kernels.quadrature(rec.arrays[1], rec.arrays[5], rec.t, rec.length, rec.pattern,
-                                              rec.X, ns, n, eng.forces, eng.C, eng.omega)  # fmt: skip
+    record = _Record(table, table.table(i), rec.st_t[steps], rec.st_len[steps], rec.st_pat[steps],
+                     rec.st_phase[steps], rec.st_X[steps], rec.ph_state[phases])  # fmt: skip
+    n2, nf = 2 * table.n, table.nf
     times = np.zeros(0) if times is None else times
     if times.size:
-        states, forces, codes = _dense(rec, times)
+        states, forces, codes = _dense(record, times)
     else:
-        states, forces, codes = np.zeros((2 * n, 0)), np.zeros((eng.nf, 0)), np.zeros((eng.nf, 0), np.int8)
-    events = tuple(
-        ContactEvent(float(buf.ev_t[i]), int(buf.ev_c[i]), _KINDS[buf.ev_kind[i]], int(buf.ev_dir[i]))
-        for i in range(nev)
-    )
+        states, forces, codes = np.zeros((n2, 0)), np.zeros((nf, 0)), np.zeros((nf, 0), np.int8)
     return Trajectory(
         t0=float(t0),
         t1=float(t1),
@@ -344,18 +332,81 @@ def trajectory(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float,
         states=states,
         contact_force=forces,
         contact_state=codes,
-        segment_times=np.append(buf.ph_t[:nph], t1),
-        segment_state=buf.ph_state[:nph].copy(),
-        segment_direction=buf.ph_dir[:nph].copy(),
-        events=events,
+        segment_times=np.append(rec.ph_t[phases], t1),
+        segment_state=rec.ph_state[phases],
+        segment_direction=rec.ph_dir[phases],
+        events=tuple(
+            ContactEvent(float(rec.ev_t[k]), int(rec.ev_c[k]), _KINDS[rec.ev_kind[k]], int(rec.ev_dir[k]))
+            for k in range(events.start, events.stop)
+        ),
         sliding_distance=sliding,
         friction_energy=g * sliding,
         input_work=float(work),
-        viscous_dissipation=float(visc),
-        jacobian=J if jacobian else None,
-        _record=rec,
-        fourier=fre + 1j * fim,
+        viscous_dissipation=float(viscous),
+        jacobian=J,
+        _record=record,
+        fourier=fourier,
     )
+
+
+def _failure(status: int, t: float) -> str:
+    if status == kernels.DEGENERATE:
+        return f"contact states could not be resolved near t = {t!r} s (cascade of events at one instant)"
+    return f"the state became non-finite near t = {t!r} s (unbounded motion)"
+
+
+def _max_phases(eng: Engine, t0: float, t1: float) -> int:
+    return int(_PHASES_PER_PERIOD * min(max((t1 - t0) / eng.period, 1.0), 1e4))
+
+
+def march(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, *, jacobian: bool = False):
+    """Run the compiled march (no records), building patterns on demand.
+
+    Returns ``(status, y, J, sliding)``: ``status`` is
+    :data:`~fretwear.time.kernels.OK`, ``DEGENERATE`` or ``NONFINITE``.
+    """
+    while True:
+        status, need, y, J, sliding, *_ = kernels.march(
+            *model_arrays(eng), *eng.arrays(), g, y0, float(t0), float(t1), jacobian, False,
+            _max_phases(eng, t0, t1), *_NO_RECORD.args(),
+        )  # fmt: skip
+        if status != kernels.NEED_PATTERN:
+            return status, y, J, sliding
+        eng.require(int(need))
+
+
+_NO_ROWS = np.zeros((0, 0))
+
+
+def recorded(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, times, *, jacobian: bool,
+             rows: np.ndarray | None = None) -> tuple:  # fmt: skip
+    """Recorded march from ``t0`` to ``t1`` (samples at the sorted ``times``) with its integrals.
+
+    Returns ``(trajectory, maxima, minima, multipliers)``: the extrema over
+    ``[t0, t1]`` of ``rows @ u`` and the eigenvalues of the state-transition
+    matrix (when ``jacobian``). Raises ``RuntimeError`` when the march fails.
+    """
+    rows = _NO_ROWS if rows is None else rows
+    steps = int(1.5 * (t1 - t0) / eng.step[0, : eng.count].min()) + 16
+    buf = Records.empty(steps, 16, eng.dim, eng.nf)
+    while True:
+        out = kernels.orbit(*model_arrays(eng), *eng.arrays(), g, y0, float(t0), float(t1), jacobian,
+                            _max_phases(eng, t0, t1), rows, *buf.args())  # fmt: skip
+        status, need, y, J, sliding, ns, nph, nev, work, visc, fre, fim, hi, lo, mult = out
+        if status == kernels.NEED_PATTERN:
+            eng.require(int(need))
+        elif status == kernels.NEED_SPACE:
+            steps = len(buf.st_t) * (4 if ns >= len(buf.st_t) else 1)
+            phases = len(buf.ph_t) * (4 if max(nph, nev) >= len(buf.ph_t) else 1)
+            buf = Records.empty(steps, phases, eng.dim, eng.nf)
+        elif status != kernels.OK:
+            raise RuntimeError(_failure(status, buf.st_t[ns - 1] if ns else t0))
+        else:
+            break
+    traj = make_trajectory(eng, 0, buf, slice(0, ns), slice(0, nph), slice(0, nev), t0=t0, t1=t1, times=times,
+                           y=y, J=J if jacobian else None, sliding=sliding, g=g, work=work, viscous=visc,
+                           fourier=fre + 1j * fim)  # fmt: skip
+    return traj, hi, lo, mult
 
 
 # ---------------------------------------------------------------------------
@@ -415,7 +466,7 @@ def integrate(
         times = np.sort(np.atleast_1d(np.asarray(samples, dtype=float)))
         if times.size and (times[0] < t0 or times[-1] > t1):
             raise ValueError(f"samples must lie in [t0, t1] = [{t0}, {t1}]")
-    return trajectory(eng, g, y0, t0, t1, times, jacobian=jacobian)
+    return recorded(eng, g, y0, t0, t1, times, jacobian=jacobian)[0]
 
 
 def period_map(model: Model, omega: float, y0, *, wear=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -447,7 +498,7 @@ def period_map(model: Model, omega: float, y0, *, wear=None) -> tuple[np.ndarray
     """
     eng, g = engine(model, omega, wear)
     y0 = check_state(eng, y0, "y0")
-    status, y, _, sliding, _, _ = march(eng, g, y0, 0.0, eng.period)
+    status, y, _, sliding = march(eng, g, y0, 0.0, eng.period)
     if status != kernels.OK:
         raise RuntimeError(_failure(status, 0.0))
     return y, sliding, g * sliding

@@ -77,6 +77,8 @@ __all__ = [
     "dense",
     "quadrature",
     "extrema",
+    "orbit",
+    "solve",
 ]
 
 OK, NEED_PATTERN, NEED_SPACE, DEGENERATE, NONFINITE = 0, 1, 2, 3, 4
@@ -91,6 +93,7 @@ _STICK_TOL = 5e-10  # critical contact: relative acceleration below this (force 
 _RATE_TOL = 1e-11  # derivatives of a critical stuck force below this (of its scale) vanish
 _MAX_NULL = 40  # consecutive events at one instant before giving up
 _STALL = 6  # Newton gives up when its residual has not halved over this many iterations
+_STEP_TOL = 1e-7  # a Newton step below this (relative) ends the iterations (residual ~ step^2)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
 
 
@@ -809,16 +812,20 @@ def _period(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, 
 
 @njit(cache=True, nogil=True)
 def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, step, count,
-           g, y_guess, tol, max_iter, max_phases):  # fmt: skip
+           g, y_guess, tol, max_iter, max_phases, verify):  # fmt: skip
     """Newton on ``P(y) - y = 0``, ``P`` the period map, with the exact monodromy.
 
     Least-squares steps (the Jacobian is singular on orbits with a contact
     stuck during the whole period) and backtracking on the periodicity
     residual ``|P(y) - y|`` (velocities scaled by ``1 / omega``). Stops early
-    when the residual has not halved over ``_STALL`` iterations.
+    when the residual has not halved over ``_STALL`` iterations. Without
+    ``verify``, a Newton step below ``_STEP_TOL`` of ``|y|`` is taken and
+    returned as converged without evaluating the period map there (its
+    residual is then of the order of the step squared): the caller verifies it.
 
-    Returns ``(status, need, y, converged, iterations, residual, J)`` with the
-    residual relative to ``|y|`` and ``J`` the monodromy at ``y``.
+    Returns ``(status, need, y, converged, verified, iterations, residual, J)``
+    with the residual (relative to ``|y|``) and the monodromy ``J`` at the last
+    evaluated state.
     """
     n = Minv.shape[0]
     n2 = 2 * n
@@ -827,17 +834,19 @@ def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
     status, need, y1, J, _, _, _, _ = _period(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi,
                                               phi_series, step, count, g, y, True, max_phases)  # fmt: skip
     if status != OK:
-        return status, need, y, False, 0, math.inf, J
+        return status, need, y, False, False, 0, math.inf, J
     res = _scaled_norm(y1 - y, n, omega)
     history = np.empty(max_iter + 1)
     for it in range(max_iter + 1):
         size = max(_scaled_norm(y, n, omega), 1e-300)
         history[it] = res / size
         if res <= tol * size:
-            return OK, 0, y, True, it, res / size, J
+            return OK, 0, y, True, True, it, res / size, J
         if it == max_iter or (it >= _STALL and history[it] > 0.5 * history[it - _STALL]):
-            return OK, 0, y, False, it, res / size, J
+            return OK, 0, y, False, False, it, res / size, J
         dy = np.linalg.lstsq(J - I, y - y1)[0]
+        if not verify and _scaled_norm(dy, n, omega) <= _STEP_TOL * size:
+            return OK, 0, y + dy, True, False, it + 1, res / size, J
         alpha = 1.0
         while True:
             trial = y + alpha * dy
@@ -845,15 +854,15 @@ def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
                                                        phi, phi_series, step, count, g, trial, True,
                                                        max_phases)  # fmt: skip
             if status == NEED_PATTERN:
-                return status, need, y, False, it, res / size, J
+                return status, need, y, False, False, it, res / size, J
             tres = _scaled_norm(t1 - trial, n, omega) if status == OK else math.inf
             if tres < res or alpha < 1e-4:
                 break
             alpha *= 0.5
         if status != OK:
-            return status, need, y, False, it, res / size, J
+            return status, need, y, False, False, it, res / size, J
         y, y1, J, res = trial, t1, tJ, tres
-    return OK, 0, y, False, max_iter, math.inf, J
+    return OK, 0, y, False, False, max_iter, math.inf, J
 
 
 @njit(cache=True, nogil=True)
@@ -1022,3 +1031,192 @@ def extrema(Ah, step, st_t, st_len, st_pat, st_X, n_steps, rows):
                 else:
                     lo_out[ch] = -best
     return hi_out, lo_out
+
+
+@njit(cache=True, nogil=True)
+def orbit(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, step, count,
+          g, y0, t0, t1, jacobian, max_phases, rows,
+          st_t, st_len, st_pat, st_phase, st_X, ph_t, ph_state, ph_dir, ev_t, ev_c, ev_kind,
+          ev_dir):  # fmt: skip
+    """Recorded :func:`march`, its integrals, the extrema of ``rows @ u`` and the multipliers: one call.
+
+    Returns ``(status, need, y, J, sliding, n_steps, n_phases, n_events, work, viscous, fourier_re,
+    fourier_im, maxima, minima, multipliers)`` (the eigenvalues of ``J`` when ``jacobian``).
+    """
+    n = Minv.shape[0]
+    status, need, y, J, sliding, ns, nph, nev = march(
+        Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, step, count, g, y0, t0, t1,
+        jacobian, True, max_phases, st_t, st_len, st_pat, st_phase, st_X, ph_t, ph_state, ph_dir, ev_t, ev_c,
+        ev_kind, ev_dir,
+    )  # fmt: skip
+    work = visc = 0.0
+    fre = np.zeros(n)
+    fim = np.zeros(n)
+    hi = np.full(rows.shape[0], np.nan)
+    lo = np.full(rows.shape[0], np.nan)
+    mult = np.zeros(2 * n, dtype=np.complex128)
+    if status == OK:
+        work, visc, fre, fim = quadrature(Ah, step, st_t, st_len, st_pat, st_X, ns, n, F, C, omega)
+        if rows.shape[0]:
+            hi, lo = extrema(Ah, step, st_t, st_len, st_pat, st_X, ns, rows)
+        if jacobian:
+            mult = np.linalg.eigvals(J.astype(np.complex128))
+    return status, need, y, J, sliding, ns, nph, nev, work, visc, fre, fim, hi, lo, mult
+
+
+# attempts of a periodic solve (kinds; a march start is MARCH_START + its index in ``marches``)
+GUESS_START, EXTRAPOLATED_START, NEIGHBOUR_START, RIGID_START, MARCH_START = 0, 1, 2, 3, 4
+NOT_CONVERGED = -1  # attempt code of a Newton that ended without reaching the tolerance
+
+
+@njit(cache=True, nogil=True)
+def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, step, count,
+          g, guesses, n_guesses, rigid, chain, tol, max_iter, marches, max_phases, rows, start,
+          y0_out, y1_out, conv_out, iters_out, att_kind, att_code, att_res, n_att,
+          J_out, mult_out, slid_out, work_out, visc_out, fre_out, fim_out, hi_out, lo_out,
+          st_off, ph_off, ev_off, st_t, st_len, st_pat, st_phase, st_X, ph_t, ph_state, ph_dir,
+          ev_t, ev_c, ev_kind, ev_dir):  # fmt: skip
+    """Periodic orbits at ``omegas[start:]`` by shooting, with their recorded period and its integrals.
+
+    At frequency ``i``, with ``chain`` (a sweep), the rigid state ``rigid[i]``
+    is taken at once if it is periodic (a stuck orbit, without offset).
+    Otherwise Newton (:func:`newton`, without verification) starts from each
+    of the ``n_guesses[i]`` rows of ``guesses[i]``; with ``chain``, then from
+    the linear extrapolation of the two previous orbits (when both converged
+    with the same, non-zero number of events) and from the previous orbit;
+    then from ``rigid[i]`` and from the states reached by marching
+    ``marches[j]`` periods (cumulative) from it. The first converged start
+    wins; its period is recorded (steps, phases, events at the offsets
+    ``st_off[i]``, ``ph_off[i]``, ``ev_off[i]``, which this sets for ``i + 1``)
+    with :func:`orbit`, and a final Newton step that leaves a residual above
+    ``tol`` is iterated further with verification.
+
+    Returns ``(status, need, i)``: :data:`OK` when every frequency is done,
+    else :data:`NEED_PATTERN` (build pattern ``need``) or :data:`NEED_SPACE`
+    (grow the record buffers) at frequency ``i``, to be called again from ``i``.
+    """
+    n = Minv.shape[0]
+    for i in range(start, omegas.shape[0]):
+        om = omegas[i]
+        T = 2 * math.pi / om
+        Ah_i, phi_i, series_i, step_i = Ah[i], phi[i], phi_series[i], step[i]
+        iters = 0
+        na = 0
+        found = False
+        y = rigid[i].copy()
+        best_res = math.inf
+        best_y = rigid[i].copy()
+        n_starts = n_guesses[i] + 3 + marches.shape[0]
+        marched = 0
+        ys = rigid[i].copy()
+        if chain:  # a stuck orbit of the sweep: the rigid state without offset, if it is periodic
+            status, need, y1, _, _, _, _, _ = _period(
+                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, False,
+                max_phases,
+            )  # fmt: skip
+            if status == NEED_PATTERN:
+                return status, need, i
+            found = status == OK and _scaled_norm(y1 - y, n, om) <= tol * _scaled_norm(y, n, om)
+        for a in range(n_starts):
+            if found:
+                break
+            if a < n_guesses[i]:
+                kind, y = GUESS_START, guesses[i, a].copy()
+            elif a == n_guesses[i]:
+                if not (chain and i > 1 and conv_out[i - 1] and conv_out[i - 2]):
+                    continue
+                events = ev_off[i] - ev_off[i - 1]
+                if events == 0 or events != ev_off[i - 1] - ev_off[i - 2]:
+                    continue
+                slope = (om - omegas[i - 1]) / (omegas[i - 1] - omegas[i - 2])
+                kind, y = EXTRAPOLATED_START, y0_out[i - 1] + slope * (y0_out[i - 1] - y0_out[i - 2])
+            elif a == n_guesses[i] + 1:
+                if not (chain and i > 0 and conv_out[i - 1]):
+                    continue
+                kind, y = NEIGHBOUR_START, y0_out[i - 1].copy()
+            elif a == n_guesses[i] + 2:
+                kind, y = RIGID_START, rigid[i].copy()
+            else:
+                j = a - n_guesses[i] - 3
+                status, need, ys, _, _ = settle(
+                    Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, ys,
+                    marches[j] - marched, 0.0, max_phases,
+                )  # fmt: skip
+                if status == NEED_PATTERN:
+                    return status, need, i
+                marched = marches[j]
+                if status != OK:
+                    att_kind[i, na], att_code[i, na], att_res[i, na] = MARCH_START + j, status, math.inf
+                    na += 1
+                    break
+                kind, y = MARCH_START + j, ys.copy()
+            status, need, y1, ok, _, its, res, _ = newton(
+                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, tol,
+                max_iter, max_phases, False,
+            )  # fmt: skip
+            if status == NEED_PATTERN:
+                return status, need, i
+            iters += its
+            att_kind[i, na], att_res[i, na] = kind, res
+            att_code[i, na] = OK if status == OK and ok else (NOT_CONVERGED if status == OK else status)
+            na += 1
+            if status == OK and ok:
+                found, y = True, y1
+                break
+            if status == OK and res < best_res:
+                best_res, best_y = res, y1.copy()
+        if not found:
+            y = best_y
+        n_att[i] = na
+        # the recorded period
+        for attempt in range(2):
+            s0, p0, e0 = st_off[i], ph_off[i], ev_off[i]
+            status, need, y1, J, slid, ns, nph, nev, work, visc, fre, fim, hi, lo, mult = orbit(
+                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, 0.0,
+                T, True, max_phases, rows, st_t[s0:], st_len[s0:], st_pat[s0:], st_phase[s0:], st_X[s0:],
+                ph_t[p0:], ph_state[p0:], ph_dir[p0:], ev_t[e0:], ev_c[e0:], ev_kind[e0:], ev_dir[e0:],
+            )  # fmt: skip
+            if status == NEED_PATTERN or status == NEED_SPACE:
+                return status, need, i
+            if status != OK:
+                found = False
+                ns = nph = nev = 0
+                break
+            res = _scaled_norm(y1 - y, n, om) / max(_scaled_norm(y, n, om), 1e-300)
+            if not found or res <= tol or attempt == 1:
+                found = found and res <= tol
+                break
+            status, need, y2, ok, _, its, _, _ = newton(
+                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, tol,
+                max_iter, max_phases, True,
+            )  # fmt: skip
+            if status == NEED_PATTERN:
+                return status, need, i
+            iters += its
+            if not (status == OK and ok):
+                att_code[i, na - 1], att_res[i, na - 1] = NOT_CONVERGED, res
+                found = False
+                break
+            y = y2
+        st_off[i + 1], ph_off[i + 1], ev_off[i + 1] = st_off[i] + ns, ph_off[i] + nph, ev_off[i] + nev
+        y0_out[i] = y
+        conv_out[i] = found
+        iters_out[i] = iters
+        if ns:
+            y1_out[i], J_out[i], mult_out[i], slid_out[i] = y1, J, mult, slid
+            work_out[i], visc_out[i], fre_out[i], fim_out[i], hi_out[i], lo_out[i] = (
+                work,
+                visc,
+                fre,
+                fim,
+                hi,
+                lo,
+            )
+        else:
+            y1_out[i] = np.nan
+            J_out[i] = np.nan
+            mult_out[i] = np.nan
+            slid_out[i] = np.nan
+            work_out[i] = visc_out[i] = np.nan
+            fre_out[i] = fim_out[i] = hi_out[i] = lo_out[i] = np.nan
+    return OK, 0, omegas.shape[0]

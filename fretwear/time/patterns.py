@@ -43,7 +43,7 @@ from scipy import linalg
 
 from ..model import Model
 
-__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "structure"]
+__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "Table", "structure"]
 
 #: terms of the Taylor series of a step (polynomial degree)
 TAYLOR_ORDER = 30
@@ -85,6 +85,7 @@ class Structure:
         self.Minv = (Minv + Minv.T) / 2
         self.C, self.K = model.C, model.K
         self.forces = np.column_stack([model.force_static, model.force_cos, model.force_sin])
+        self.extrema_rows = np.vstack([np.eye(self.n), self.B])  # u -> (u, B u): the channels of extrema
         self._matrices: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     def seen(self) -> list[int]:
@@ -128,79 +129,97 @@ def structure(model: Model) -> Structure:
     return Structure(model)
 
 
-class Engine:
-    """Pattern table of one model at one excitation frequency.
+class Table:
+    """Stick-pattern propagators of one model at one or several excitation frequencies.
 
-    The patterns are built on demand (:meth:`require`) and packed into arrays
-    for the compiled kernels; a pattern's slot never changes, so that step
-    records keep their meaning when the table grows.
+    The patterns are built on demand (:meth:`require`, for every frequency at
+    once) and packed into arrays for the compiled kernels; a pattern's slot
+    never changes, so that step records keep their meaning when the table grows.
 
     Parameters
     ----------
     model : Model
         Friction contacts only, ``M`` positive definite, contacts linearly independent.
-    omega : float
-        Excitation frequency (rad/s), > 0.
+    omegas : array_like, shape (W,)
+        Excitation frequencies (rad/s), > 0.
     """
 
-    def __init__(self, model: Model, omega: float) -> None:
+    def __init__(self, model: Model, omegas) -> None:
         st = structure(model)
         self.structure, self.model = st, model
-        self.omega, self.period = float(omega), 2 * np.pi / omega
+        self.omegas = np.array(omegas, dtype=float).reshape(-1)
+        self.periods = 2 * np.pi / self.omegas
         self.n, self.nf, self.dim = st.n, st.nf, st.dim
         self.B, self.Minv, self.C, self.K, self.forces = st.B, st.Minv, st.C, st.K, st.forces
-        n, D, K = self.n, self.dim, TAYLOR_ORDER
+        self.extrema_rows = st.extrema_rows
         self.count = 0
         self._slots: dict[int, int] = {}
-        seen = st.seen()
-        cap = max(2, len(seen) + 1)
-        self.masks = np.full(cap, -1, dtype=np.int64)
-        self.Ah = np.zeros((cap, D, D))  # A_S h_S
-        self.force_rows = np.zeros((cap, self.nf, D))  # X -> friction force of every contact
-        self.phi = np.zeros((cap, 2 * n, 2 * n))  # exp(A_yy h_S): state transition of a full step
-        self.phi_series = np.zeros((cap, K + 1, 2 * n, 2 * n))  # (A_yy h_S)^k / k!
-        self.step = np.zeros(cap)  # h_S (s)
-        self.require(0)  # every contact slipping (or open)
-        for mask in seen:  # the patterns this model needed at other frequencies
-            self.require(mask)
+        masks = [0] + [m for m in st.seen() if m]  # every contact slipping, then those seen before
+        self._allocate(max(2, len(masks)))
+        self._add(masks)
 
-    # -- the table -----------------------------------------------------------
     def slot(self, mask: int) -> int:
         """Slot of the pattern whose stuck contacts are the bits of ``mask``; -1 if not built."""
         return self._slots.get(mask, -1)
 
     def require(self, mask: int) -> int:
         """Build the pattern of stuck set ``mask`` (bit ``j``: contact ``j`` stuck) if needed; its slot."""
-        found = self.slot(mask)
-        if found >= 0:
-            return found
-        if self.count == len(self.masks):
-            self._grow()
-        A0, rows = self.structure.matrices(mask)
-        k = self.count
-        self.step[k] = _prepare(A0, self.omega, self.period, 2 * self.n, self.Ah[k], self.phi_series[k],
-                                self.phi[k])  # fmt: skip
-        self.force_rows[k] = rows
-        self.masks[k] = mask
-        self._slots[mask] = k
-        self.count += 1
-        return k
+        if mask not in self._slots:
+            self._add([mask])
+        return self._slots[mask]
+
+    def table(self, i: int) -> tuple:
+        """Frequency ``i`` as the kernels take it: ``(masks, Ah, force_rows, phi, series, step, count)``."""
+        return (self.masks, self.Ah[i], self.force_rows, self.phi[i], self.phi_series[i], self.step[i],
+                self.count)  # fmt: skip
+
+    def stacked(self) -> tuple:
+        """Every frequency: :meth:`table` with a frequency axis first on ``Ah``, ``phi``, series, ``step``."""
+        return self.masks, self.Ah, self.force_rows, self.phi, self.phi_series, self.step, self.count
+
+    def _allocate(self, cap: int) -> None:
+        W, n2, D, K = len(self.omegas), 2 * self.n, self.dim, TAYLOR_ORDER
+        old = self.__dict__.get("masks")
+        arrays = {
+            "masks": np.full(cap, -1, dtype=np.int64),
+            "Ah": np.zeros((W, cap, D, D)),  # A_S h_S
+            "force_rows": np.zeros((cap, self.nf, D)),  # X -> friction force of every contact
+            "phi": np.zeros((W, cap, n2, n2)),  # exp(A_yy h_S): state transition of a full step
+            "phi_series": np.zeros((W, cap, K + 1, n2, n2)),  # (A_yy h_S)^k / k!
+            "step": np.zeros((W, cap)),  # h_S (s)
+        }
+        for name, a in arrays.items():
+            if old is not None:
+                prev = getattr(self, name)
+                if name in ("masks", "force_rows"):
+                    a[: self.count] = prev[: self.count]
+                else:
+                    a[:, : self.count] = prev[:, : self.count]
+            setattr(self, name, a)
+
+    def _add(self, masks: list[int]) -> None:
+        if self.count + len(masks) > len(self.masks):
+            self._allocate(max(2 * len(self.masks), self.count + len(masks)))
+        k0 = self.count
+        A0 = np.empty((len(masks), self.dim, self.dim))
+        for p, mask in enumerate(masks):
+            A0[p], self.force_rows[k0 + p] = self.structure.matrices(mask)
+            self.masks[k0 + p] = mask
+            self._slots[mask] = k0 + p
+        _prepare_all(A0, self.omegas, 2 * self.n, k0, self.Ah, self.phi_series, self.phi, self.step)
+        self.count += len(masks)
+
+
+class Engine(Table):
+    """The :class:`Table` of one model at one excitation frequency ``omega`` (rad/s)."""
+
+    def __init__(self, model: Model, omega: float) -> None:
+        super().__init__(model, [omega])
+        self.omega, self.period = float(self.omegas[0]), float(self.periods[0])
 
     def arrays(self) -> tuple:
         """The table as the kernels take it: ``(masks, Ah, force_rows, phi, phi_series, step, count)``."""
-        return self.masks, self.Ah, self.force_rows, self.phi, self.phi_series, self.step, self.count
-
-    def _grow(self) -> None:
-        cap = 2 * len(self.masks)
-
-        def bigger(a, fill=0):
-            out = np.full((cap, *a.shape[1:]), fill, dtype=a.dtype)
-            out[: len(a)] = a
-            return out
-
-        self.masks = bigger(self.masks, -1)
-        self.Ah, self.force_rows = bigger(self.Ah), bigger(self.force_rows)
-        self.phi, self.phi_series, self.step = bigger(self.phi), bigger(self.phi_series), bigger(self.step)
+        return self.table(0)
 
 
 # ---------------------------------------------------------------------------
@@ -281,3 +300,13 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
         phi += term
         term = term @ yy / (k + 1)
     return h
+
+
+@njit(cache=True, nogil=True)
+def _prepare_all(A0, omegas, n2, k0, Ah, series, phi, step):
+    """:func:`_prepare` of the patterns ``A0`` (slots ``k0, k0 + 1, ...``) at every frequency."""
+    for w in range(omegas.shape[0]):
+        period = 2 * math.pi / omegas[w]
+        for p in range(A0.shape[0]):
+            k = k0 + p
+            step[w, k] = _prepare(A0[p], omegas[w], period, n2, Ah[w, k], series[w, k], phi[w, k])

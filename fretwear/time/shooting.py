@@ -18,6 +18,7 @@ restarts. A solve that does not converge is reported (``converged=False``,
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -28,14 +29,17 @@ from ..model import STICK, Model
 from . import kernels
 from .integrator import (
     ContactEvent,
-    Engine,
+    Records,
     Trajectory,
     check_state,
     engine,
     engine_loads,
+    make_trajectory,
     model_arrays,
-    trajectory,
+    recorded,
+    slip_forces,
 )
+from .patterns import Table
 
 __all__ = ["ShootingSolution", "shooting", "periodic_state", "steady_state", "shooting_sweep"]
 
@@ -208,127 +212,85 @@ class ShootingSolution:
 # ---------------------------------------------------------------------------
 # the solver
 # ---------------------------------------------------------------------------
-def _stuck_state(eng: Engine, g: np.ndarray) -> np.ndarray:
-    """State at ``t = 0`` of the linear steady state with every loaded contact rigid (``B u = 0``)."""
-    model, n, w = eng.model, eng.n, eng.omega
-    Bs = eng.B[g > 0]
-    N = linalg.null_space(Bs) if len(Bs) else np.eye(n)
-    if N.shape[1] == 0:
-        return np.zeros(2 * n)
-    Z = N.T @ (model.K - w**2 * model.M + 1j * w * model.C) @ N
-    try:
-        U = N @ linalg.solve(Z, N.T @ (model.force_cos - 1j * model.force_sin))
-    except linalg.LinAlgError:  # resonance of the stuck structure without damping
-        U = N @ linalg.lstsq(Z, N.T @ (model.force_cos - 1j * model.force_sin))[0]
-    u_static = N @ linalg.lstsq(N.T @ model.K @ N, N.T @ model.force_static)[0]
-    return np.concatenate([u_static + U.real, (1j * w * U).real])
-
-
-def _scaled_norm(eng: Engine, y: np.ndarray) -> float:
-    return float(np.hypot(np.linalg.norm(y[: eng.n]), np.linalg.norm(y[eng.n :]) / eng.omega))
-
-
-def _newton(eng: Engine, g: np.ndarray, y: np.ndarray, tol: float, max_iter: int):
-    """Compiled Newton from ``y``: ``(status, y, converged, iterations, residual)``."""
-    while True:
-        status, need, y1, converged, iterations, residual, _ = kernels.newton(
-            *model_arrays(eng), *eng.arrays(), g, y, tol, max_iter, _MAX_PHASES
-        )
-        if status != kernels.NEED_PATTERN:
-            return status, y1, converged, iterations, residual
-        eng.require(int(need))
-
-
-def _settle(eng: Engine, g: np.ndarray, y: np.ndarray, periods: int, tol: float):
-    """Compiled march of up to ``periods`` periods: ``(status, y, marched, change)``."""
-    while True:
-        status, need, y1, marched, change = kernels.settle(
-            *model_arrays(eng), *eng.arrays(), g, y, periods, tol, _MAX_PHASES
-        )
-        if status != kernels.NEED_PATTERN:
-            return status, y1, marched, change
-        eng.require(int(need))
-
-
 _STATUS = {
     kernels.DEGENERATE: "a cascade of contact events at one instant could not be resolved",
     kernels.NONFINITE: "the motion became unbounded (non-finite state)",
 }
+_START_NAMES = {
+    kernels.GUESS_START: "the guess",
+    kernels.EXTRAPOLATED_START: "the extrapolated neighbours",
+    kernels.NEIGHBOUR_START: "the neighbour",
+    kernels.RIGID_START: "the rigid linear state",
+}
 
 
-def _solve(eng: Engine, g: np.ndarray, guess, tol: float, max_iter: int, transient_periods: int):
-    """Newton from the guess, the rigid linear state, marched states: ``(y, ok, its, res, msg)``."""
-    tried: list[str] = []
-    iterations, best = 0, None
+def _scaled_norm(n: int, omega: float, y: np.ndarray) -> float:
+    """``|(u, v / omega)|`` (m)."""
+    u, v = y[:n], y[n:] / omega
+    return math.sqrt(float(u @ u + v @ v))
 
-    def attempt(name: str, y: np.ndarray):
-        nonlocal iterations, best
-        status, y1, converged, its, residual = _newton(eng, g, y, tol, max_iter)
-        iterations += its
-        if status == kernels.OK and converged:
-            return y1, residual
-        if status == kernels.OK and (best is None or residual < best[1]):
-            best = (y1, residual)
-        why = _STATUS[status] if status != kernels.OK else f"residual {residual:.2e}"
+
+def _rigid_states(table: Table, g: np.ndarray) -> np.ndarray:
+    """States at ``t = 0`` of the linear steady states with every loaded contact rigid (``B u = 0``).
+
+    One per frequency of ``table``, shape (W, 2 n).
+    """
+    model, n, w = table.model, table.n, table.omegas
+    Bs = table.B[g > 0]
+    N = linalg.null_space(Bs) if len(Bs) else np.eye(n)
+    if N.shape[1] == 0:
+        return np.zeros((len(w), 2 * n))
+    Kr, Mr, Cr = (N.T @ a @ N for a in (model.K, model.M, model.C))
+    f = N.T @ (model.force_cos - 1j * model.force_sin)
+    U = np.empty((len(w), N.shape[1]), dtype=complex)
+    for i, wi in enumerate(w):
+        Z = Kr - wi**2 * Mr + 1j * wi * Cr
+        try:
+            U[i] = np.linalg.solve(Z, f)
+        except np.linalg.LinAlgError:  # resonance of the stuck structure without damping
+            U[i] = np.linalg.lstsq(Z, f, rcond=None)[0]
+    U = U @ N.T
+    u_static = N @ linalg.lstsq(Kr, N.T @ model.force_static)[0]
+    return np.hstack([u_static + U.real, (1j * w[:, None] * U).real])
+
+
+def _message(kinds, codes, residuals, tol: float) -> str:
+    """Why a solve failed, from its log of Newton starts."""
+    tried = []
+    for kind, code, residual in zip(kinds, codes, residuals, strict=True):
+        name = _START_NAMES.get(int(kind), f"{_MARCHES[int(kind) - kernels.MARCH_START]} periods marched")
+        why = f"residual {residual:.2e}" if code == kernels.NOT_CONVERGED else _STATUS.get(int(code), "")
         tried.append(f"from {name}: {why}")
-        return None
-
-    found = None if guess is None else attempt("the guess", guess)
-    y = guess
-    if found is None:
-        y = _stuck_state(eng, g)
-        found = attempt("the rigid linear state", y)
-    marched = 0
-    for periods in _MARCHES:
-        if found is not None or periods > transient_periods:
-            break
-        status, y, _, _ = _settle(eng, g, y, periods - marched, 0.0)
-        marched = periods
-        if status != kernels.OK:
-            tried.append(f"marching: {_STATUS[status]}")
-            break
-        found = attempt(f"{periods} periods marched", y)
-    if found is not None:
-        return found[0], True, iterations, found[1], ""
-    y, residual = best if best is not None else (y, np.inf)
-    message = f"Newton on the period map did not reach the tolerance {tol:.1e} ({'; '.join(tried)})"
-    return y, False, iterations, residual, message
+    return f"Newton on the period map did not reach the tolerance {tol:.1e} ({'; '.join(tried)})"
 
 
-def _solution(eng: Engine, g: np.ndarray, loads: np.ndarray, wear, y0: np.ndarray, converged: bool,
-              iterations: int, residual: float, message: str, samples: int) -> ShootingSolution:  # fmt: skip
-    model, n, nf, T = eng.model, eng.n, eng.nf, eng.period
+def _solution(table: Table, i: int, g, loads, wear, y0, converged: bool, iterations: int, message: str,
+              samples: int, traj: Trajectory | None, hi, lo, mult) -> ShootingSolution:  # fmt: skip
+    """The :class:`ShootingSolution` of the orbit ``traj`` from ``y0`` at frequency ``i`` (NaN if None)."""
+    n, nf = table.n, table.nf
+    omega = float(table.omegas[i])
     wear = np.zeros(nf) if wear is None else np.asarray(wear, dtype=float)
-    try:
-        traj = trajectory(eng, g, y0, 0.0, T, None, jacobian=True)
-    except RuntimeError as exc:
+    if traj is None:
         nan = np.full(n, np.nan)
         return ShootingSolution(
-            model=model, omega=eng.omega, y0=y0, converged=False, iterations=iterations, residual=np.inf,
-            message=f"{message}; the orbit could not be evaluated: {exc}".lstrip("; "),
-            monodromy=np.full((2 * n, 2 * n), np.nan), floquet_multipliers=np.full(2 * n, np.nan + 0j),
-            neutral_multipliers=0, wear=wear, normal_loads=loads, slip_forces=g,
-            samples=samples, first_harmonic=np.full((n, 2), np.nan), half_peak_to_peak=nan,
-            relative_half_peak_to_peak=np.full(nf, np.nan), sliding_distance=np.full(nf, np.nan),
-            friction_energy=np.full(nf, np.nan), input_work=np.nan, viscous_dissipation=np.nan, events=(),
-            trajectory=None,
+            model=table.model, omega=omega, y0=y0, converged=False, iterations=int(iterations),
+            residual=np.inf, message=message, monodromy=np.full((2 * n, 2 * n), np.nan),
+            floquet_multipliers=np.full(2 * n, np.nan + 0j), neutral_multipliers=0, wear=wear,
+            normal_loads=loads, slip_forces=g, samples=samples, first_harmonic=np.full((n, 2), np.nan),
+            half_peak_to_peak=nan, relative_half_peak_to_peak=np.full(nf, np.nan),
+            sliding_distance=np.full(nf, np.nan), friction_energy=np.full(nf, np.nan), input_work=np.nan,
+            viscous_dissipation=np.nan, events=(), trajectory=None,
         )  # fmt: skip
-    rec = traj._record
-    rows = np.vstack([np.eye(n), eng.B])
-    hi, lo = kernels.extrema(
-        rec.arrays[1], rec.arrays[5], rec.t, rec.length, rec.pattern, rec.X, len(rec.t), rows
-    )
+    coef = 2 / traj.t1 * traj.fourier
     hpp = (hi - lo) / 2
-    residual = _scaled_norm(eng, traj.y - y0) / max(_scaled_norm(eng, y0), 1e-300)
-    mult = np.linalg.eigvals(traj.jacobian)
-    coef = 2 / T * traj.fourier
     always_stuck = np.all(traj.segment_state == STICK, axis=0) & (g > 0)
+    residual = _scaled_norm(n, omega, traj.y - y0) / max(_scaled_norm(n, omega, y0), 1e-300)
     return ShootingSolution(
-        model=model,
-        omega=eng.omega,
+        model=table.model,
+        omega=omega,
         y0=y0,
         converged=converged,
-        iterations=iterations,
+        iterations=int(iterations),
         residual=residual,
         message=message,
         monodromy=traj.jacobian,
@@ -350,17 +312,80 @@ def _solution(eng: Engine, g: np.ndarray, loads: np.ndarray, wear, y0: np.ndarra
     )
 
 
+def _solve(table: Table, g: np.ndarray, loads: np.ndarray, wear, guesses: list, chain: bool, tol: float,
+           max_iter: int, samples: int, transient_periods: int) -> list[ShootingSolution]:  # fmt: skip
+    """Periodic orbits at every frequency of ``table`` in one compiled call (:func:`kernels.solve`).
+
+    ``guesses[i]``: the states tried first at frequency ``i``; ``chain``: then
+    the extrapolated and the previous orbits of the sweep.
+    """
+    W, n, nf, D = len(table.omegas), table.n, table.nf, table.dim
+    n2 = 2 * n
+    G = max((len(q) for q in guesses), default=0)
+    guess_array = np.zeros((W, max(G, 1), n2))
+    for i, q in enumerate(guesses):
+        for k, y in enumerate(q):
+            guess_array[i, k] = y
+    n_guesses = np.array([len(q) for q in guesses], dtype=np.int64)
+    marches = np.array([m for m in _MARCHES if m <= transient_periods], dtype=np.int64)
+    A = G + 3 + len(marches)
+    y0, y1 = np.zeros((W, n2)), np.zeros((W, n2))
+    conv, iters = np.zeros(W, dtype=np.bool_), np.zeros(W, dtype=np.int64)
+    att_kind, att_code, att_res = np.zeros((W, A), np.int64), np.zeros((W, A), np.int64), np.zeros((W, A))
+    n_att = np.zeros(W, dtype=np.int64)
+    J, mult = np.zeros((W, n2, n2)), np.zeros((W, n2), dtype=complex)
+    slid, work, visc = np.zeros((W, nf)), np.zeros(W), np.zeros(W)
+    fre, fim = np.zeros((W, n)), np.zeros((W, n))
+    rows = table.extrema_rows
+    hi, lo = np.zeros((W, len(rows))), np.zeros((W, len(rows)))
+    offsets = [np.zeros(W + 1, dtype=np.int64) for _ in range(3)]
+    per_period = int(1.5 * np.max(table.periods[:, None] / table.step[:, : table.count])) + 16
+    rec = Records.empty(W * per_period, W * 8 + 16, D, nf)
+    rigid = _rigid_states(table, g)
+    start = 0
+    while True:
+        status, need, start = kernels.solve(
+            table.Minv, table.B, table.C, table.K, table.forces, table.omegas, *table.stacked(), g,
+            guess_array, n_guesses, rigid, chain, tol, max_iter, marches, _MAX_PHASES, rows, start, y0, y1,
+            conv, iters,
+            att_kind, att_code, att_res, n_att, J, mult, slid, work, visc, fre, fim, hi, lo, *offsets,
+            *rec.args(),
+        )  # fmt: skip
+        if status == kernels.NEED_PATTERN:
+            table.require(int(need))
+        elif status == kernels.NEED_SPACE:
+            rec = rec.grown(2)
+        else:
+            break
+    out = []
+    for i in range(W):
+        message = "" if conv[i] else _message(att_kind[i, : n_att[i]], att_code[i, : n_att[i]],
+                                              att_res[i, : n_att[i]], tol)  # fmt: skip
+        (s0, s1), (p0, p1), (e0, e1) = (o[i : i + 2] for o in offsets)
+        traj = None
+        if s1 > s0:
+            traj = make_trajectory(table, i, rec, slice(s0, s1), slice(p0, p1), slice(e0, e1), t0=0.0,
+                                   t1=table.periods[i], times=None, y=y1[i], J=J[i], sliding=slid[i], g=g,
+                                   work=work[i], viscous=visc[i], fourier=fre[i] + 1j * fim[i])  # fmt: skip
+        else:
+            message = f"{message}; the orbit could not be evaluated (its period march failed)".lstrip("; ")
+        out.append(_solution(table, i, g, loads, wear, y0[i], bool(conv[i]), iters[i], message, samples, traj,
+                             hi[i], lo[i], mult[i]))  # fmt: skip
+    return out
+
+
 def _check_samples(samples: int) -> int:
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 4:
         raise ValueError(f"samples must be an integer >= 4, got {samples!r}")
     return int(samples)
 
 
-def _check_options(tol: float, max_iter: int) -> None:
-    if not (isinstance(tol, (int, float, np.floating)) and 0 < tol < 1):
+def _check_options(tol: float, max_iter: int, transient_periods: int) -> None:
+    if isinstance(tol, bool) or not (isinstance(tol, (int, float, np.floating)) and 0 < tol < 1):
         raise ValueError(f"tol (relative periodicity residual) must be in (0, 1), got {tol!r}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 0:
-        raise ValueError(f"max_iter must be an integer >= 0, got {max_iter!r}")
+    for name, value in (("max_iter", max_iter), ("transient_periods", transient_periods)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+            raise ValueError(f"{name} must be an integer >= 0, got {value!r}")
 
 
 def shooting(
@@ -379,7 +404,8 @@ def shooting(
     The Jacobian is the exact monodromy matrix (step propagators and event
     saltation matrices). Newton steps are least-squares steps (the Jacobian
     is singular on orbits stuck during the whole period, whose stuck offset is
-    arbitrary) with backtracking on the periodicity residual.
+    arbitrary) with backtracking on the periodicity residual; a start whose
+    residual has not halved over 6 iterations is abandoned for the next one.
 
     Parameters
     ----------
@@ -411,10 +437,52 @@ def shooting(
     """
     eng, g, loads = engine_loads(model, omega, wear)
     samples = _check_samples(samples)
-    _check_options(tol, max_iter)
-    guess = None if y_guess is None else check_state(eng, y_guess, "y_guess")
-    y, converged, iterations, residual, message = _solve(eng, g, guess, tol, max_iter, transient_periods)
-    return _solution(eng, g, loads, wear, y, converged, iterations, residual, message, samples)
+    _check_options(tol, max_iter, transient_periods)
+    guesses = [[] if y_guess is None else [check_state(eng, y_guess, "y_guess")]]
+    return _solve(eng, g, loads, wear, guesses, False, tol, max_iter, samples, transient_periods)[0]
+
+
+def shooting_sweep(model: Model, omegas, **options) -> list[ShootingSolution]:
+    """Exact periodic responses by :func:`shooting` at ``omegas`` (rad/s), each seeded by its predecessors.
+
+    At ``omega_k``, the rigid linear state is taken when it is periodic (a
+    stuck orbit: the member of the family without offset, as a cold solve
+    gives). Otherwise Newton starts from the linear extrapolation in
+    ``omega`` of the :attr:`~ShootingSolution.unknowns` of the two previous
+    solutions (when both converged with the same, non-zero number of events),
+    then from the previous unknowns themselves, then cold as :func:`shooting`. A solve that
+    fails is kept in the list (``converged=False``, with its ``message``). The
+    whole sweep runs in one compiled call.
+
+    Parameters
+    ----------
+    model : Model
+    omegas : array_like
+        Excitation frequencies (rad/s), in the order of the sweep.
+    **options
+        Keyword arguments of :func:`shooting` but ``y_guess``: ``wear``,
+        ``tol``, ``max_iter``, ``samples``, ``transient_periods``.
+    """
+    unknown = set(options) - {"wear", "tol", "max_iter", "samples", "transient_periods"}
+    if unknown:
+        raise TypeError(f"shooting_sweep got unexpected options {sorted(unknown)}")
+    if not isinstance(model, Model):
+        raise TypeError(f"model must be a fretwear.model.Model, got {type(model).__name__}")
+    omegas = np.atleast_1d(np.asarray(omegas, dtype=float))
+    if omegas.ndim != 1 or omegas.size == 0 or not np.all(np.isfinite(omegas) & (omegas > 0)):
+        raise ValueError(
+            "omegas must be a non-empty 1-D array of finite positive angular frequencies (rad/s)"
+        )
+    wear = options.get("wear")
+    g, loads = slip_forces(model, wear)
+    tol, max_iter = options.get("tol", 1e-12), options.get("max_iter", 30)
+    transient_periods = options.get("transient_periods", 400)
+    samples = _check_samples(options.get("samples", 512))
+    _check_options(tol, max_iter, transient_periods)
+    table = Table(model, omegas)
+    return _solve(
+        table, g, loads, wear, [[] for _ in omegas], True, tol, max_iter, samples, transient_periods
+    )
 
 
 def periodic_state(
@@ -448,10 +516,15 @@ def periodic_state(
     converged : bool
     """
     eng, g = engine(model, omega, wear)
-    _check_options(tol, max_iter)
+    _check_options(tol, max_iter, 0)
     y = check_state(eng, y_guess, "y_guess")
-    status, y1, converged, _, _ = _newton(eng, g, y, tol, max_iter)
-    return (y1, converged) if status == kernels.OK else (y, False)
+    while True:
+        status, need, y1, converged, *_ = kernels.newton(
+            *model_arrays(eng), *eng.arrays(), g, y, tol, max_iter, _MAX_PHASES, True
+        )
+        if status != kernels.NEED_PATTERN:
+            return (y1, converged) if status == kernels.OK else (y, False)
+        eng.require(int(need))
 
 
 def steady_state(
@@ -497,8 +570,14 @@ def steady_state(
     """
     eng, g, loads = engine_loads(model, omega, wear)
     samples = _check_samples(samples)
-    y = _stuck_state(eng, g) if y_guess is None else check_state(eng, y_guess, "y_guess").copy()
-    status, y, marched, change = _settle(eng, g, y, int(max_periods), float(tol))
+    y = _rigid_states(eng, g)[0] if y_guess is None else check_state(eng, y_guess, "y_guess").copy()
+    while True:
+        status, need, y, marched, change = kernels.settle(
+            *model_arrays(eng), *eng.arrays(), g, y, int(max_periods), float(tol), _MAX_PHASES
+        )
+        if status != kernels.NEED_PATTERN:
+            break
+        eng.require(int(need))
     converged = status == kernels.OK and change <= tol
     if status != kernels.OK:
         message = _STATUS[status]
@@ -506,18 +585,9 @@ def steady_state(
         message = f"the change over one period is {change:.2e} > tol = {tol:.1e} after {marched} periods"
     else:
         message = ""
-    return _solution(eng, g, loads, wear, y, converged, marched, change, message, samples)
-
-
-def shooting_sweep(model: Model, omegas, **options) -> list[ShootingSolution]:
-    """Exact periodic responses by :func:`shooting` at ``omegas`` (rad/s), each seeded by its predecessor.
-
-    A solve that fails is kept in the list (``converged=False``, with its
-    ``message``); the next one then starts cold.
-    """
-    out, guess = [], None
-    for w in np.asarray(omegas, dtype=float):
-        sol = shooting(model, w, guess, **options)
-        out.append(sol)
-        guess = sol.unknowns if sol.converged else None
-    return out
+    try:
+        traj, hi, lo, mult = recorded(eng, g, y, 0.0, eng.period, None, jacobian=True, rows=eng.extrema_rows)
+    except RuntimeError as exc:
+        traj, hi, lo, mult = None, None, None, None
+        converged, message = False, f"{message}; the orbit could not be evaluated: {exc}".lstrip("; ")
+    return _solution(eng, 0, g, loads, wear, y, converged, marched, message, samples, traj, hi, lo, mult)

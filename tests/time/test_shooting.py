@@ -149,8 +149,9 @@ def test_short_slip_is_not_missed():
 def test_stuck_orbits_stay_within_the_limit(fex, f):
     """Where the stick-slip branch ends in stuck orbits, cold and swept up from the stick-slip side.
 
-    Cold, the orbit is the linear stuck one (zero offset, exact force). Swept,
-    it inherits the stuck offset where the slip faded out: the peak force then
+    Cold, the orbit is the linear stuck one (zero offset, exact force); so it
+    is in a sweep. Newton from a slipping orbit reaches the member of the
+    stuck family with the offset where the slip faded out: its peak force
     sits at the limit, and must not exceed it.
     """
     cold = shooting(paper_model(fex=fex), TWO_PI * f)
@@ -163,10 +164,15 @@ def test_stuck_orbits_stay_within_the_limit(fex, f):
     for sol in swept:
         check_orbit(sol)
     assert swept[0].sliding_distance[0] > 0.1
-    last = swept[-1]
-    assert last.relative_half_peak_to_peak[0] <= 1e-9 * swept[0].relative_half_peak_to_peak[0]
-    assert np.abs(last.contact_force).max() == pytest.approx(10.0, rel=1e-4)
-    assert np.abs(last.contact_force).max() <= 10.0 * (1 + 1e-9)
+    last = swept[-1]  # the sweep takes the stuck orbit without offset, as the cold solve
+    assert not last.events and np.abs(last.y0 - cold.y0).max() <= 1e-12 * np.abs(cold.y0).max()
+    # from the last slipping orbit of the sweep, Newton reaches the stuck orbit the slip leaves behind
+    slipping = [sol for sol in swept if sol.events][-1]
+    inherited = shooting(paper_model(fex=fex), TWO_PI * f, slipping.unknowns)
+    check_orbit(inherited)
+    assert inherited.relative_half_peak_to_peak[0] <= 1e-9 * swept[0].relative_half_peak_to_peak[0]
+    assert np.abs(inherited.contact_force).max() == pytest.approx(10.0, rel=1e-4)
+    assert np.abs(inherited.contact_force).max() <= 10.0 * (1 + 1e-9)
 
 
 # ---------------------------------------------------------------------------
