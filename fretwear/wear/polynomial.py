@@ -444,7 +444,7 @@ class _Slow:
         s1 = -self.L0[0] * _slope(x0, Z, F, eps, kinds, self.L0, Phi, Psi, half_wave)[0]  # ds/dz at z = 0
         z_stop = -np.log1p(-stop_fraction)
         z_end = -np.log1p(-min(FIT_FRACTION, stop_fraction))
-        tau, wq, Vq, _, _, _ = _quadrature("legendre", self.m)
+        tau, wq, Vq, _, _ = _quadrature("legendre", self.m)
         v = (tau + 1) / 2
         for attempt in range(2):
             (X_end,), (s_end,) = self._chain(self.L0 * np.exp(-np.array([[z_end]])), x0)
@@ -493,7 +493,7 @@ class _Slow:
     # -- legendre, monomial: the paper's Galerkin system in N -----------------------------------------
     def galerkin(self, x0, cycles, outputs, stop_fraction, tol, max_iter) -> WearHistory:
         """The paper's coupled Galerkin system in ``N`` over ``[0, cycles]``, by Newton's method."""
-        tau, wq, V, D, V0, _ = _quadrature(self.basis, self.m)
+        tau, wq, V, D, V0 = _quadrature(self.basis, self.m)
         Cx, a = self._start(x0, cycles, tau, wq, V, V0, stop_fraction)
         Cx, a, ok, its, res = self._newton(Cx, a, cycles, V, D, wq, V0, tol, max_iter)
         N = np.linspace(0.0, cycles, outputs)
@@ -672,14 +672,13 @@ def _slow_basis(kind: str, degree: int, tau: np.ndarray) -> tuple[np.ndarray, np
 
 @lru_cache(maxsize=64)
 def _quadrature(basis: str, degree: int):
-    """Gauss-Legendre nodes and weights (2 m + 2) and the slow-time basis there and at both ends."""
+    """Gauss-Legendre nodes and weights (2 m + 2), the slow-time basis and its derivative there, and at 0."""
     tau, wq = np.polynomial.legendre.leggauss(2 * degree + 2)
     V, D = _slow_basis(basis, degree, tau)
     V0 = _slow_basis(basis, degree, np.array([-1.0]))[0][0]
-    V1 = _slow_basis(basis, degree, np.array([1.0]))[0][0]
-    for arr in (tau, wq, V, D, V0, V1):
+    for arr in (tau, wq, V, D, V0):
         arr.setflags(write=False)
-    return tau, wq, V, D, V0, V1
+    return tau, wq, V, D, V0
 
 
 def _misfit(N, w, dw, archard, u0) -> tuple[float, float]:

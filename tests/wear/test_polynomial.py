@@ -149,7 +149,7 @@ def test_paper_galerkin_jacobian_is_the_derivative_of_its_residual():
     problem = Problem(paper_model(fex=10), TWO_PI * 0.7, 3)
     sol = solve_periodic(paper_model(fex=10), TWO_PI * 0.7, 3)
     slow = polynomial._Slow(problem, KW, 3, "legendre")
-    tau, wq, V, D, V0, _ = polynomial._quadrature("legendre", 3)
+    tau, wq, V, D, V0 = polynomial._quadrature("legendre", 3)
     Cx, a = slow._start(sol.unknowns, 5e3, tau, wq, V, V0, 0.99)
     Z, F, eps, kinds, Phi, Psi, half_wave = slow.dyn
 
