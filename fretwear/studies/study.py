@@ -671,7 +671,8 @@ def run_study(
         Use this client; else one on ``scheduler``, else a new local cluster of ``workers`` processes
         (default: one per core), closed at the end.
     retries : int
-        Reruns of a task that raises (a worker that dies has its tasks rerun by the scheduler anyway).
+        Reruns of a task that raises, and resubmissions of a task the cluster loses (a worker that
+        dies has its tasks rerun by the scheduler anyway, up to Dask's ``allowed-failures``).
     overwrite : bool
         Replace a store that holds another study.
     progress : bool
@@ -718,18 +719,34 @@ def _compute(spec, lay, group, pending, result, client, scheduler, workers, retr
         bar = Progress(spec.n_points, len(pending), enabled=progress)
         start = time.perf_counter()
         blocks = {}
+        lost = dict.fromkeys(pending, 0)  # resubmissions of each task after a failure outside it
         for task in pending:
             params, slices, shape = _block_params(spec, lay, draws, task)
             future = client.submit(compute_block, work, params, pure=False, retries=retries)
             futures[future] = task
-            blocks[task] = (slices, shape)
-        for future in as_completed(list(futures), loop=client.loop):
+            blocks[task] = (slices, shape, params)
+        queue = as_completed(list(futures), loop=client.loop)
+        for future in queue:
             task = futures.pop(future)
-            slices, shape = blocks.pop(task)
+            slices, shape, params = blocks[task]
             if future.status != "finished":
-                result.failed_tasks[task] = repr(future.exception())
+                # compute_block records every failure of a point, so an error here is the cluster's
+                # (a worker killed while it held the task more often than Dask allows, a lost
+                # connection): resubmit the task rather than leave a hole in the study.
+                reason = repr(future.exception()) if future.status == "error" else future.status
+                if lost[task] < retries:
+                    lost[task] += 1
+                    if log is not None:
+                        log(f"task {task} lost ({reason}): resubmitted")
+                    again = client.submit(compute_block, work, params, pure=False, retries=retries)
+                    futures[again] = task
+                    queue.add(again)
+                    continue
+                result.failed_tasks[task] = reason
+                blocks.pop(task)
                 bar.update(0, int(np.prod(shape)))
                 continue
+            blocks.pop(task)
             res = future.result()
             future.release()
             with _no_interrupt():  # a block is written whole, then marked done

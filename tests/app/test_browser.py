@@ -241,7 +241,7 @@ def test_downloads(page):
     assert name == "fretwear_wearmap_wear_map.html"
     assert data.startswith(b"<!DOCTYPE html>") and b"<script src=" not in data
     page.tab("Methods")  # the page the export leaves behind still loads nothing from outside
-    page.wait_title("Three methods at")
+    page.wait_title("Slow-time methods at")
 
 
 def test_invalid_input_shows_a_message(page):

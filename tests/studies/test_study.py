@@ -379,6 +379,30 @@ def test_a_killed_worker_is_replaced_and_the_result_is_identical(scheduler, spec
         xr.testing.assert_identical(result[name], reference[name])
 
 
+def test_a_task_the_cluster_loses_is_resubmitted(spec_path, local_run, tmp_path, monkeypatch):
+    # A block whose every Dask retry fails outside the numerics (as a task does when the workers
+    # holding it die more often than Dask allows) is submitted again, not left as a hole.
+    compute, attempts = study.compute_block, tmp_path / "attempts"
+    attempts.mkdir()
+
+    def flaky(work, params):  # Dask pickles the task function: count the attempts in files
+        tally = attempts / f"{float(params['mu'][0])!r}-{float(params['kw'][0])!r}"
+        with tally.open("a") as f:
+            f.write(".")
+        if len(tally.read_text()) <= 3:  # the first run and Dask's two retries
+            raise OSError("connection to the worker lost")
+        return compute(work, params)
+
+    monkeypatch.setattr(study, "compute_block", flaky)
+    spec = study_spec.read_spec(spec_path)
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1) as client:
+        lines = []
+        run = study.run_study(spec, tmp_path / "lost.zarr", client=client, progress=False, log=lines.append)
+    assert run.complete and not run.failed_tasks
+    assert sum("resubmitted" in line for line in lines) == run.n_tasks
+    xr.testing.assert_identical(_data(xr.open_zarr(tmp_path / "lost.zarr")), _data(local_run[1]))
+
+
 @pytest.mark.slow  # a study process started and interrupted, then resumed: the longest of the file
 def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
     scheduler, spec_path, local_run, tmp_path, capsys
