@@ -18,11 +18,13 @@ stops at the next chunk (:class:`Cancelled`).
 
 from __future__ import annotations
 
+import functools
 import logging
+import operator
 import os
 import threading
 from collections import Counter, OrderedDict
-from collections.abc import Callable, Hashable
+from collections.abc import Callable, Hashable, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, fields
 from typing import Any
@@ -219,8 +221,9 @@ class ResultCache:
 def _merge(parts: list, axis_length: Callable[[Any], int]) -> dict[str, Any]:
     """Join the fields of chunked results along their first axis.
 
-    Arrays whose first axis has the chunk's length and lists are joined; every
-    other field (shared grids, ``u0``) comes from the first chunk.
+    Arrays whose first axis has the chunk's length and sequences (lists, the
+    lazy histories of exact maps) are joined; every other field (shared grids,
+    ``u0``) comes from the first chunk.
     """
     first = parts[0]
     items = (
@@ -231,8 +234,8 @@ def _merge(parts: list, axis_length: Callable[[Any], int]) -> dict[str, Any]:
     merged = {}
     for name, value in items:
         values = [p[name] if isinstance(p, dict) else getattr(p, name) for p in parts]
-        if isinstance(value, list):
-            merged[name] = [v for vs in values for v in vs]
+        if isinstance(value, Sequence) and not isinstance(value, str):
+            merged[name] = functools.reduce(operator.add, values)
         elif isinstance(value, np.ndarray) and value.ndim and len(value) == axis_length(first):
             merged[name] = np.concatenate(values, axis=0)
         else:

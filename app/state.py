@@ -24,6 +24,7 @@ import numpy as np
 import param
 
 import fretwear
+from fretwear.studies.maps import LazyHistories
 
 from .backend import Backend, Cancelled, Failure, ModelSpec, Progress, ResultCache
 
@@ -359,7 +360,7 @@ class Tasks:
                     s.model, s.frequencies, s.cycles, s.method, s.kw, s.options(), job.progress, job.cancelled
                 )
             )
-            if not isinstance(result, Failure):
+            if not isinstance(result, Failure) and not isinstance(result.histories, LazyHistories):
                 for f, history in zip(s.frequencies, result.histories, strict=True):
                     self.cache.put(self.history_key(s, f, s.method), history)
             return result

@@ -9,15 +9,56 @@ at chosen cycle counts (Fig. 8-9).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..model import Model
-from ..wear import WearHistory, check_wear_inputs, wear_history
+from ..wear import METHODS, WearHistory, check_wear_inputs, resolve_method, wear_history
+from ..wear.exact import exact_wear_map
 
-__all__ = ["WearMap", "wear_map"]
+__all__ = ["WearMap", "wear_map", "LazyHistories"]
+
+
+class LazyHistories(Sequence):
+    """Per-frequency wear histories, each computed on first access.
+
+    A map on the exact dynamics does not need them (:func:`~fretwear.wear.exact.exact_wear_map`);
+    a scene that shows the history at one frequency builds that one only.
+    ``+`` joins two sequences (chunks of a map).
+    """
+
+    def __init__(self, frequencies, build: Callable[[float], WearHistory]):
+        self._items = [(float(f), build) for f in np.atleast_1d(frequencies)]
+        self._done: dict[int, WearHistory] = {}
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(len(self)))]
+        i = range(len(self))[i]
+        if i not in self._done:
+            f, build = self._items[i]
+            self._done[i] = build(f)
+        return self._done[i]
+
+    def __add__(self, other: Sequence[WearHistory]) -> LazyHistories:
+        joined = LazyHistories([], lambda f: None)
+        mine = [
+            (f, lambda _f, h=self._done[k]: h) if k in self._done else (f, b)
+            for k, (f, b) in enumerate(self._items)
+        ]
+        theirs = (
+            other._items
+            if isinstance(other, LazyHistories)
+            else [(h.omega / (2 * np.pi), lambda _f, h=h: h) for h in other]
+        )
+        joined._items = mine + [(f, b) for f, b in theirs]
+        return joined
 
 
 @dataclass
@@ -36,8 +77,9 @@ class WearMap:
         First-harmonic amplitude and half peak-to-peak of every DOF (m).
     relative_half_peak_to_peak : ndarray, shape (nf, nN, n_contacts)
         Half peak-to-peak relative displacement of each contact (m).
-    histories : list of WearHistory
-        The per-frequency results (status, solves, warnings).
+    histories : sequence of WearHistory
+        The per-frequency results (status, solves, warnings); a :class:`LazyHistories`
+        for maps on the exact dynamics.
     """
 
     frequency: np.ndarray
@@ -47,7 +89,7 @@ class WearMap:
     half_peak_to_peak: np.ndarray
     relative_half_peak_to_peak: np.ndarray
     u0: np.ndarray
-    histories: list[WearHistory]
+    histories: Sequence[WearHistory]
 
     @property
     def wear_fraction(self) -> np.ndarray:
@@ -57,6 +99,8 @@ class WearMap:
     @property
     def converged(self) -> np.ndarray:
         """Per frequency: the history ran without a failed periodic solve."""
+        if isinstance(self.histories, LazyHistories):  # a map on sliding tables: a failure raises
+            return np.ones(len(self.histories), dtype=bool)
         return np.array([h.converged for h in self.histories])
 
     def pseudo_frf(self, cycles) -> np.ndarray:
@@ -104,7 +148,11 @@ def wear_map(
     Each frequency runs :func:`wear_history` to ``max(cycles)`` (or until the
     contacts are worn to 0.99 u0; past that the last state is held) and is
     sampled at ``cycles``. Frequencies that stick fully are not stepped.
-    ``options`` go to :func:`wear_history`.
+    ``options`` go to :func:`wear_history`. The exact method on the exact
+    dynamics (``dynamics="shooting"``) samples the map directly from the
+    sliding tables (:func:`~fretwear.wear.exact.exact_wear_map`: exact at every
+    cycle count, no history needed) and computes a frequency's history only
+    when it is asked for (:class:`LazyHistories`).
     """
     frequencies = np.asarray(frequencies, dtype=float)
     cycles = np.asarray(cycles, dtype=float)
@@ -114,9 +162,20 @@ def wear_map(
         raise ValueError("cycles must be a non-empty increasing 1-D array of values >= 0")
     check_wear_inputs(model, kw, float(cycles.max()), options.get("degree"))
 
-    def one(f):
-        return wear_history(model, 2 * np.pi * f, method, kw=kw, cycles=float(cycles.max()), **options)
+    horizon = float(cycles.max())
 
+    def one(f):
+        return wear_history(model, 2 * np.pi * f, method, kw=kw, cycles=horizon, **options)
+
+    u0 = np.array([c.u0 for c in model.friction])
+    name = resolve_method(model, method, options.get("dynamics", "dlft"), options.get("fixed_step"))
+    if name == "exact" and options.get("dynamics") == "shooting" and kw > 0:
+        extra = sorted(k for k, v in options.items() if k not in METHODS[name].options and v is not None)
+        if extra and method != "auto":
+            raise ValueError(f"method {name!r} takes no option {', '.join(map(repr, extra))}")
+        arrays = exact_wear_map(model, 2 * np.pi * frequencies, cycles, kw=kw, workers=workers)
+        arrays.pop("stuck")
+        return WearMap(frequencies, cycles, **arrays, u0=u0, histories=LazyHistories(frequencies, one))
     if workers > 1 and len(frequencies) > 1:
         with ThreadPoolExecutor(max_workers=workers) as pool:
             histories = list(pool.map(one, frequencies))
@@ -130,6 +189,6 @@ def wear_map(
         amplitude=np.stack([s["amplitude"] for s in samples]),
         half_peak_to_peak=np.stack([s["half_peak_to_peak"] for s in samples]),
         relative_half_peak_to_peak=np.stack([s["relative_half_peak_to_peak"] for s in samples]),
-        u0=np.array([c.u0 for c in model.friction]),
+        u0=u0,
         histories=histories,
     )

@@ -11,6 +11,7 @@ integrates in closed form on each piece: no slow-time error.
 from __future__ import annotations
 
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -25,7 +26,7 @@ from .common import (
 )
 from .sliding import cached_solves, sliding_table, unit_forcing
 
-__all__ = ["wear_exact", "exact_path_applies"]
+__all__ = ["wear_exact", "exact_path_applies", "exact_wear_map"]
 
 
 def exact_path_applies(model: Model) -> bool:
@@ -218,17 +219,9 @@ def _wear_on_table(
     if rho0 >= table.rho_stick:  # stuck for good: no slip, no wear
         return history(np.array([rho0, rho0]), np.array([0.0, cycles]), status="stuck")
     scale = 1.0 / (kw * kn * fex)
-    status = "worn"
-    rho_stop = rho_end
-    if scale * table.cycles(rho0, rho_end)[0] > cycles:  # the horizon comes first: invert N(rho)
-        inside = table.rho[(table.rho > rho_end) & (table.rho < rho0)]
-        grid = np.unique(np.concatenate([inside, [rho_end, rho0]]))
-        k = int(np.searchsorted(-scale * table.cycles(rho0, grid), -cycles)) - 1  # N falls as rho grows
-        a, b = grid[k], grid[k + 1]
-        for _ in range(60):
-            m = 0.5 * (a + b)
-            a, b = (a, m) if scale * table.cycles(rho0, m)[0] > cycles else (m, b)
-        rho_stop, status = 0.5 * (a + b), "horizon"
+    rho_end = max(rho_end, table.rho[0])  # a failed first sample leaves the table short (noted below)
+    rho_stop = float(table.load_ratio(rho0, np.array([cycles / scale]), rho_end)[0])
+    status = "horizon" if rho_stop > rho_end else "worn"
     # records evenly spread in wear (rho is affine in w), plus the samples of the table in range
     rho = np.linspace(rho0, rho_stop, max_records)
     inside = table.rho[(table.rho < rho0) & (table.rho > rho_stop)]
@@ -238,3 +231,72 @@ def _wear_on_table(
     hist = history(rho, N, status=status)
     hist.warnings = two_scale_warning(hist.rate[:1, 0], np.array([u0])) + notes
     return hist
+
+
+def exact_wear_map(
+    model: Model, omegas, cycles, *, kw: float, stop_fraction: float = 0.99, workers: int = 2
+) -> dict[str, np.ndarray]:
+    """Wear and response over frequency x cycle count on the exact dynamics, all frequencies at once.
+
+    The sliding table of each frequency (built in a thread pool when missing)
+    gives ``rho(N)`` by inverting the closed-form Archard quadrature
+    (:meth:`~fretwear.wear.sliding.SlidingTable.load_ratio`), then
+    ``w = u0 - rho F_ex / (mu k_n)`` and the response per unit forcing
+    interpolated at ``rho``: no history is recorded and nothing is
+    interpolated in ``N``. Past ``stop_fraction`` of ``u0`` the last state is
+    held, as in :func:`fretwear.studies.wear_map`.
+
+    Parameters
+    ----------
+    model : Model
+        One friction contact, no unilateral contact.
+    omegas : array_like, shape (nf,)
+        Frequencies (rad/s), > 0.
+    cycles : array_like, shape (nN,)
+        Cycle counts, ascending, >= 0.
+    kw : float
+        Archard coefficient ``K_w`` (1/Pa), > 0.
+    stop_fraction : float
+        Wear fraction of ``u0`` where the contact counts as worn through.
+    workers : int
+        Threads that build missing tables.
+
+    Returns
+    -------
+    dict of ndarray
+        ``wear`` (nf, nN, 1) in m, ``amplitude`` and ``half_peak_to_peak`` (nf, nN, n),
+        ``relative_half_peak_to_peak`` (nf, nN, n_contacts) in m, ``stuck`` (nf,) bool.
+    """
+    omegas = np.asarray(omegas, dtype=float)
+    cycles = np.asarray(cycles, dtype=float)
+    check_wear_inputs(model, kw, float(cycles.max()))
+    if not exact_path_applies(model):
+        raise ValueError("exact_wear_map needs exactly one friction contact and no unilateral contact")
+    if not kw > 0:
+        raise ValueError(f"kw must be > 0 for a wear map, got {kw!r}")
+    contact = model.friction[0]
+    u0, kn, mu = contact.u0, contact.kn, contact.mu
+    fex = unit_forcing(model)
+    rho0 = mu * contact.normal_load() / fex
+    rho_end = rho0 * (1.0 - stop_fraction)
+
+    def table(omega):
+        return sliding_table(model, float(omega), rho_end, rho0)
+
+    if workers > 1 and len(omegas) > 1:
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            tables = list(pool.map(table, omegas))
+    else:
+        tables = [table(w) for w in omegas]
+    integral = kw * kn * fex * cycles  # K_w k_n F_ex N: the Archard integral reached after N cycles
+    order = np.argsort(integral, kind="stable")
+    rho = np.empty((len(omegas), len(cycles)))
+    for i, t in enumerate(tables):
+        floor = min(max(rho_end, t.rho[0]), rho0) if len(t.rho) else rho0
+        rho[i, order] = t.load_ratio(rho0, integral[order], floor)
+    out = {"wear": (u0 - rho * fex / (mu * kn))[:, :, None]}
+    rows = [t.interpolate(r) for t, r in zip(tables, rho, strict=True)]
+    for name in ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
+        out[name] = fex * np.stack([row[name] for row in rows])
+    out["stuck"] = np.array([rho0 >= t.rho_stick for t in tables])
+    return out

@@ -21,10 +21,12 @@ records of a wear history are exact as well.
 
 from __future__ import annotations
 
+import math
 import threading
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from ..hbm.problem import Problem
 from ..model import Model
@@ -34,6 +36,8 @@ __all__ = ["SlidingTable", "sliding_table", "cached_solves", "unit_forcing"]
 
 #: relative gap below the stick threshold where the table starts
 _STICK_MARGIN = 1e-9
+#: a first table reaches this factor below the load ratio asked for (F_ex up to this factor larger)
+_REACH = 4.0
 
 
 def unit_forcing(model: Model) -> float:
@@ -67,6 +71,8 @@ class SlidingTable:
         Load ratios where shooting did not converge (left out of the table).
     verified : set
         Intervals of the table whose midpoint passed the interpolation check.
+    checked : tuple of float
+        A range of ``rho`` known to be covered by verified intervals.
     """
 
     omega: float
@@ -80,7 +86,9 @@ class SlidingTable:
     solves: int = 0
     failures: list[float] = field(default_factory=list)
     verified: set = field(default_factory=set, repr=False)
-    _cumulative: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    checked: tuple[float, float] = (np.inf, -np.inf)
+    _r: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    _s: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
 
     def interpolate(self, rho) -> dict[str, np.ndarray]:
         """Every tabulated quantity at ``rho``, linearly interpolated (stuck values from ``rho_stick`` on)."""
@@ -98,35 +106,138 @@ class SlidingTable:
         Multiply by ``1 / (K_w k_n F_ex)`` for the number of cycles from ``rho_from`` down to ``rho``.
         ``inf`` where the integral diverges (a start at or above the stick threshold).
         """
-        return self._primitive(rho) - self._primitive(rho_from)
+        r, s = self._knots()
+        rho = np.atleast_1d(np.asarray(rho, dtype=float))
+        return _integrals(r, s, float(rho_from), rho.ravel()).reshape(rho.shape)
 
-    def _primitive(self, x) -> np.ndarray:
-        """``integral_x^r_ref dr / (r s_hat(r))`` with ``r_ref`` the last sample (vectorised)."""
-        x = np.atleast_1d(np.asarray(x, dtype=float))
-        r = np.append(self.rho, self.rho_stick)
-        s = np.append(self.s_hat, 0.0)
-        if len(self._cumulative) != len(r):  # from each sample up to the last one (the table grew)
-            piece = _piece_integral(r[:-2], r[1:-1], s[:-2], s[1:-1])
-            self._cumulative = np.concatenate([np.cumsum(piece[::-1])[::-1], [0.0, np.nan]])
-        k = np.clip(np.searchsorted(r, x, side="right") - 1, 0, len(r) - 2)
-        sx = np.interp(x, r, s, right=0.0)
-        below = self._cumulative[k + 1] + _piece_integral(x, r[k + 1], sx, s[k + 1])  # x in the piece below
-        above = -_piece_integral(r[k], x, s[k], sx)  # x in the last piece, above r_ref
-        out = np.where(k < len(r) - 2, below, above)
-        return np.where(x >= self.rho_stick, -np.inf, out)
+    def load_ratio(self, rho_from: float, integral, rho_floor: float) -> np.ndarray:
+        """The load ratio reached from ``rho_from`` when :meth:`cycles` equals ``integral`` (1/m).
+
+        The inverse of :meth:`cycles` (Newton on the closed form, to round-off),
+        held at ``rho_floor`` once the wear reaches it; ``integral`` ascending,
+        ``>= 0``. With ``integral = K_w k_n F_ex N`` it gives ``rho(N)``, hence
+        ``w(N) = u0 - rho F_ex / (mu k_n)``.
+        """
+        r, s = self._knots()
+        x = np.asarray(integral, dtype=float)
+        if x.ndim != 1 or np.any(np.diff(x) < 0) or (x.size and x[0] < 0):
+            raise ValueError("integral must be an ascending 1-D array of values >= 0")
+        if not (r[0] <= rho_floor <= rho_from):
+            raise ValueError(f"rho_floor must lie in [{r[0]:.6g}, {rho_from:.6g}], got {rho_floor!r}")
+        return _invert(r, s, float(rho_from), x, float(rho_floor))
+
+    def _knots(self) -> tuple[np.ndarray, np.ndarray]:
+        """Samples of ``s_hat`` with the stick threshold (where ``s_hat = 0``) appended."""
+        if len(self._r) != len(self.rho) + 1:  # the table grew
+            self._r, self._s = np.append(self.rho, self.rho_stick), np.append(self.s_hat, 0.0)
+        return self._r, self._s
+
 
 def _piece_integral(r1, r2, s1, s2) -> np.ndarray:
-    """``integral_r1^r2 dr / (r s(r))`` with ``s`` linear from ``s1`` to ``s2`` (closed form)."""
-    r1, r2, s1, s2 = (np.asarray(v, dtype=float) for v in (r1, r2, s1, s2))
-    b = (s2 - s1) / np.where(r2 > r1, r2 - r1, 1.0)
-    a = s1 - b * r1  # s(r) = a + b r
-    with np.errstate(divide="ignore", invalid="ignore"):
-        general = (np.log(r2 / r1) - np.log(s2 / s1)) / a  # d/dr [ln(r / (a + b r)) / a] = 1 / (r (a + b r))
-        flat = np.log(r2 / r1) / s1  # a = s (b = 0)
-        proportional = (1.0 / r1 - 1.0 / r2) / b  # a = 0: s = b r
-        out = np.where(np.abs(a) > 1e-9 * np.abs(s1 + s2), general, np.where(b == 0, flat, proportional))
-    out = np.where((s1 <= 0) | (s2 <= 0), np.inf, out)
-    return np.where(r2 > r1, out, 0.0)
+    """``integral_r1^r2 dr / (r s(r))`` with ``s`` linear from ``s1`` to ``s2`` (closed form, vectorised)."""
+    r1, r2, s1, s2 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (r1, r2, s1, s2)))
+    out = np.array([_segment(*v) for v in zip(r1.ravel(), r2.ravel(), s1.ravel(), s2.ravel(), strict=True)])
+    return out.reshape(r1.shape)
+
+
+@njit(cache=True, nogil=True)
+def _segment(x1: float, x2: float, s1: float, s2: float) -> float:
+    """``integral_x1^x2 dr / (r s(r))`` for ``s`` linear with ``s(x1) = s1``, ``s(x2) = s2``.
+
+    With ``s = a + b r``: ``ln(x2 s1 / (x1 s2)) / a`` and ``x2 s1 - x1 s2 =
+    a (x2 - x1)``, so the integral is ``log1p(a u) / a`` with ``u = (x2 - x1) /
+    (x1 s2)``: no case split and no cancellation, also for ``a -> 0`` (``s``
+    proportional to ``r``) and ``b = 0``.
+    """
+    if x2 <= x1:
+        return 0.0
+    if s1 <= 0.0 or s2 <= 0.0:
+        return math.inf
+    a = (x2 * s1 - x1 * s2) / (x2 - x1)
+    u = (x2 - x1) / (x1 * s2)
+    z = a * u
+    return u if abs(z) < 1e-300 else u * math.log1p(z) / z
+
+
+@njit(cache=True, nogil=True)
+def _line(r: np.ndarray, s: np.ndarray, j: int, x: float) -> float:
+    """``s`` at ``x`` on piece ``j`` of the table (linear between ``r[j]`` and ``r[j + 1]``)."""
+    return s[j] + (s[j + 1] - s[j]) * (x - r[j]) / (r[j + 1] - r[j])
+
+
+@njit(cache=True, nogil=True)
+def _piece_of(r: np.ndarray, x: float) -> int:
+    """Index ``j`` of the piece ``r[j] <= x < r[j + 1]`` (clamped to the table's pieces)."""
+    j = np.searchsorted(r, x, side="right") - 1
+    return min(max(j, 0), len(r) - 2)
+
+
+@njit(cache=True, nogil=True)
+def _integrals(r: np.ndarray, s: np.ndarray, top: float, xs: np.ndarray) -> np.ndarray:
+    """``integral_x^top dr / (r s(r))`` for each ``x`` in ``xs`` (negative for ``x > top``)."""
+    out = np.empty(len(xs))
+    for i in range(len(xs)):
+        lo, hi, sign = xs[i], top, 1.0
+        if lo > hi:
+            lo, hi, sign = hi, lo, -1.0
+        if hi >= r[-1]:  # at or above the stick threshold: nothing slides, the integral diverges
+            out[i] = sign * math.inf
+            continue
+        j, total = _piece_of(r, lo), 0.0
+        x = lo
+        while x < hi:
+            end = min(r[j + 1], hi)
+            total += _segment(x, end, _line(r, s, j, x), _line(r, s, j, end))
+            x, j = end, j + 1
+        out[i] = sign * total
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _invert(r: np.ndarray, s: np.ndarray, top: float, targets: np.ndarray, floor: float) -> np.ndarray:
+    """``x`` with ``integral_x^top dr / (r s(r)) = target`` for ascending ``targets`` (``floor`` past it).
+
+    The pieces are walked down from ``top`` once for all targets; inside a piece
+    the closed form is solved by Newton's method (``d/dx = -1 / (x s(x))``) kept
+    inside its bracket by bisection.
+    """
+    out = np.full(len(targets), floor)
+    if top >= r[-1]:  # stuck: no wear
+        out[:] = top
+        return out
+    j = _piece_of(r, top)
+    upper, s_upper, done = top, _line(r, s, j, top), 0.0  # the walk has integrated from upper to top
+    for i in range(len(targets)):
+        want = targets[i]
+        while True:
+            lower = max(r[j], floor)
+            s_lower = _line(r, s, j, lower)
+            piece = _segment(lower, upper, s_lower, s_upper)
+            if done + piece >= want:
+                break
+            if lower <= floor:  # worn to the floor before this target: it and the rest stay there
+                return out
+            done, upper, s_upper, j = done + piece, lower, s_lower, j - 1
+        rest = want - done  # solve integral_x^upper = rest on [lower, upper]
+        a, b = lower, upper
+        x = upper - rest * upper * s_upper  # Newton's first step from the upper end
+        for _ in range(100):
+            if not (a < x < b):
+                x = 0.5 * (a + b)
+            sx = _line(r, s, j, x)
+            g = _segment(x, upper, sx, s_upper) - rest  # falls as x grows
+            if g > 0.0:
+                a = x
+            else:
+                b = x
+            step = g * x * sx  # g / (-dg/dx)
+            x_new = x + step
+            if abs(step) <= 1e-15 * x or b - a <= 1e-15 * b:
+                x = x_new if a <= x_new <= b else x
+                break
+            x = x_new
+        out[i] = x
+    return out
 
 
 # -- the table and its cache ------------------------------------------------------------------------
@@ -201,6 +312,8 @@ def _stick_threshold(model: Model, omega: float) -> float:
 
 def _complete(table: SlidingTable, lo: float, hi: float) -> bool:
     """True when the table reaches ``lo`` and every interval meeting ``[lo, hi]`` passed its check."""
+    if table.checked[0] <= lo and hi <= table.checked[1]:
+        return True
     r = table.rho
     if not len(r) or r[0] > lo:
         return False
@@ -300,9 +413,13 @@ def sliding_table(
         lo = min(rho_min, table.rho_stick * (1 - 1e-3))
         hi = table.rho_stick if rho_max is None else min(rho_max, table.rho_stick)
         if table.rho_stick > 0 and lo < hi and not _complete(table, lo, hi):
+            if not len(table.rho):  # a first build covers every larger F_ex up to x REACH, and every smaller
+                lo, hi = lo / _REACH, table.rho_stick
             sampler = _Sampler(model, omega, 2.0 * table.rho_stick)
             sampler.solves = table.solves
             _adapt(table, sampler, lo, hi, tol, max_solves)
+            if _complete(table, lo, hi):
+                table.checked = (min(lo, table.checked[0]), max(hi, table.checked[1]))
         return table
 
 

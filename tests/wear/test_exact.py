@@ -5,7 +5,7 @@ import pytest
 from scipy.integrate import quad
 
 import fretwear as fw
-from fretwear.wear.sliding import _piece_integral, cached_solves, sliding_table
+from fretwear.wear.sliding import SlidingTable, _piece_integral, cached_solves, sliding_table
 
 OMEGA = 2 * np.pi * 0.7
 
@@ -40,3 +40,54 @@ def test_table_interpolates_the_exact_sliding_distance_and_is_reused():
     other = fw.paper_model(fex=20, mu=0.7, normal_load=20)  # rho = 0.7 ... in range
     sliding_table(other, OMEGA, 0.5, 0.7, tol=1e-2)
     assert cached_solves(model, OMEGA) == before
+
+
+def _synthetic_table(rho, s_hat, rho_stick):
+    """A sliding table with given samples (no shooting): for the quadrature and its inverse."""
+    n = len(rho)
+    zeros = np.zeros((n, 2))
+    return SlidingTable(1.0, rho_stick, np.asarray(rho), np.asarray(s_hat), zeros, zeros, zeros[:, :1], {})
+
+
+def test_load_ratio_inverts_the_archard_quadrature():
+    # s_hat rising then falling (the wear rate can rise before it falls), zero at the stick threshold
+    rho = np.array([0.01, 0.05, 0.2, 0.4, 0.6, 0.8, 0.95])
+    s_hat = np.array([1.0, 1.2, 1.5, 1.1, 0.6, 0.25, 0.05])
+    table = _synthetic_table(rho, s_hat, 1.0)
+    s = lambda r: np.interp(r, np.append(rho, 1.0), np.append(s_hat, 0.0))  # noqa: E731
+    rho0 = 0.9
+    x = np.array([0.85, 0.6, 0.3, 0.05, 0.02])
+    ref = [
+        quad(lambda r: 1 / (r * s(r)), xi, rho0, points=rho, epsabs=0, epsrel=1e-13, limit=200)[0] for xi in x
+    ]
+    np.testing.assert_allclose(table.cycles(rho0, x), ref, rtol=1e-11)
+    targets = np.sort(np.append(ref, [0.0, 1e3]))  # 1e3: past the floor
+    back = table.load_ratio(rho0, targets, 0.015)
+    np.testing.assert_allclose(back, np.sort(np.append(x, [rho0, 0.015]))[::-1], rtol=1e-12)
+    # a start at or above the stick threshold does not move
+    np.testing.assert_array_equal(table.load_ratio(1.0, np.array([0.0, 5.0]), 0.5), [1.0, 1.0])
+    with pytest.raises(ValueError, match="integral"):
+        table.load_ratio(rho0, np.array([2.0, 1.0]), 0.015)
+    with pytest.raises(ValueError, match="rho_floor"):
+        table.load_ratio(rho0, np.array([1.0]), 0.001)
+
+
+def test_exact_map_is_sampled_from_the_tables_and_builds_histories_on_demand():
+    model = fw.paper_model(fex=10)
+    freqs, cycles = np.array([0.3, 0.7, 0.9]), np.geomspace(1, 2e4, 9)
+    wm = fw.wear_map(model, freqs, cycles, method="exact", dynamics="shooting", kw=1e-11)
+    assert wm.wear.shape == (3, 9, 1) and wm.converged.all()
+    assert len(wm.histories._done) == 0  # nothing built until asked for
+    np.testing.assert_array_equal(wm.wear[0], 0.0)  # stuck at 0.3 Hz
+    for i in (1, 2):  # the exact history at the map's cycle counts (Hermite between exact records)
+        h = wm.histories[i]
+        assert h.method == "exact" and h.info["dynamics"] == "shooting"
+        at = h.at(cycles)
+        np.testing.assert_allclose(wm.wear[i, :, 0], at["wear"][:, 0], rtol=2e-4, atol=1e-4 * h.u0[0])
+        np.testing.assert_allclose(wm.amplitude[i], at["amplitude"], rtol=2e-3)
+    assert sorted(wm.histories._done) == [1, 2]
+    joined = wm.histories + wm.histories[:1]
+    assert len(joined) == 4 and joined[1] is wm.histories[1] and joined[3] is wm.histories[0]
+    # Archard's scaling: K_w only rescales the cycle axis
+    twice = fw.wear_map(model, freqs, cycles / 2, method="exact", dynamics="shooting", kw=2e-11)
+    np.testing.assert_allclose(twice.wear, wm.wear, rtol=1e-12, atol=1e-18)
