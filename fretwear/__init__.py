@@ -12,18 +12,12 @@ The layers, bottom up: :mod:`fretwear.model` (structures, model files),
 lives in :mod:`fretwear.figures`, which the numerical layers never import.
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
+from ._version import __version__ as __version__
 from .hbm import PeriodicSolution, continuation, linear_frf, solve_periodic, sweep
 from .model import FrictionContact, Model, NormalContact, jenkins_oscillator, paper_model, read_model
 from .studies import compare_methods, cost_ladder, harmonic_convergence, regime_map, wear_map
 from .time import ShootingSolution, shooting, shooting_sweep
 from .wear import METHODS, WearHistory, wear_history
-
-try:
-    __version__ = version("fretwear")
-except PackageNotFoundError:  # a source tree that was not installed
-    __version__ = "0+unknown"
 
 __all__ = [
     "METHODS",

@@ -63,7 +63,9 @@ from typing import Any
 
 import numpy as np
 
-import fretwear as fw
+from .._version import __version__
+from ..model import paper_model, read_model
+from ..wear import METHODS
 
 __all__ = [
     "PARAMETERS",
@@ -140,7 +142,7 @@ PARAMETERS: Mapping[str, Parameter] = {
         Parameter("kw", "1/Pa", "Archard wear coefficient K_w", low=0.0),
         Parameter("cycles", "cycles", "wear horizon", low=0.0, strict=True),
         Parameter("harmonics", "-", "highest harmonic Nh", kind=int, low=1, high=256, random=False),
-        Parameter("method", "", "slow-time method", kind=str, choices=("auto", *fw.METHODS), random=False),
+        Parameter("method", "", "slow-time method", kind=str, choices=("auto", *METHODS), random=False),
         Parameter(
             "dynamics",
             "",
@@ -291,7 +293,7 @@ class StudySpec:
             "fractions": list(self.fractions),
             "ncycles": self.ncycles,
             "points_per_task": self.points_per_task,
-            "fretwear_version": fw.__version__,
+            "fretwear_version": __version__,
         }
 
     def key(self) -> str:
@@ -461,7 +463,7 @@ def _model(table: Mapping[str, Any], base: Path):
             raise SpecError("model.file", f"must be the path of a model file, got {file!r}")
         path = Path(file) if Path(file).is_absolute() else base / file
         try:
-            return "file", fw.read_model(path), file, path.read_text(encoding="utf-8")
+            return "file", read_model(path), file, path.read_text(encoding="utf-8")
         except OSError as exc:
             raise SpecError("model.file", f"cannot read {str(path)!r}: {exc.strerror or exc}") from None
         except ValueError as exc:
@@ -471,11 +473,11 @@ def _model(table: Mapping[str, Any], base: Path):
         raise SpecError(
             "model.name",
             f"{name!r}: the interface benchmark model is not available in fretwear "
-            f"{fw.__version__}; use name = 'paper' or file = 'model.toml'",
+            f"{__version__}; use name = 'paper' or file = 'model.toml'",
         )
     if name != "paper":
         raise SpecError("model.name", f"must be 'paper' (or use file = 'model.toml'), got {name!r}")
-    return "paper", fw.paper_model(), None, ""
+    return "paper", paper_model(), None, ""
 
 
 def _value(key: str, param: Parameter, value: Any) -> tuple[str, Any]:

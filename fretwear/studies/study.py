@@ -73,8 +73,10 @@ from typing import Any
 
 import numpy as np
 
-import fretwear as fw
-
+from .._version import __version__
+from ..hbm import sweep
+from ..model import paper_model
+from ..wear import METHODS, wear_history
 from .spec import PARAMETERS, SpecError, StudySpec, read_spec
 
 __all__ = [
@@ -139,7 +141,7 @@ def _point_seconds(spec: StudySpec) -> float:
     seconds = POINT_SECONDS["frf"] * max(1.0, nh / 7) if "frf" in spec.quantities else 0.0
     if spec.wear:
         methods = spec.grid["method"].tolist() if "method" in spec.grid else [spec.fixed["method"]]
-        exact = fw.METHODS["exact"].applies(spec.model) and spec.fixed.get("dynamics", "dlft") == "dlft"
+        exact = METHODS["exact"].applies(spec.model) and spec.fixed.get("dynamics", "dlft") == "dlft"
         names = [("exact" if exact else "stepping") if m == "auto" else m for m in methods]
         seconds += np.mean([POINT_SECONDS[m] for m in names]) * max(0.25, nh / 21)
     return float(seconds)
@@ -215,7 +217,7 @@ def _model(work: Work, p: Mapping[str, Any]):
     if work.model_kind == "paper":
         kn = p["kn"]
         fn = p["normal_load"] if "normal_load" in p else kn * p["u0"]
-        return fw.paper_model(fex=p["fex"], mu=p["mu"], normal_load=fn, kn=kn)
+        return paper_model(fex=p["fex"], mu=p["mu"], normal_load=fn, kn=kn)
     model = work.model
     changes = {k: p[k] for k in ("mu", "kn", "u0") if k in p}
     if changes:
@@ -235,8 +237,8 @@ def _method(model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
     name = p["method"]
     if name == "auto":
         dlft = p.get("dynamics", "dlft") == "dlft"
-        name = "exact" if fw.METHODS["exact"].applies(model) and dlft else "stepping"
-    taken = fw.METHODS[name].options
+        name = "exact" if METHODS["exact"].applies(model) and dlft else "stepping"
+    taken = METHODS[name].options
     return name, {k: p[k] for k in ("harmonics", "tol", "dynamics") if k in p and k in taken}
 
 
@@ -246,9 +248,7 @@ def _wear_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i:
     name, options = _method(model, p)
     with warnings.catch_warnings():  # the two-scale warning: the spec chose kw and the horizon
         warnings.simplefilter("ignore")
-        h = fw.wear_history(
-            model, 2 * np.pi * p["frequency"], name, kw=p["kw"], cycles=p["cycles"], **options
-        )
+        h = wear_history(model, 2 * np.pi * p["frequency"], name, kw=p["kw"], cycles=p["cycles"], **options)
     failed = not h.converged or h.status not in ("horizon", "worn", "stuck")
     stuck = h.status == "stuck"
     if "cycles_to" in out:
@@ -273,13 +273,13 @@ def _frf_points(work: Work, params: Mapping[str, np.ndarray], idx: np.ndarray, o
     p = {k: v[idx[0]] for k, v in params.items()}
     try:
         model = _model(work, p)
-        sweep = fw.sweep(model, 2 * np.pi * params["frequency"][idx], int(p["harmonics"]))
+        swept = sweep(model, 2 * np.pi * params["frequency"][idx], int(p["harmonics"]))
     except Exception as exc:  # noqa: BLE001 - a failed point is recorded, never an aborted study
         code = INVALID if isinstance(exc, ValueError) else ERROR
         status[idx] = np.maximum(status[idx], code)
         messages.append((int(idx[0]), f"{type(exc).__name__}: {exc}"))
         return
-    for i, sol in zip(idx, sweep.solutions, strict=True):
+    for i, sol in zip(idx, swept.solutions, strict=True):
         if not sol.converged:
             status[i] = max(status[i], NOT_CONVERGED)
             messages.append((int(i), f"not converged: {sol.message} (residual {sol.residual:.3g})"))
@@ -434,7 +434,7 @@ def _template(spec: StudySpec, lay: Layout):
     attrs = {
         "title": spec.title,
         "quantities": list(spec.quantities),
-        "fretwear_version": fw.__version__,
+        "fretwear_version": __version__,
         "spec": spec.text,
         "spec_resolved": json.dumps(resolved, sort_keys=True),
         "study_key": spec.key(),
