@@ -1,9 +1,10 @@
 """Warm-up of a dashboard server: compiled kernels, plotting code and the default scenes' results.
 
-``warm()`` computes the results of the default settings' first scenes into the
-process-wide cache (loading the Numba kernels from their cache, or compiling
-them) and draws their figures once, so that the first page is served from the
-cache. Two ways to run it:
+``warm()`` compiles (or loads from Numba's on-disk cache) every kernel the
+scenes use, by tiny runs of each solver and slow-time method, then computes
+the results of the default settings' first scenes into the process-wide cache
+and draws their figures once, so that the first page is served from the cache
+and no later scene waits for a compilation. Two ways to run it:
 
 * ``panel serve app/app.py --setup app/warmup.py``: before the server accepts
   connections (it blocks the start-up for a few seconds);
@@ -24,11 +25,33 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-__all__ = ["warm", "warm_in_background"]
+__all__ = ["compile_kernels", "warm", "warm_in_background"]
 
 log = logging.getLogger(__name__)
 _started = threading.Lock()
 _thread: list[threading.Thread] = []
+
+
+def compile_kernels() -> float:
+    """Run every solver and slow-time method once on a tiny case (compiling its kernels); seconds spent.
+
+    From Numba's cache this takes about a second; with an empty cache (a fresh
+    install) a few minutes, once.
+    """
+    import numpy as np
+
+    import fretwear as fw
+
+    start = time.perf_counter()
+    model, omega = fw.paper_model(fex=10), 2 * np.pi * 0.7
+    fw.sweep(model, omega * np.array([0.95, 1.0]), 3)
+    fw.shooting(model, omega)
+    fw.shooting_sweep(model, omega * np.array([0.95, 1.0]))
+    for name in fw.METHODS:
+        fw.wear_history(model, omega, name, kw=1e-11, cycles=20.0)
+    for name in ("exact", "stepping"):
+        fw.wear_history(model, omega, name, kw=1e-11, cycles=20.0, dynamics="shooting")
+    return time.perf_counter() - start
 
 
 def warm(scenes: tuple[str, ...] = ("regimes", "wearmap"), draw: bool = True, exports: bool = False) -> float:
@@ -43,6 +66,7 @@ def warm(scenes: tuple[str, ...] = ("regimes", "wearmap"), draw: bool = True, ex
     from fretwear import figures
 
     start = time.perf_counter()
+    compile_kernels()
     session = Session()
     for key in scenes:
         session.scene = key

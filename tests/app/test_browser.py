@@ -99,7 +99,7 @@ def start_server(log_path: Path) -> tuple[subprocess.Popen, str]:
     with open(log_path, "w") as log:
         proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
     url = f"http://127.0.0.1:{port}/app"
-    deadline = time.monotonic() + 180
+    deadline = time.monotonic() + 900  # a fresh install compiles every kernel before the server starts
     while True:
         try:
             with urllib.request.urlopen(url, timeout=5) as response:
