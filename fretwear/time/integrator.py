@@ -382,9 +382,8 @@ def recorded(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, t
              rows: np.ndarray | None = None) -> tuple:  # fmt: skip
     """Recorded march from ``t0`` to ``t1`` (samples at the sorted ``times``) with its integrals.
 
-    Returns ``(trajectory, maxima, minima, multipliers)``: the extrema over
-    ``[t0, t1]`` of ``rows @ u`` and the eigenvalues of the state-transition
-    matrix (when ``jacobian``). Raises ``RuntimeError`` when the march fails.
+    Returns ``(trajectory, maxima, minima)``: the extrema over
+    ``[t0, t1]`` of ``rows @ u``. Raises ``RuntimeError`` when the march fails.
     """
     rows = _NO_ROWS if rows is None else rows
     steps = int(1.5 * (t1 - t0) / eng.step[0, : eng.count].min()) + 16
@@ -392,7 +391,7 @@ def recorded(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, t
     while True:
         out = kernels.orbit(*model_arrays(eng), *eng.arrays(), g, y0, float(t0), float(t1), jacobian,
                             _max_phases(eng, t0, t1), rows, *buf.args())  # fmt: skip
-        status, need, y, J, sliding, ns, nph, nev, work, visc, fre, fim, hi, lo, mult = out
+        status, need, y, J, sliding, ns, nph, nev, work, visc, fre, fim, hi, lo = out
         if status == kernels.NEED_PATTERN:
             eng.require(int(need))
         elif status == kernels.NEED_SPACE:
@@ -406,7 +405,7 @@ def recorded(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, t
     traj = make_trajectory(eng, 0, buf, slice(0, ns), slice(0, nph), slice(0, nev), t0=t0, t1=t1, times=times,
                            y=y, J=J if jacobian else None, sliding=sliding, g=g, work=work, viscous=visc,
                            fourier=fre + 1j * fim)  # fmt: skip
-    return traj, hi, lo, mult
+    return traj, hi, lo
 
 
 # ---------------------------------------------------------------------------

@@ -87,6 +87,31 @@ class Structure:
         self.forces = np.column_stack([model.force_static, model.force_cos, model.force_sin])
         self.extrema_rows = np.vstack([np.eye(self.n), self.B])  # u -> (u, B u): the channels of extrema
         self._matrices: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._rigid: dict[int, tuple] = {}
+
+    def rigid_basis(self, active: int) -> tuple:
+        """The structure with the contacts of bit mask ``active`` rigid (``B_a u = 0``), reduced.
+
+        Returns ``(N, K_r, M_r, C_r, f_r, u_static)``: an orthonormal basis
+        ``N`` of ``B_a u = 0``, the reduced matrices ``N^T (K, M, C) N``, the
+        reduced complex load ``N^T (F_c - i F_s)`` and the static solution (m).
+        """
+        found = self._rigid.get(active)
+        if found is None:
+            model = self.model
+            Ba = self.B[[j for j in range(self.nf) if active >> j & 1]]
+            N = linalg.null_space(Ba) if len(Ba) else np.eye(self.n)
+            Kr, Mr, Cr = (N.T @ a @ N for a in (model.K, model.M, model.C))
+            u_static = N @ linalg.lstsq(Kr, N.T @ model.force_static)[0] if N.shape[1] else np.zeros(self.n)
+            found = self._rigid[active] = (
+                N,
+                Kr,
+                Mr,
+                Cr,
+                N.T @ (model.force_cos - 1j * model.force_sin),
+                u_static,
+            )
+        return found
 
     def seen(self) -> list[int]:
         """Stuck sets built so far (at any frequency), and every stuck set when there are at most 8."""
@@ -278,11 +303,14 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
     norm = _inf_norm(Ab)
     power = np.eye(D)  # Ab^(K+1) by repeated squaring
     base = Ab.copy()
+    work = np.empty((D, D))
     e = K + 1
     while e:
         if e & 1:
-            power = power @ base
-        base = base @ base
+            _mm(power, base, work)
+            power, work = work, power
+        _mm(base, base, work)
+        base, work = work, base
         e >>= 1
     top = _inf_norm(power)
     root = top ** (1.0 / (K + 1)) if top > 0 else 0.0
@@ -291,15 +319,35 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
     if root > 0:
         while (K + 1) * math.log(root * h) - math.lgamma(K + 2) + norm * h > math.log(_REMAINDER):
             h /= 1.25
-    Ah[:, :] = A * h
-    term = np.eye(n2)
-    yy = np.ascontiguousarray(Ah[:n2, :n2])
+    for i in range(D):
+        for j in range(D):
+            Ah[i, j] = A[i, j] * h
     phi[:, :] = 0.0
-    for k in range(K + 1):
-        series[k] = term
-        phi += term
-        term = term @ yy / (k + 1)
+    series[0] = 0.0
+    for i in range(n2):
+        series[0, i, i] = 1.0
+        phi[i, i] = 1.0
+    for k in range(1, K + 1):  # (A_yy h)^k / k!
+        for i in range(n2):
+            for j in range(n2):
+                t = 0.0
+                for q in range(n2):
+                    t += series[k - 1, i, q] * Ah[q, j]
+                series[k, i, j] = t / k
+                phi[i, j] += series[k, i, j]
     return h
+
+
+@njit(cache=True, nogil=True)
+def _mm(A, B, out):
+    """``out = A @ B`` for small square matrices."""
+    m = A.shape[0]
+    for i in range(m):
+        for j in range(m):
+            t = 0.0
+            for q in range(m):
+                t += A[i, q] * B[q, j]
+            out[i, j] = t
 
 
 @njit(cache=True, nogil=True)

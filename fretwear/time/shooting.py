@@ -19,11 +19,11 @@ restarts. A solve that does not converge is reported (``converged=False``,
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, partial
 
 import numpy as np
-from scipy import linalg
 
 from ..model import STICK, Model
 from . import kernels
@@ -112,7 +112,6 @@ class ShootingSolution:
     residual: float
     message: str
     monodromy: np.ndarray
-    floquet_multipliers: np.ndarray
     neutral_multipliers: int
     wear: np.ndarray
     normal_loads: np.ndarray
@@ -125,8 +124,17 @@ class ShootingSolution:
     friction_energy: np.ndarray
     input_work: float
     viscous_dissipation: float
-    events: tuple[ContactEvent, ...]
-    trajectory: Trajectory | None = field(repr=False)
+    _orbit: Callable[[], Trajectory] | None = field(repr=False)
+
+    @cached_property
+    def trajectory(self) -> Trajectory | None:
+        """The exact motion over one period from ``y0`` (built on first access); None if it failed."""
+        return None if self._orbit is None else self._orbit()
+
+    @property
+    def events(self) -> tuple[ContactEvent, ...]:
+        """Contact state changes over one period."""
+        return () if self.trajectory is None else self.trajectory.events
 
     @property
     def period(self) -> float:
@@ -158,6 +166,14 @@ class ShootingSolution:
         """First-harmonic amplitude of the relative displacement of each contact (m), shape (n_friction,)."""
         rel = self.model.relative_map(self.model.friction) @ self.first_harmonic
         return np.hypot(rel[:, 0], rel[:, 1])
+
+    @cached_property
+    def floquet_multipliers(self) -> np.ndarray:
+        """Eigenvalues of :attr:`monodromy`, by decreasing modulus, shape (2 n,)."""
+        if not np.all(np.isfinite(self.monodromy)):
+            return np.full(len(self.monodromy), np.nan + 0j)
+        mult = np.linalg.eigvals(self.monodromy)
+        return mult[np.argsort(-np.abs(mult), kind="stable")]
 
     @property
     def stable(self) -> bool:
@@ -230,28 +246,36 @@ def _scaled_norm(n: int, omega: float, y: np.ndarray) -> float:
     return math.sqrt(float(u @ u + v @ v))
 
 
-def _rigid_states(table: Table, g: np.ndarray) -> np.ndarray:
-    """States at ``t = 0`` of the linear steady states with every loaded contact rigid (``B u = 0``).
+def _rigid_states(table: Table, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The linear steady states with every loaded contact rigid (``B u = 0``), one per frequency of ``table``.
 
-    One per frequency of ``table``, shape (W, 2 n).
+    Returns their states at ``t = 0``, shape (W, 2 n), and whether each is
+    the periodic orbit: every loaded contact's force ``lambda_s + Re(Lambda
+    exp(i omega t))`` stays within its slip limit, ``|lambda_s| + |Lambda| <= g``
+    (``B^T lambda = F - Z(omega) U`` is solved exactly for ``lambda``).
     """
-    model, n, w = table.model, table.n, table.omegas
-    Bs = table.B[g > 0]
-    N = linalg.null_space(Bs) if len(Bs) else np.eye(n)
+    active = [j for j in range(table.nf) if g[j] > 0]
+    N, Kr, Mr, Cr, f, u_static = table.structure.rigid_basis(sum(1 << j for j in active))
+    model, w = table.model, table.omegas
+    W = len(w)
     if N.shape[1] == 0:
-        return np.zeros((len(w), 2 * n))
-    Kr, Mr, Cr = (N.T @ a @ N for a in (model.K, model.M, model.C))
-    f = N.T @ (model.force_cos - 1j * model.force_sin)
-    U = np.empty((len(w), N.shape[1]), dtype=complex)
-    for i, wi in enumerate(w):
-        Z = Kr - wi**2 * Mr + 1j * wi * Cr
-        try:
-            U[i] = np.linalg.solve(Z, f)
-        except np.linalg.LinAlgError:  # resonance of the stuck structure without damping
-            U[i] = np.linalg.lstsq(Z, f, rcond=None)[0]
+        return np.zeros((W, 2 * table.n)), np.zeros(W, dtype=np.bool_)
+    Z = Kr - w[:, None, None] ** 2 * Mr + 1j * w[:, None, None] * Cr
+    try:
+        U = np.linalg.solve(Z, np.broadcast_to(f, (W, len(f)))[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # resonance of the stuck structure without damping
+        U = np.array([np.linalg.lstsq(Zi, f, rcond=None)[0] for Zi in Z])
     U = U @ N.T
-    u_static = N @ linalg.lstsq(Kr, N.T @ model.force_static)[0]
-    return np.hstack([u_static + U.real, (1j * w[:, None] * U).real])
+    ok = np.ones(W, dtype=np.bool_)
+    if active:
+        Ba = table.B[active]
+        solve = np.linalg.solve(Ba @ Ba.T, Ba)  # B_a^T lambda = r  ->  lambda = (B_a B_a^T)^-1 B_a r
+        Zfull = model.K - w[:, None, None] ** 2 * model.M + 1j * w[:, None, None] * model.C
+        r = (model.force_cos - 1j * model.force_sin) - np.einsum("wij,wj->wi", Zfull, U)
+        amplitude = np.abs(r @ solve.T)
+        static = np.abs(solve @ (model.force_static - model.K @ u_static))
+        ok = np.all(static + amplitude <= g[active], axis=1) & np.all(np.isfinite(amplitude), axis=1)
+    return np.hstack([u_static + U.real, (1j * w[:, None] * U).real]), ok
 
 
 def _message(kinds, codes, residuals, tol: float) -> str:
@@ -264,38 +288,35 @@ def _message(kinds, codes, residuals, tol: float) -> str:
     return f"Newton on the period map did not reach the tolerance {tol:.1e} ({'; '.join(tried)})"
 
 
-def _solution(table: Table, i: int, g, loads, wear, y0, converged: bool, iterations: int, message: str,
-              samples: int, traj: Trajectory | None, hi, lo, mult) -> ShootingSolution:  # fmt: skip
-    """The :class:`ShootingSolution` of the orbit ``traj`` from ``y0`` at frequency ``i`` (NaN if None)."""
+def _solution(table: Table, i: int, g, loads, wear, y0, y1, converged: bool, iterations: int, message: str,
+              samples: int, J, neutral: int, fourier, hi, lo, sliding, work: float, viscous: float,
+              orbit: Callable[[], Trajectory] | None) -> ShootingSolution:  # fmt: skip
+    """The :class:`ShootingSolution` at frequency ``i`` of ``table`` (NaN quantities without ``orbit``)."""
     n, nf = table.n, table.nf
     omega = float(table.omegas[i])
     wear = np.zeros(nf) if wear is None else np.asarray(wear, dtype=float)
-    if traj is None:
-        nan = np.full(n, np.nan)
+    if orbit is None:
+        nan, fnan = np.full(n, np.nan), np.full(nf, np.nan)
         return ShootingSolution(
             model=table.model, omega=omega, y0=y0, converged=False, iterations=int(iterations),
             residual=np.inf, message=message, monodromy=np.full((2 * n, 2 * n), np.nan),
-            floquet_multipliers=np.full(2 * n, np.nan + 0j), neutral_multipliers=0, wear=wear,
-            normal_loads=loads, slip_forces=g, samples=samples, first_harmonic=np.full((n, 2), np.nan),
-            half_peak_to_peak=nan, relative_half_peak_to_peak=np.full(nf, np.nan),
-            sliding_distance=np.full(nf, np.nan), friction_energy=np.full(nf, np.nan), input_work=np.nan,
-            viscous_dissipation=np.nan, events=(), trajectory=None,
+            neutral_multipliers=0, wear=wear, normal_loads=loads, slip_forces=g, samples=samples,
+            first_harmonic=np.full((n, 2), np.nan), half_peak_to_peak=nan, relative_half_peak_to_peak=fnan,
+            sliding_distance=fnan, friction_energy=fnan, input_work=np.nan, viscous_dissipation=np.nan,
+            _orbit=None,
         )  # fmt: skip
-    coef = 2 / traj.t1 * traj.fourier
+    coef = 2 / table.periods[i] * fourier
     hpp = (hi - lo) / 2
-    always_stuck = np.all(traj.segment_state == STICK, axis=0) & (g > 0)
-    residual = _scaled_norm(n, omega, traj.y - y0) / max(_scaled_norm(n, omega, y0), 1e-300)
     return ShootingSolution(
         model=table.model,
         omega=omega,
         y0=y0,
         converged=converged,
         iterations=int(iterations),
-        residual=residual,
+        residual=_scaled_norm(n, omega, y1 - y0) / max(_scaled_norm(n, omega, y0), 1e-300),
         message=message,
-        monodromy=traj.jacobian,
-        floquet_multipliers=mult[np.argsort(-np.abs(mult), kind="stable")],
-        neutral_multipliers=int(always_stuck.sum()),
+        monodromy=J,
+        neutral_multipliers=int(neutral),
         wear=wear,
         normal_loads=loads,
         slip_forces=g,
@@ -303,12 +324,11 @@ def _solution(table: Table, i: int, g, loads, wear, y0, converged: bool, iterati
         first_harmonic=np.column_stack([coef.real, -coef.imag]),
         half_peak_to_peak=hpp[:n],
         relative_half_peak_to_peak=hpp[n:],
-        sliding_distance=traj.sliding_distance,
-        friction_energy=traj.friction_energy,
-        input_work=traj.input_work,
-        viscous_dissipation=traj.viscous_dissipation,
-        events=traj.events,
-        trajectory=traj,
+        sliding_distance=sliding,
+        friction_energy=g * sliding,
+        input_work=float(work),
+        viscous_dissipation=float(viscous),
+        _orbit=orbit,
     )
 
 
@@ -333,22 +353,23 @@ def _solve(table: Table, g: np.ndarray, loads: np.ndarray, wear, guesses: list, 
     conv, iters = np.zeros(W, dtype=np.bool_), np.zeros(W, dtype=np.int64)
     att_kind, att_code, att_res = np.zeros((W, A), np.int64), np.zeros((W, A), np.int64), np.zeros((W, A))
     n_att = np.zeros(W, dtype=np.int64)
-    J, mult = np.zeros((W, n2, n2)), np.zeros((W, n2), dtype=complex)
+    J = np.zeros((W, n2, n2))
     slid, work, visc = np.zeros((W, nf)), np.zeros(W), np.zeros(W)
     fre, fim = np.zeros((W, n)), np.zeros((W, n))
     rows = table.extrema_rows
     hi, lo = np.zeros((W, len(rows))), np.zeros((W, len(rows)))
+    neutral = np.zeros(W, dtype=np.int64)
     offsets = [np.zeros(W + 1, dtype=np.int64) for _ in range(3)]
     per_period = int(1.5 * np.max(table.periods[:, None] / table.step[:, : table.count])) + 16
     rec = Records.empty(W * per_period, W * 8 + 16, D, nf)
-    rigid = _rigid_states(table, g)
+    rigid, rigid_ok = _rigid_states(table, g)
     start = 0
     while True:
         status, need, start = kernels.solve(
             table.Minv, table.B, table.C, table.K, table.forces, table.omegas, *table.stacked(), g,
-            guess_array, n_guesses, rigid, chain, tol, max_iter, marches, _MAX_PHASES, rows, start, y0, y1,
-            conv, iters,
-            att_kind, att_code, att_res, n_att, J, mult, slid, work, visc, fre, fim, hi, lo, *offsets,
+            guess_array, n_guesses, rigid, rigid_ok, chain, tol, max_iter, marches, _MAX_PHASES, rows, start,
+            y0, y1, conv, iters,
+            att_kind, att_code, att_res, n_att, J, slid, work, visc, fre, fim, hi, lo, neutral, *offsets,
             *rec.args(),
         )  # fmt: skip
         if status == kernels.NEED_PATTERN:
@@ -358,19 +379,21 @@ def _solve(table: Table, g: np.ndarray, loads: np.ndarray, wear, guesses: list, 
         else:
             break
     out = []
+    fourier = fre + 1j * fim
     for i in range(W):
         message = "" if conv[i] else _message(att_kind[i, : n_att[i]], att_code[i, : n_att[i]],
                                               att_res[i, : n_att[i]], tol)  # fmt: skip
         (s0, s1), (p0, p1), (e0, e1) = (o[i : i + 2] for o in offsets)
-        traj = None
+        orbit = None
         if s1 > s0:
-            traj = make_trajectory(table, i, rec, slice(s0, s1), slice(p0, p1), slice(e0, e1), t0=0.0,
-                                   t1=table.periods[i], times=None, y=y1[i], J=J[i], sliding=slid[i], g=g,
-                                   work=work[i], viscous=visc[i], fourier=fre[i] + 1j * fim[i])  # fmt: skip
+            orbit = partial(make_trajectory, table, i, rec, slice(s0, s1), slice(p0, p1), slice(e0, e1),
+                            t0=0.0, t1=table.periods[i], times=None, y=y1[i], J=J[i], sliding=slid[i], g=g,
+                            work=work[i], viscous=visc[i], fourier=fourier[i])  # fmt: skip
         else:
             message = f"{message}; the orbit could not be evaluated (its period march failed)".lstrip("; ")
-        out.append(_solution(table, i, g, loads, wear, y0[i], bool(conv[i]), iters[i], message, samples, traj,
-                             hi[i], lo[i], mult[i]))  # fmt: skip
+        out.append(_solution(table, i, g, loads, wear, y0[i], y1[i], bool(conv[i]), iters[i], message,
+                             samples, J[i], neutral[i], fourier[i], hi[i], lo[i], slid[i], work[i], visc[i],
+                             orbit))  # fmt: skip
     return out
 
 
@@ -570,7 +593,7 @@ def steady_state(
     """
     eng, g, loads = engine_loads(model, omega, wear)
     samples = _check_samples(samples)
-    y = _rigid_states(eng, g)[0] if y_guess is None else check_state(eng, y_guess, "y_guess").copy()
+    y = _rigid_states(eng, g)[0][0] if y_guess is None else check_state(eng, y_guess, "y_guess").copy()
     while True:
         status, need, y, marched, change = kernels.settle(
             *model_arrays(eng), *eng.arrays(), g, y, int(max_periods), float(tol), _MAX_PHASES
@@ -586,8 +609,12 @@ def steady_state(
     else:
         message = ""
     try:
-        traj, hi, lo, mult = recorded(eng, g, y, 0.0, eng.period, None, jacobian=True, rows=eng.extrema_rows)
+        traj, hi, lo = recorded(eng, g, y, 0.0, eng.period, None, jacobian=True, rows=eng.extrema_rows)
     except RuntimeError as exc:
-        traj, hi, lo, mult = None, None, None, None
-        converged, message = False, f"{message}; the orbit could not be evaluated: {exc}".lstrip("; ")
-    return _solution(eng, 0, g, loads, wear, y, converged, marched, message, samples, traj, hi, lo, mult)
+        message = f"{message}; the orbit could not be evaluated: {exc}".lstrip("; ")
+        return _solution(eng, 0, g, loads, wear, y, y, False, marched, message, samples, None, 0, None, None,
+                         None, None, np.nan, np.nan, None)  # fmt: skip
+    neutral = int(np.sum(np.all(traj.segment_state == STICK, axis=0) & (g > 0)))
+    return _solution(eng, 0, g, loads, wear, y, traj.y, converged, marched, message, samples, traj.jacobian,
+                     neutral, traj.fourier, hi, lo, traj.sliding_distance, traj.input_work,
+                     traj.viscous_dissipation, partial(lambda t: t, traj))  # fmt: skip
