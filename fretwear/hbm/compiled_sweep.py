@@ -60,7 +60,7 @@ LOAD, NEWTON = 0, 1
 GUESS, HOMOTOPY, COLD, ZERO_LOAD_START, LOAD_CONTINUATION, DONE = 0, 1, 2, 3, 4, 5
 #: Newton steps from a prediction before the walk takes over; pieces of that walk; most state changes
 #: crossed by one Newton step (:func:`_newton`)
-GUESS_STEPS, HOMOTOPY_PIECES, KINKS = 40, 500, 64
+GUESS_STEPS, HOMOTOPY_PIECES, KINKS = 40, 500, 8
 #: block sums (:func:`fretwear.hbm.dlft.block_sums`) up to this many numbers (32 MB), then every 2nd, 4th...
 BLOCK_SUMS_SIZE = 4_000_000
 
@@ -111,7 +111,7 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
         it += 1
         vt = v + dv  # Newton's own full step first: exact once the pattern is right
         rt = augmented_residual(vt, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial)
-        if rt <= 0.5 * r or r <= target:
+        if rt < r or r <= target:
             v, r = vt, rt
             cur, trial = trial, cur
             continue
@@ -508,9 +508,9 @@ def sweep_kernel(
     Winv, M = np.empty((n, n)), np.empty((n, n))
     piv = np.empty(n, dtype=np.int64)
     x, v, vp, vn, r0, zero = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.zeros(n)
-    w_prev, x_prev = np.empty(2), np.empty((2, n))
+    w_prev, x_prev = np.zeros(2), np.zeros((2, n))  # zeros: a lone predecessor is read with a = 0
     codes, code = np.empty((2, nc, Ns), dtype=np.int8), np.empty((nc, Ns), dtype=np.int8)
-    after_stuck = False  # the last converged point is the exact stuck solution
+    after_stuck = before_stuck = False  # the last (the one before) converged point is exactly stuck
     n_prev, n_codes = 0, 0  # converged points behind, and how many of them have their pattern in codes
     from_start = x_start.shape[0] > 0  # the prediction is x_start until a point converges
     if from_start:
@@ -567,7 +567,9 @@ def sweep_kernel(
             walk_mode, p0, max_pieces, Fn, target_n = -1, 0.0, homotopy_pieces, F, target
             budget, min_steps = max_iter, one_step
             if stage == GUESS:  # from the better of the secant and the pattern predictions
-                a = (omegas[i] - w_prev[1]) / (w_prev[1] - w_prev[0]) if n_prev == 2 else 0.0
+                a = 0.0  # the secant, but not through a stuck solution: slip has just set in
+                if n_prev == 2 and not before_stuck:
+                    a = (omegas[i] - w_prev[1]) / (w_prev[1] - w_prev[0])
                 for k in range(n):
                     x[k] = x_prev[1, k] + a * (x_prev[1, k] - x_prev[0, k])
                 _to_v(x, Z, F, 1.0, eps, H, v)
@@ -673,7 +675,7 @@ def sweep_kernel(
             for c in range(nc):
                 state_code(kinds[c], lam_out[i, c], state_out[i, c], codes[1, c])
             n_prev, n_codes = min(n_prev + 1, 2), min(n_codes + 1, 2)
-            after_stuck = st[PATH] == STUCK
+            before_stuck, after_stuck = after_stuck, st[PATH] == STUCK
 
 
 _PATHS = {
