@@ -31,7 +31,8 @@ import numpy as np
 from numba import njit
 
 from ..model import Model
-from .condensation import Condensed, condense_sweep
+from . import dlft
+from .condensation import Condensed, condense_sweep, recover
 from .dense import lu_factor, lu_solve
 from .dlft import (
     FRICTION,
@@ -750,17 +751,43 @@ def solve(
         status,
         reals,
     )
+    marches, dofs = _fields(model, first, omegas, lam, X, state, status[:, PATH] == FALLBACK)
     out: list[PeriodicSolution | Problem] = []
-    for omega, st, (res, load), Zi, Fi, xi, Ri, li, Xi, si, ei in zip(
-        omegas.tolist(), status.tolist(), reals.tolist(), Zs, Fs, x, R, lam, X, state, eps_all, strict=True
-    ):
+    for omega, st, (res, load), Zi, Fi, xi, Ri, li, Xi, si, ei, march, dof in zip(
+        omegas.tolist(), status.tolist(), reals.tolist(), Zs, Fs, x, R, lam, X, state, eps_all, marches, dofs,
+        strict=True,
+    ):  # fmt: skip
         path, ok, its, code, budget, pieces = st
         if path == FALLBACK:
             out.append(Problem(model, omega, eps=eps, condensed=Condensed(Zi, Fi), **settings))
             continue
         problem = first.at_frequency(omega, Zi, Fi, ei, (xi, Ri, li, Xi, si))
         message = "" if ok else _message(code, budget, pieces, load)
-        out.append(
-            PeriodicSolution.build(problem, xi, NewtonResult(xi, ok == 1, its, res, message), _PATHS[path])
-        )
+        result = NewtonResult(xi, ok == 1, its, res, message)
+        out.append(PeriodicSolution.build(problem, xi, result, _PATHS[path], march, dof))
     return out
+
+
+def _fields(model: Model, first: Problem, omegas, lam, X, state, fallback):
+    """Per frequency, the full-period march of every contact and the DOF harmonics, all at once.
+
+    What :class:`PeriodicSolution` would compute point by point (its ``_march``
+    and ``dof_harmonics``, eq. 10-11), batched over the frequencies of a
+    sweep; rows of ``fallback`` frequencies are left to their own solve.
+    """
+    b = first.basis
+    lam, X, state = lam.copy(), X.copy(), state.copy()
+    lam[fallback], X[fallback], state[fallback] = 0.0, 0.0, dlft.STICK  # no garbage into the recovery
+    lam_h = b.to_full(lam @ b.analysis.T)  # (nw, nc, 2 Nh + 1)
+    if b.half_wave:
+        lam, X, state = (
+            np.concatenate([lam, -lam], -1),
+            np.concatenate([X, -X], -1),
+            np.concatenate([state, state], -1),
+        )
+    nw, n_all = len(omegas), len(model.contacts)
+    force, slip = np.zeros((nw, n_all, b.samples)), np.zeros((nw, n_all, b.samples))
+    states = np.full((nw, n_all, b.samples), dlft.OPEN, dtype=np.int8)
+    force[:, first.active_index], slip[:, first.active_index], states[:, first.active_index] = lam, X, state
+    dofs = recover(model, first.B, omegas, b.harmonics, lam_h, first.force_scale)
+    return list(zip(force, slip, states, lam_h, strict=True)), dofs

@@ -185,7 +185,7 @@ def condense(model: Model, B: np.ndarray, omega, basis: HarmonicBasis, derivativ
 
 
 def recover(
-    model: Model, B: np.ndarray, omega: float, harmonics: int, contact_force: np.ndarray, scale: float = 1.0
+    model: Model, B: np.ndarray, omega, harmonics: int, contact_force: np.ndarray, scale: float = 1.0
 ) -> np.ndarray:
     """Full harmonics of every DOF from the contact-force harmonics.
 
@@ -193,23 +193,27 @@ def recover(
 
     Parameters
     ----------
-    contact_force : ndarray, shape (nc, 2 Nh + 1)
+    omega : float or ndarray, shape (nw,)
+        Excitation frequency (rad/s); an array recovers every frequency at once.
+    contact_force : ndarray, shape (nc, 2 Nh + 1), or (nw, nc, 2 Nh + 1) with an array ``omega``
         Full coefficients of the active contact forces (N).
 
     Returns
     -------
-    ndarray, shape (n, 2 Nh + 1)
+    ndarray, shape (n, 2 Nh + 1), or (nw, n, 2 Nh + 1)
         Full coefficients of the DOF displacements (m).
     """
     orders = np.arange(harmonics + 1)
-    D = dynamic_stiffness(model, omega, orders)
-    lam = np.concatenate([contact_force[:, :1], contact_force[:, 1::2] - 1j * contact_force[:, 2::2]], axis=1)
-    rhs = forcing(model, orders, scale) - (B.T @ lam).T  # (n_orders, n)
-    U = _solve(D, rhs[:, :, None], omega)[..., 0]  # (n_orders, n)
-    out = np.empty((model.n_dofs, 2 * harmonics + 1))
-    out[:, 0] = U[0].real
-    out[:, 1::2] = U[1:].real.T
-    out[:, 2::2] = -U[1:].imag.T
+    omega = np.asarray(omega, dtype=float)
+    D = dynamic_stiffness(model, omega[..., None], orders)  # (..., n_orders, n, n)
+    cf = contact_force
+    lam = np.concatenate([cf[..., :1], cf[..., 1::2] - 1j * cf[..., 2::2]], axis=-1)  # (..., nc, n_orders)
+    rhs = forcing(model, orders, scale) - np.swapaxes(B.T @ lam, -1, -2)  # (..., n_orders, n)
+    U = _solve(D, rhs[..., None], omega)[..., 0]  # (..., n_orders, n)
+    out = np.empty(omega.shape + (model.n_dofs, 2 * harmonics + 1))
+    out[..., 0] = U[..., 0, :].real
+    out[..., 1::2] = np.swapaxes(U[..., 1:, :].real, -1, -2)
+    out[..., 2::2] = -np.swapaxes(U[..., 1:, :].imag, -1, -2)
     return out
 
 

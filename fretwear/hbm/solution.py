@@ -72,10 +72,23 @@ class PeriodicSolution:
     problem: Problem = field(repr=False, compare=False)
 
     @classmethod
-    def build(cls, problem: Problem, x: np.ndarray | None, res: NewtonResult, path: str) -> PeriodicSolution:
-        """The solution of ``problem`` at unknowns ``x``; time histories are computed on first access."""
+    def build(
+        cls,
+        problem: Problem,
+        x: np.ndarray | None,
+        res: NewtonResult,
+        path: str,
+        march: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None,
+        dof_harmonics: np.ndarray | None = None,
+    ) -> PeriodicSolution:
+        """The solution of ``problem`` at unknowns ``x``; time histories are computed on first access.
+
+        ``march`` (contact force, slip variable, state over the full period and
+        the force harmonics, as ``_march`` computes them) and ``dof_harmonics``,
+        when a sweep has computed them for all its frequencies at once.
+        """
         basis = problem.basis
-        return cls(
+        sol = cls(
             model=problem.model,
             omega=problem.omega,
             harmonics=basis.harmonics,
@@ -91,6 +104,11 @@ class PeriodicSolution:
             unknowns=np.zeros(0) if x is None else x,
             problem=problem,
         )
+        if march is not None:
+            sol.__dict__["_march"] = march  # the cached properties, already known
+        if dof_harmonics is not None:
+            sol.__dict__["dof_harmonics"] = dof_harmonics
+        return sol
 
     @cached_property
     def _march(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -126,9 +144,13 @@ class PeriodicSolution:
         return self.dof_harmonics @ full_synthesis(self.harmonics, self.samples).T
 
     @cached_property
+    def _relative_map(self) -> np.ndarray:
+        return self.model.relative_map()
+
+    @cached_property
     def relative_displacement(self) -> np.ndarray:
         """``u_r = B u`` of every contact of the model, friction first (m), shape (n_contacts, N)."""
-        return self.model.relative_map() @ self.displacement
+        return self._relative_map @ self.displacement
 
     @property
     def contact_force(self) -> np.ndarray:
@@ -147,8 +169,10 @@ class PeriodicSolution:
         For a contact left out of the solve (open), the relative displacement.
         """
         slip = self._march[1].copy()
-        inactive = np.setdiff1d(np.arange(len(self.model.contacts)), self.problem.active_index)
-        slip[inactive] = self.relative_displacement[inactive]
+        active = set(self.problem.active_index)
+        inactive = [i for i in range(len(self.model.contacts)) if i not in active]
+        if inactive:
+            slip[inactive] = self.relative_displacement[inactive]
         return slip
 
     @property
@@ -176,7 +200,7 @@ class PeriodicSolution:
     @property
     def relative_harmonics(self) -> np.ndarray:
         """Coefficients of every contact's relative displacement (m), shape (n_contacts, 2 Nh + 1)."""
-        return self.model.relative_map() @ self.dof_harmonics
+        return self._relative_map @ self.dof_harmonics
 
     @property
     def relative_amplitude(self) -> np.ndarray:
@@ -244,7 +268,7 @@ class PeriodicSolution:
         balance ``input_work = viscous_dissipation + contact_work`` exactly at
         convergence, and tends to ``friction_energy`` as ``Nh`` grows.
         """
-        v_rel = self.model.relative_map() @ self._velocity
+        v_rel = self._relative_map @ self._velocity
         return self._period_integral(np.sum(self.contact_force * v_rel, axis=0))
 
     @property
