@@ -18,7 +18,10 @@ Python between frequencies. Two things make it fast:
   prescribed, an affine problem (:func:`_pattern_start`). When the runs move
   smoothly, this lands within a few samples of the solution's pattern,
   where Newton takes one or two steps; the walk, whose pieces are the samples
-  that change state on the way, starts from the better of the two.
+  that change state on the way, starts from the better of the two. Where slip
+  sets in (the last point stuck) the exact load path from the stuck solution
+  (:func:`fretwear.hbm.periodic.load_homotopy`) crosses only the samples that
+  start to slip, and the next secant does not go through the stuck point.
 
 Every solve ends with at least one full Newton step (``min_steps`` of
 :func:`_newton`): on the piece where a walk arrives that step is exact, so
@@ -68,9 +71,11 @@ BLOCK_SUMS_SIZE = 4_000_000
 
 @njit(cache=True, nogil=True)
 def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
-    """Newton's method with each step cut at its ``K``-th change of the stick/slip pattern.
+    """Newton's method: the full step if it lowers the residual, else cut at its ``K``-th change of pattern.
 
-    The residual is piecewise linear: along the Newton direction ``d`` it is
+    Newton's own full step is tried first and kept whenever it lowers the
+    residual (exact once the stick/slip pattern is right). Otherwise: the
+    residual is piecewise linear; along the Newton direction ``d`` it is
     exactly ``(1 - tau) R`` up to the first sample that changes state, and a
     step cut there (``K = 1``) is the global Newton homotopy restarted at each
     piece (:func:`_walk`), sure to lower the residual. Past a few such changes
