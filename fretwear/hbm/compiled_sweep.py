@@ -30,6 +30,8 @@ that the answer does not depend on the path taken to it (to round-off).
 
 from __future__ import annotations
 
+from functools import cached_property, partial
+
 import numpy as np
 from numba import njit
 
@@ -756,12 +758,11 @@ def solve(
         status,
         reals,
     )
-    marches, dofs = _fields(model, first, omegas, lam, X, state, status[:, PATH] == FALLBACK)
+    batch = _Fields(model, first, omegas, lam, X, state, status[:, PATH] == FALLBACK)
     out: list[PeriodicSolution | Problem] = []
-    for omega, st, (res, load), Zi, Fi, xi, Ri, li, Xi, si, ei, march, dof in zip(
-        omegas.tolist(), status.tolist(), reals.tolist(), Zs, Fs, x, R, lam, X, state, eps_all, marches, dofs,
-        strict=True,
-    ):  # fmt: skip
+    for i, (omega, st, (res, load), Zi, Fi, xi, Ri, li, Xi, si, ei) in enumerate(zip(
+        omegas.tolist(), status.tolist(), reals.tolist(), Zs, Fs, x, R, lam, X, state, eps_all, strict=True,
+    )):  # fmt: skip
         path, ok, its, code, budget, pieces = st
         if path == FALLBACK:
             out.append(Problem(model, omega, eps=eps, condensed=Condensed(Zi, Fi), **settings))
@@ -769,17 +770,34 @@ def solve(
         problem = first.at_frequency(omega, Zi, Fi, ei, (xi, Ri, li, Xi, si))
         message = "" if ok else _message(code, budget, pieces, load)
         result = NewtonResult(xi, ok == 1, its, res, message)
-        out.append(PeriodicSolution.build(problem, xi, result, _PATHS[path], march, dof))
+        out.append(PeriodicSolution.build(problem, xi, result, _PATHS[path], partial(batch.of, i)))
     return out
 
 
-def _fields(model: Model, first: Problem, omegas, lam, X, state, fallback):
+class _Fields:
     """Per frequency, the full-period march of every contact and the DOF harmonics, all at once.
 
-    What :class:`PeriodicSolution` would compute point by point (its ``_march``
-    and ``dof_harmonics``, eq. 10-11), batched over the frequencies of a
-    sweep; rows of ``fallback`` frequencies are left to their own solve.
+    What :class:`PeriodicSolution` would compute point by point (the march and
+    ``dof_harmonics``, eq. 10-11), batched over the frequencies of a sweep, on
+    the first request of any of them; rows of ``fallback`` frequencies are
+    left to their own solve.
     """
+
+    def __init__(self, model: Model, first: Problem, omegas, lam, X, state, fallback) -> None:
+        self.args = (model, first, omegas, lam, X, state, fallback)
+
+    @cached_property
+    def arrays(self) -> tuple[list[tuple], np.ndarray]:
+        return _fields(*self.args)
+
+    def of(self, i: int) -> tuple[tuple, np.ndarray]:
+        """The march and the DOF harmonics (m) at frequency ``i``."""
+        marches, dofs = self.arrays
+        return marches[i], dofs[i]
+
+
+def _fields(model: Model, first: Problem, omegas, lam, X, state, fallback):
+    """The arrays of :class:`_Fields`: a list of marches, the DOF harmonics (nw, n, 2 Nh + 1)."""
     b = first.basis
     lam, X, state = lam.copy(), X.copy(), state.copy()
     lam[fallback], X[fallback], state[fallback] = 0.0, 0.0, dlft.STICK  # no garbage into the recovery

@@ -7,6 +7,7 @@ Time histories are sampled on the DLFT grid of one full period
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -70,6 +71,7 @@ class PeriodicSolution:
     normal_loads: np.ndarray
     unknowns: np.ndarray
     problem: Problem = field(repr=False, compare=False)
+    _fields = None  # not a field: the batch provider of ``build``, if any
 
     @classmethod
     def build(
@@ -78,14 +80,14 @@ class PeriodicSolution:
         x: np.ndarray | None,
         res: NewtonResult,
         path: str,
-        march: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None,
-        dof_harmonics: np.ndarray | None = None,
+        fields: Callable[[], tuple[tuple, np.ndarray]] | None = None,
     ) -> PeriodicSolution:
         """The solution of ``problem`` at unknowns ``x``; time histories are computed on first access.
 
-        ``march`` (contact force, slip variable, state over the full period and
-        the force harmonics, as ``_march`` computes them) and ``dof_harmonics``,
-        when a sweep has computed them for all its frequencies at once.
+        ``fields``: a function that returns the march (contact force, slip
+        variable, state over the full period and the force harmonics) and the
+        DOF harmonics, when a sweep computes them for all its frequencies at
+        once (on the first request of any of them).
         """
         basis = problem.basis
         sol = cls(
@@ -104,15 +106,14 @@ class PeriodicSolution:
             unknowns=np.zeros(0) if x is None else x,
             problem=problem,
         )
-        if march is not None:
-            sol.__dict__["_march"] = march  # the cached properties, already known
-        if dof_harmonics is not None:
-            sol.__dict__["dof_harmonics"] = dof_harmonics
+        sol._fields = fields
         return sol
 
     @cached_property
     def _march(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Contact force, slip variable, state over the full period, and the force harmonics."""
+        if self._fields is not None:
+            return self._fields()[0]
         problem, basis = self.problem, self.problem.basis
         n_all, N = len(self.model.contacts), self.samples
         force = np.zeros((n_all, N))
@@ -130,6 +131,8 @@ class PeriodicSolution:
     @cached_property
     def dof_harmonics(self) -> np.ndarray:
         """Coefficients ``[a0, a1, b1, ...]`` of every DOF (m), shape (n, 2 Nh + 1), eq. 10."""
+        if self._fields is not None:
+            return self._fields()[1]
         p = self.problem
         return recover(self.model, p.B, self.omega, self.harmonics, self._march[3], p.force_scale)
 
