@@ -55,6 +55,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import compile as compiled
 from .hbm.continuation import continuation, sweep
 from .hbm.linear import linear_frf
 from .hbm.periodic import solve_periodic
@@ -641,6 +642,20 @@ def _figures(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _compile_notice(args: argparse.Namespace) -> None:
+    """One line on stderr when the compiled kernels the command needs are not in the cache yet."""
+    if getattr(args, "method", None) == "shooting":
+        return
+    if args.command in ("frf", "point") and not getattr(args, "continuation", False):
+        message = compiled.notice("sweep")
+    elif args.command in ("frf", "wear", "map"):
+        message = compiled.notice("solver")
+    else:
+        return
+    if message:
+        print(f"fretwear {args.command}: {message}", file=sys.stderr, flush=True)
+
+
 _COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map, "cost": _cost}
 
 
@@ -670,6 +685,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == "interface":
             return interface_command.run(args)
         model, names = _model(args)
+        _compile_notice(args)
         return _COMMANDS[args.command](args, model, names)
     except (UsageError, ValueError) as exc:
         message = " ".join(str(exc).split())

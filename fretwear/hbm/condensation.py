@@ -18,13 +18,27 @@ All reduced arrays use the *contact-major* layout: entry ``c * H + j`` is slot
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
+from numba import njit
 
 from ..model import Model
+from .dense import lu_factor, lu_solve
 from .harmonics import HarmonicBasis
 
-__all__ = ["Condensed", "condense", "dynamic_stiffness", "forcing", "recover"]
+__all__ = [
+    "Condensed",
+    "condense",
+    "condense_sweep",
+    "condense_loop",
+    "dynamic_stiffness",
+    "forcing",
+    "recover",
+]
+
+#: largest number of DOFs condensed by the compiled loop of :func:`condense_sweep` (LAPACK above)
+COMPILED_DOFS = 24
 
 
 def dynamic_stiffness(model: Model, omega, orders: np.ndarray) -> np.ndarray:
@@ -63,6 +77,7 @@ def _solve(D: np.ndarray, rhs: np.ndarray, omega) -> np.ndarray:
         ) from None
 
 
+@lru_cache(maxsize=64)
 def _slots(basis: HarmonicBasis) -> tuple[np.ndarray, np.ndarray]:
     """Cos and sin slot of each distinct order (sin slot -1 for the mean)."""
     orders = _distinct_orders(basis)
@@ -70,6 +85,8 @@ def _slots(basis: HarmonicBasis) -> tuple[np.ndarray, np.ndarray]:
     sin = np.array(
         [(np.flatnonzero((basis.orders == k) & basis.is_sine).tolist() or [-1])[0] for k in orders]
     )
+    cos.setflags(write=False)
+    sin.setflags(write=False)
     return cos, sin
 
 
@@ -168,7 +185,7 @@ def condense(model: Model, B: np.ndarray, omega, basis: HarmonicBasis, derivativ
 
 
 def recover(
-    model: Model, B: np.ndarray, omega: float, harmonics: int, contact_force: np.ndarray, scale: float = 1.0
+    model: Model, B: np.ndarray, omega, harmonics: int, contact_force: np.ndarray, scale: float = 1.0
 ) -> np.ndarray:
     """Full harmonics of every DOF from the contact-force harmonics.
 
@@ -176,21 +193,117 @@ def recover(
 
     Parameters
     ----------
-    contact_force : ndarray, shape (nc, 2 Nh + 1)
+    omega : float or ndarray, shape (nw,)
+        Excitation frequency (rad/s); an array recovers every frequency at once.
+    contact_force : ndarray, shape (nc, 2 Nh + 1), or (nw, nc, 2 Nh + 1) with an array ``omega``
         Full coefficients of the active contact forces (N).
 
     Returns
     -------
-    ndarray, shape (n, 2 Nh + 1)
+    ndarray, shape (n, 2 Nh + 1), or (nw, n, 2 Nh + 1)
         Full coefficients of the DOF displacements (m).
     """
     orders = np.arange(harmonics + 1)
-    D = dynamic_stiffness(model, omega, orders)
-    lam = np.concatenate([contact_force[:, :1], contact_force[:, 1::2] - 1j * contact_force[:, 2::2]], axis=1)
-    rhs = forcing(model, orders, scale) - (B.T @ lam).T  # (n_orders, n)
-    U = _solve(D, rhs[:, :, None], omega)[..., 0]  # (n_orders, n)
-    out = np.empty((model.n_dofs, 2 * harmonics + 1))
-    out[:, 0] = U[0].real
-    out[:, 1::2] = U[1:].real.T
-    out[:, 2::2] = -U[1:].imag.T
+    omega = np.asarray(omega, dtype=float)
+    D = dynamic_stiffness(model, omega[..., None], orders)  # (..., n_orders, n, n)
+    cf = contact_force
+    lam = np.concatenate([cf[..., :1], cf[..., 1::2] - 1j * cf[..., 2::2]], axis=-1)  # (..., nc, n_orders)
+    rhs = forcing(model, orders, scale) - np.swapaxes(B.T @ lam, -1, -2)  # (..., n_orders, n)
+    U = _solve(D, rhs[..., None], omega)[..., 0]  # (..., n_orders, n)
+    out = np.empty(omega.shape + (model.n_dofs, 2 * harmonics + 1))
+    out[..., 0] = U[..., 0, :].real
+    out[..., 1::2] = np.swapaxes(U[..., 1:, :].real, -1, -2)
+    out[..., 2::2] = -np.swapaxes(U[..., 1:, :].imag, -1, -2)
     return out
+
+
+@njit(cache=True, nogil=True)
+def condense_loop(
+    K, M, C, force_static, force_cos, force_sin, B, omegas, orders, cos_slot, sin_slot, H, Z, F
+):
+    """:func:`condense` at every frequency in one compiled loop, in real arithmetic.
+
+    A complex system ``(X + iY)(y + iz) = c + id`` is solved as the real
+    ``[[X, -Y], [Y, X]] [y; z] = [c; d]``. Returns the index of a frequency
+    where some ``D_k`` or ``G_k`` is singular, or -1.
+    """
+    n, nc = K.shape[0], B.shape[0]
+    D, piv = np.empty((2 * n, 2 * n)), np.empty(2 * n, dtype=np.int64)
+    sol = np.empty((nc + 1, 2 * n))  # D^-1 [B^T, F_k], by columns
+    G, gpiv = np.empty((2 * nc, 2 * nc)), np.empty(2 * nc, dtype=np.int64)
+    col = np.empty(2 * nc)
+    for i in range(omegas.shape[0]):
+        Z[i] = 0.0
+        F[i] = 0.0
+        for o in range(orders.shape[0]):
+            k, w = orders[o], orders[o] * omegas[i]
+            for r in range(n):
+                for c in range(n):
+                    re, im = K[r, c] - w * w * M[r, c], w * C[r, c]
+                    D[r, c], D[r, n + c], D[n + r, c], D[n + r, n + c] = re, -im, im, re
+                for c in range(nc):
+                    sol[c, r], sol[c, n + r] = B[c, r], 0.0
+                re, im = (
+                    (force_static[r], 0.0)
+                    if k == 0
+                    else ((force_cos[r], -force_sin[r]) if k == 1 else (0.0, 0.0))
+                )
+                sol[nc, r], sol[nc, n + r] = re, im
+            if lu_factor(D, piv) == 0:
+                return i
+            for c in range(nc + 1):
+                lu_solve(D, piv, sol[c])
+            for a in range(nc):  # G = B D^-1 B^T, the receptance (complex, as a real block matrix)
+                for c in range(nc):
+                    re, im = 0.0, 0.0
+                    for r in range(n):
+                        re += B[a, r] * sol[c, r]
+                        im += B[a, r] * sol[c, n + r]
+                    G[a, c], G[a, nc + c], G[nc + a, c], G[nc + a, nc + c] = re, -im, im, re
+            if lu_factor(G, gpiv) == 0:
+                return i
+            cs, ss = cos_slot[o], sin_slot[o]
+            for c in range(nc + 1):  # Z_k = G^-1 by columns, then F_r = G^-1 (B D^-1 F_k)
+                for a in range(nc):
+                    if c < nc:
+                        col[a], col[nc + a] = (1.0 if a == c else 0.0), 0.0
+                    else:
+                        col[a], col[nc + a] = 0.0, 0.0
+                        for r in range(n):
+                            col[a] += B[a, r] * sol[nc, r]
+                            col[nc + a] += B[a, r] * sol[nc, n + r]
+                lu_solve(G, gpiv, col)
+                for a in range(nc):  # X + iY acts on (a, b) as [[X, Y], [-Y, X]]; the mean slot takes X
+                    if c == nc:
+                        F[i, a * H + cs] = col[a]
+                        if ss >= 0:
+                            F[i, a * H + ss] = -col[nc + a]
+                        continue
+                    X, Y = col[a], col[nc + a]
+                    Z[i, a * H + cs, c * H + cs] = X
+                    if ss >= 0:
+                        Z[i, a * H + ss, c * H + ss] = X
+                        Z[i, a * H + cs, c * H + ss] = Y
+                        Z[i, a * H + ss, c * H + cs] = -Y
+    return -1
+
+
+def condense_sweep(model: Model, B: np.ndarray, omegas: np.ndarray, basis: HarmonicBasis) -> Condensed:
+    """:func:`condense` at every frequency of ``omegas`` (rad/s), arrays with a leading frequency axis.
+
+    Models of at most ``COMPILED_DOFS`` DOFs are condensed in one compiled loop
+    (no array of per-order matrices); larger ones by :func:`condense`.
+    """
+    if model.n_dofs > COMPILED_DOFS:
+        return condense(model, B, omegas, basis)
+    nc, H = B.shape[0], basis.size
+    cos, sin = _slots(basis)
+    Z, F = np.empty((len(omegas), nc * H, nc * H)), np.empty((len(omegas), nc * H))
+    failed = condense_loop(
+        model.K, model.M, model.C, model.force_static, model.force_cos, model.force_sin,
+        np.ascontiguousarray(B, dtype=float), np.ascontiguousarray(omegas, dtype=float),
+        _distinct_orders(basis).astype(float), cos, sin, H, Z, F,
+    )  # fmt: skip
+    if failed >= 0:
+        return condense(model, B, omegas, basis)  # raises with the frequency named, as a single solve would
+    return Condensed(Z, F)

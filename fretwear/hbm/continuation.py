@@ -19,13 +19,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Model
-from . import dlft
+from . import compiled_sweep, dlft
 from .arclength import Evaluate, track
 from .condensation import Condensed, condense
 from .periodic import NewtonResult, Problem, newton_homotopy, solve_problem
 from .solution import PeriodicSolution
 
-__all__ = ["Sweep", "sweep", "Branch", "continuation"]
+__all__ = ["Sweep", "sweep", "sweep_point_by_point", "Branch", "continuation"]
 
 # -- frequency ------------------------------------------------------------------
 
@@ -72,6 +72,13 @@ class Sweep:
         return np.array([s.converged for s in self.solutions])
 
 
+def _check_omegas(omegas) -> np.ndarray:
+    omegas = np.array(omegas, dtype=float)  # a copy: contiguous and writable, as the compiled sweep takes it
+    if omegas.ndim != 1 or omegas.size == 0 or np.any(~np.isfinite(omegas)) or np.any(omegas <= 0):
+        raise ValueError("omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s")
+    return omegas
+
+
 def sweep(
     model: Model,
     omegas,
@@ -92,29 +99,56 @@ def sweep(
     A point that still fails is reported (``converged=False``) and the sweep
     goes on from the last good point. Points whose stuck solution is exact take
     no nonlinear solve.
+
+    The whole sweep (condensation at every frequency, predictions, Newton,
+    homotopies) runs in one compiled call (:mod:`fretwear.hbm.compiled_sweep`);
+    :func:`sweep_point_by_point` solves point by point in Python, with the
+    same answers (to round-off).
     """
-    omegas = np.asarray(omegas, dtype=float)
-    if omegas.ndim != 1 or omegas.size == 0 or np.any(~np.isfinite(omegas)) or np.any(omegas <= 0):
-        raise ValueError("omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s")
+    omegas = _check_omegas(omegas)
+    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    out = compiled_sweep.solve(model, omegas, settings, eps, tol, max_iter)
+    return Sweep(
+        [s if isinstance(s, PeriodicSolution) else solve_problem(s, None, tol, max_iter) for s in out]
+    )
+
+
+def sweep_point_by_point(
+    model: Model,
+    omegas,
+    harmonics: int = 7,
+    *,
+    samples: int | None = None,
+    wear=None,
+    half_wave: bool | None = None,
+    eps=None,
+    tol: float = 1e-10,
+    max_iter: int = 50,
+) -> Sweep:
+    """:func:`sweep` point by point: each frequency through :func:`~fretwear.hbm.periodic.solve_problem`.
+
+    The reference the compiled sweep is checked and timed against; same
+    parameters and results, several times slower.
+    """
+    omegas = _check_omegas(omegas)
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
     out: list[PeriodicSolution] = []
-    previous: dict[tuple, list[tuple[float, np.ndarray]]] = {}  # converged points per active set
-    first = Problem(model, omegas[0], eps=eps, **settings)  # the active set does not depend on omega
+    previous: list[tuple[float, np.ndarray]] = []  # converged points (one active set: wear is fixed)
+    first = Problem(model, omegas[0], eps=eps, **settings)
     batch = condense(model, first.B, omegas, first.basis) if first.n_active else None
     for i, omega in enumerate(omegas):
         cond = Condensed(batch.Z[i], batch.F[i]) if batch is not None else None
         problem = Problem(model, omega, eps=eps, condensed=cond, **settings)
-        prev = previous.setdefault(tuple(problem.active_index), [])[-2:]
         guess = None
-        if len(prev) == 2:  # secant predictor
-            (w0, x0), (w1, x1) = prev
+        if len(previous) >= 2:  # secant predictor
+            (w0, x0), (w1, x1) = previous[-2:]
             guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
-        elif prev:
-            guess = prev[-1][1]
+        elif previous:
+            guess = previous[-1][1]
         sol = solve_problem(problem, guess, tol, max_iter)
         out.append(sol)
         if sol.converged and problem.n_active:
-            previous[tuple(problem.active_index)].append((omega, sol.unknowns))
+            previous.append((omega, sol.unknowns))
     return Sweep(out)
 
 

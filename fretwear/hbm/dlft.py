@@ -38,7 +38,11 @@ from numba import njit
 
 from ..model.structure import OPEN, SLIP, STICK
 
-__all__ = ["FRICTION", "UNILATERAL", "STICK", "SLIP", "OPEN", "evaluate", "jacobian_from_blocks"]
+__all__ = [
+    "FRICTION", "UNILATERAL", "STICK", "SLIP", "OPEN", "evaluate", "jacobian_from_blocks", "augmented_march",
+    "augmented_residual", "augmented_jacobian", "augmented_boundary", "block_sums", "state_code",
+    "forced_march",
+]  # fmt: skip
 
 FRICTION, UNILATERAL = 0, 1  # contact kinds
 
@@ -248,6 +252,269 @@ def jacobian_from_blocks(Z, eps, A, J):
                 J[r0 + i, j] = Z[r0 + i, j] - AZ[i, j]
             for j in range(H):
                 J[r0 + i, r0 + j] += eps[c] * A[c, i, j]
+
+
+@njit(cache=True, nogil=True)
+def _synthesise(v, PhiT, U):
+    """Samples ``U[c] = Phi v_c`` of every contact from the transposed iDFT ``PhiT`` (H, Ns)."""
+    H, Ns = PhiT.shape
+    for c in range(U.shape[0]):
+        u = U[c]
+        u[:] = 0.0
+        for j in range(H):
+            vj = v[c * H + j]
+            for s in range(Ns):
+                u[s] += vj * PhiT[j, s]
+
+
+@njit(cache=True, nogil=True)
+def augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, sgn, hilo, U):
+    """The march of :func:`evaluate` from the augmented Lagrangian harmonics ``v`` (N) directly.
+
+    ``v = F_r + (E - Z_r) x`` with ``E = diag(eps)`` (eq. 18); ``PhiT`` is the
+    transposed iDFT (H, Ns). Fills ``lam``, ``X``, ``state`` (nc, Ns) as
+    :func:`evaluate` does, ``U`` (nc, Ns) with the samples of ``lambda_u``, and
+    for :func:`augmented_jacobian` the march's dependency rows ``dep`` (int64)
+    and signs ``sgn`` (nc, Ns) and the samples of largest and smallest
+    ``lambda_u``, ``hilo`` (nc, 2) int64.
+    """
+    nc = kinds.shape[0]
+    Ns = PhiT.shape[1]
+    _synthesise(v, PhiT, U)
+    for c in range(nc):
+        u = U[c]
+        hi_i, lo_i = 0, 0
+        for s in range(Ns):
+            if u[s] > u[hi_i]:
+                hi_i = s
+            if u[s] < u[lo_i]:
+                lo_i = s
+        hilo[c, 0], hilo[c, 1] = hi_i, lo_i
+        if kinds[c] == FRICTION:
+            _march_friction(u, limits[c], eps[c], half_wave, lam[c], X[c], state[c], dep[c], sgn[c])
+        else:
+            _march_unilateral(u, limits[c], eps[c], lam[c], X[c], state[c], dep[c])
+
+
+@njit(cache=True, nogil=True)
+def augmented_residual(
+    v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, R, lam, X, state, dep, sgn, hilo, U
+):
+    """DLFT residual of eq. 12 in the augmented variables ``v = F_r + (E - Z_r) x`` (eq. 18).
+
+    With ``W = E - Z_r`` invertible, ``x = W^-1 (v - F_r)`` and the residual
+    reads ``R = M (v - F_r) - F_r + Psi lambda(Phi v)`` with ``M = Z_r W^-1``:
+    the march takes ``v`` directly (:func:`augmented_march`), and the Jacobian
+    ``M + blockdiag(A_c)`` needs no product with ``Z_r`` (:func:`augmented_jacobian`).
+    Newton's method and the piecewise-linear walks are invariant under this
+    affine change of unknowns: they visit the same solutions as in ``x``.
+
+    Parameters
+    ----------
+    v : (nc H,) augmented Lagrangian harmonics (N), contact-major.
+    M : (nc H, nc H) ``Z_r (E - Z_r)^-1`` (-). F : (nc H,) reduced force (N).
+    eps, kinds, limits, half_wave : as in :func:`evaluate`.
+    PhiT, PsiT : the transposed iDFT (H, Ns) and DFT (Ns, H) matrices.
+    R : (nc H,) residual out (N); the other arrays as in :func:`augmented_march`.
+
+    Returns ``max |R|`` (N), ``inf`` if not finite.
+    """
+    nc = kinds.shape[0]
+    Ns, H = PsiT.shape
+    n = v.shape[0]
+    augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, sgn, hilo, U)
+    for i in range(n):
+        acc = -F[i]
+        for j in range(n):
+            acc += M[i, j] * (v[j] - F[j])
+        R[i] = acc
+    for c in range(nc):
+        Rc = R[c * H : (c + 1) * H]
+        for s in range(Ns):
+            ls = lam[c, s]
+            for j in range(H):
+                Rc[j] += ls * PsiT[s, j]
+    r = 0.0
+    for i in range(n):
+        if not abs(R[i]) < np.inf:
+            return np.inf
+        r = max(r, abs(R[i]))
+    return r
+
+
+@njit(cache=True, nogil=True)
+def block_sums(Phi, Psi, stride):
+    """Prefix sums ``P[m] = sum_{s < m stride} Psi[:, s] Phi[s, :]`` and ``Q[s] = sum_{s' < s} Psi[:, s']``.
+
+    With them a derivative block costs O(H^2) per run of samples instead of
+    per sample (:func:`augmented_jacobian`); a ``stride`` above 1 keeps every
+    ``stride``-th sum only (less memory, up to ``stride - 1`` terms per run end).
+    """
+    Ns, H = Phi.shape
+    P = np.zeros(((Ns + stride - 1) // stride + 1, H, H))
+    Q = np.zeros((Ns + 1, H))
+    acc = np.zeros((H, H))
+    for s in range(Ns):
+        for i in range(H):
+            Q[s + 1, i] = Q[s, i] + Psi[i, s]
+            ps = Psi[i, s]
+            for j in range(H):
+                acc[i, j] += ps * Phi[s, j]
+        if (s + 1) % stride == 0 or s == Ns - 1:
+            m = (s + stride) // stride
+            for i in range(H):
+                for j in range(H):
+                    P[m, i, j] = acc[i, j]
+    return P, Q
+
+
+@njit(cache=True, nogil=True)
+def _add_range(P, stride, Phi, Psi, a, b, A):
+    """``A += sum_{a <= s < b} Psi[:, s] Phi[s, :]`` from the strided prefix sums of :func:`block_sums`."""
+    H = Phi.shape[1]
+    ma, mb = a // stride, b // stride
+    for i in range(H):
+        for j in range(H):
+            A[i, j] += P[mb, i, j] - P[ma, i, j]
+    for s in range(mb * stride, b):
+        for i in range(H):
+            ps = Psi[i, s]
+            for j in range(H):
+                A[i, j] += ps * Phi[s, j]
+    for s in range(ma * stride, a):
+        for i in range(H):
+            ps = Psi[i, s]
+            for j in range(H):
+                A[i, j] -= ps * Phi[s, j]
+
+
+@njit(cache=True, nogil=True)
+def augmented_jacobian(M, dep, sgn, hilo, Phi, Psi, P, Q, stride, A, J):
+    """Exact Jacobian ``dR/dv = M + blockdiag(A_c)`` of :func:`augmented_residual` at its last march.
+
+    ``A_c = Psi (d lambda / d lambda_u) Phi`` from the rows of the march
+    (``dep``, ``sgn``, see :func:`evaluate`), one run of samples at a time with
+    the prefix sums ``P, Q`` of :func:`block_sums` (every ``stride``-th). ``A`` (H, H) is a work
+    array; ``J`` (nc H, nc H) is filled.
+    """
+    nc, Ns = dep.shape
+    H = Phi.shape[1]
+    for i in range(M.shape[0]):
+        for j in range(M.shape[1]):
+            J[i, j] = M[i, j]
+    w = np.empty(H)
+    for c in range(nc):
+        d_c, sg_c = dep[c], sgn[c]
+        A[:, :] = 0.0
+        s = np.int64(0)  # not a literal 0: that would compile _add_range twice
+        while s < Ns:  # rows with an e_s term (stick, closed, full stick), by runs
+            if d_c[s] == -1:
+                s += 1
+                continue
+            a = s
+            while s < Ns and d_c[s] != -1:
+                s += 1
+            _add_range(P, stride, Phi, Psi, a, s, A)
+        s = 0
+        while s < Ns:  # coupling of each stick run to its last slip sample
+            d = d_c[s]
+            if d < 0:
+                s += 1
+                continue
+            a, sg = s, sg_c[s]
+            while s < Ns and d_c[s] == d and sg_c[s] == sg:
+                s += 1
+            for i in range(H):
+                w[i] = sg * (Q[s, i] - Q[a, i])
+            for i in range(H):
+                for j in range(H):
+                    A[i, j] -= w[i] * Phi[d, j]
+        d0 = d_c[0]
+        if d0 == -2 or d0 == -5:  # centred full stick: rows e_s - (the centre's row)
+            for j in range(H):
+                if d0 == -2:  # the mean
+                    w[j] = 0.0
+                    for s in range(Ns):
+                        w[j] += Phi[s, j]
+                    w[j] /= Ns
+                else:  # mid-range
+                    w[j] = 0.5 * (Phi[hilo[c, 0], j] + Phi[hilo[c, 1], j])
+            for i in range(H):
+                for j in range(H):
+                    A[i, j] -= Q[Ns, i] * w[j]
+        r0 = c * H
+        for i in range(H):
+            for j in range(H):
+                J[r0 + i, r0 + j] += A[i, j]
+
+
+@njit(cache=True, nogil=True)
+def augmented_boundary(U, dv, eps, kinds, limits, PhiT, half_wave, tau_max, dU, synthesise):
+    """:func:`boundary_distance` from the samples ``U`` (nc, Ns) of ``lambda_u`` and a direction ``dv``.
+
+    With ``synthesise``, ``dU`` (nc, Ns) is filled with the samples of the
+    direction; without, it holds them already (several boundaries along one line).
+    """
+    if synthesise:
+        _synthesise(dv, PhiT, dU)
+    tau = tau_max
+    for c in range(kinds.shape[0]):
+        u, du = U[c], dU[c]
+        if kinds[c] == FRICTION:
+            tau = _friction_boundary(u, du, limits[c], eps[c], half_wave, tau)
+        else:
+            for s in range(u.shape[0]):
+                tau = _crossing(u[s] - eps[c] * limits[c], du[s], 0.0, tau)
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def state_code(kind, lam, state, code):
+    """Signed state of every sample of one contact (int8): friction ``0`` stick, ``+-1`` slip in the
+    direction of the force; unilateral ``1`` closed, ``0`` open. The pattern :func:`forced_march` imposes."""
+    for s in range(lam.shape[0]):
+        if kind == FRICTION:
+            code[s] = 0 if state[s] != SLIP else (1 if lam[s] > 0 else -1)
+        else:
+            code[s] = 1 if state[s] == STICK else 0
+
+
+@njit(cache=True, nogil=True)
+def forced_march(u, code, kind, limit, eps, half_wave, lam, dep, sgn):
+    """The contact force of a prescribed pattern ``code`` (:func:`state_code`), affine in ``u``.
+
+    Friction: a slip sample carries ``code * limit``; a stick sample ``s``
+    follows its last slip sample ``m`` (backwards, across the antiperiodic
+    wrap for half waves): ``lambda_s = u_s - sgn (u_m - lambda_m)``, the
+    march's own formula, so that ``dep``/``sgn`` give the same derivative
+    blocks. Unilateral: closed ``u - eps g``, open zero. Returns False if a
+    friction pattern has no slip sample (full stick is not prescribed).
+    """
+    n = u.shape[0]
+    if kind != FRICTION:
+        for s in range(n):
+            if code[s]:
+                lam[s], dep[s] = u[s] - eps * limit, -4
+            else:
+                lam[s], dep[s] = 0.0, -1
+        return True
+    last = -1
+    for s in range(n - 1, -1, -1):
+        if code[s]:
+            last = s
+            break
+    if last < 0:
+        return False
+    last_sign = -1.0 if half_wave else 1.0  # the last slip sample seen from sample 0, across the wrap
+    for s in range(n):
+        if code[s]:
+            lam[s] = code[s] * limit
+            dep[s] = -1
+            last, last_sign = s, 1.0
+        else:
+            dep[s], sgn[s] = last, last_sign
+            lam[s] = u[s] - last_sign * (u[last] - code[last] * limit)
+    return True
 
 
 @njit(cache=True, nogil=True)

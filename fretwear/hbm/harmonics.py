@@ -170,24 +170,21 @@ def extrema(coeffs: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.nda
     """
     m, N = samples.shape
     k = np.arange(1, (coeffs.shape[1] - 1) // 2 + 1)
-    a, b = coeffs[:, 1::2], coeffs[:, 2::2]
-    rows = np.arange(m)
-
-    def value(theta):
-        c, s = np.cos(np.outer(theta, k)), np.sin(np.outer(theta, k))
-        return coeffs[:, 0] + np.sum(a * c + b * s, axis=1)
-
-    out = []
-    for idx in (np.argmax(samples, axis=1), np.argmin(samples, axis=1)):
-        theta = 2 * np.pi * idx / N
-        best = samples[rows, idx]
-        for _ in range(8):
-            c, s = np.cos(np.outer(theta, k)), np.sin(np.outer(theta, k))
-            d1 = np.sum(k * (b * c - a * s), axis=1)
-            d2 = -np.sum(k**2 * (a * c + b * s), axis=1)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                step = np.where(d2 != 0, d1 / d2, 0.0)
-            theta = theta - np.clip(step, -np.pi / N, np.pi / N)  # stay within the sample's cell
-        out.append(value(theta))
-        out[-1] = np.maximum(out[-1], best) if len(out) == 1 else np.minimum(out[-1], best)
-    return out[0], out[1]
+    c2 = np.concatenate([coeffs, coeffs])  # maxima then minima, refined together
+    a, b = c2[:, 1::2], c2[:, 2::2]
+    idx = np.concatenate([np.argmax(samples, axis=1), np.argmin(samples, axis=1)])
+    best = np.concatenate([samples, samples])[np.arange(2 * m), idx]
+    theta = 2 * np.pi * idx / N
+    for _ in range(8):
+        kt = np.outer(theta, k)
+        c, s = np.cos(kt), np.sin(kt)
+        d1 = np.sum(k * (b * c - a * s), axis=1)
+        d2 = -np.sum(k**2 * (a * c + b * s), axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.clip(np.where(d2 != 0, d1 / d2, 0.0), -np.pi / N, np.pi / N)  # stay within the cell
+        theta = theta - step
+        if np.all(np.abs(step) <= 1e-15 * np.pi):  # converged to round-off
+            break
+    kt = np.outer(theta, k)
+    value = c2[:, 0] + np.sum(a * np.cos(kt) + b * np.sin(kt), axis=1)
+    return np.maximum(value[:m], best[:m]), np.minimum(value[m:], best[m:])

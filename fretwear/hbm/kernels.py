@@ -11,16 +11,19 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .dense import lu_factor, lu_solve
 from .dlft import boundary_distance, evaluate, jacobian_from_blocks
 
 __all__ = ["newton_kernel", "walk_kernel"]
 
 LOAD, NEWTON = 0, 1  # walk modes: load factor, global Newton homotopy
+SINGULAR = 4  # code of newton_kernel: a singular Jacobian
 
 
 @njit(cache=True, nogil=True)
 def _residual(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, R, A, J, lam, X, state):
-    evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, True, R, A, lam, X, state)
+    # a run-time True: a literal would compile another version of evaluate
+    evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, np.bool_(True), R, A, lam, X, state)
     jacobian_from_blocks(Z, eps, A, J)
     return np.abs(R).max()
 
@@ -30,7 +33,8 @@ def newton_kernel(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, max
     """Non-monotone Newton with a damped fallback from the best iterate.
 
     Returns ``(x, converged, iterations, max|R|, code)`` with ``code`` 0 on
-    success, 1 non-finite step, 2 line search failed, 3 iteration budget.
+    success, 1 non-finite step, 2 line search failed, 3 iteration budget, and
+    ``(x0, False, 0, inf, SINGULAR)`` for a singular Jacobian.
     """
     n = x0.shape[0]
     nc = kinds.shape[0]
@@ -40,6 +44,7 @@ def newton_kernel(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, max
     J, Jt = np.empty((n, n)), np.empty((n, n))
     lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
     state = np.empty((nc, Ns), dtype=np.int8)
+    piv = np.empty(n, dtype=np.int64)
     x = x0.copy()
     r = _residual(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, R, A, J, lam, X, state)
     best_r, best_x = r, x.copy()
@@ -48,7 +53,10 @@ def newton_kernel(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, max
     while it < max_iter:
         if r <= target:
             return x, True, it, r, 0
-        dx = np.linalg.solve(J, -R)  # a singular J raises: the caller reports the failure
+        if lu_factor(J, piv) == 0:  # J is computed again before it is used again
+            return x0.copy(), False, 0, np.inf, SINGULAR
+        dx = -R
+        lu_solve(J, piv, dx)
         if not np.all(np.isfinite(dx)):
             if damped:
                 return x, False, it, r, 1
@@ -93,19 +101,24 @@ def newton_kernel(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, max
 
 
 @njit(cache=True, nogil=True)
-def _tangent(J, dR, row, orientation):
+def _tangent(J, dR, row, orientation, aug, piv):
+    """Unit tangent of ``[J dR]`` oriented as ``orientation`` (sign of ``det [J dR; t]``), and that sign.
+
+    ``sign(det [J dR; t]) = sign(det [J dR; row])`` for ``t`` solving
+    ``[J dR; row] t = e_n+1``, so one factorisation gives both; sign 0: singular.
+    """
     n = J.shape[0]
-    aug = np.empty((n + 1, n + 1))
     aug[:n, :n] = J
     aug[:n, n] = dR
     aug[n, :] = row
-    rhs = np.zeros(n + 1)
-    rhs[n] = 1.0
-    t = np.linalg.solve(aug, rhs)
+    t = np.zeros(n + 1)
+    t[n] = 1.0
+    sign = lu_factor(aug, piv)
+    if sign == 0:
+        return t, 0
+    lu_solve(aug, piv, t)
     t /= np.sqrt(np.sum(t * t))
-    aug[n, :] = t
-    sign = np.linalg.slogdet(aug)[0]
-    if orientation != 0.0 and sign != orientation:
+    if orientation != 0 and sign != orientation:
         t = -t
         sign = orientation
     return t, sign
@@ -144,9 +157,11 @@ def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, hal
     dR = np.empty(n)
     n_rec = rec_x.shape[0]
     k = 0
+    aug, piv = np.empty((n + 1, n + 1)), np.empty(n + 1, dtype=np.int64)
+    blocks, no_blocks = np.bool_(True), np.bool_(False)  # not literals: one version of evaluate
     for piece in range(1, max_pieces + 1):
         Fp = p * F if mode == LOAD else F
-        evaluate(x, Z, Fp, eps, kinds, limits, Phi, Psi, half_wave, True, R, A, lam, X, state)
+        evaluate(x, Z, Fp, eps, kinds, limits, Phi, Psi, half_wave, blocks, R, A, lam, X, state)
         if k < n_rec - 1:
             rec_x[k] = x
             rec_p[k] = p
@@ -160,7 +175,9 @@ def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, hal
                     dR[c * H + j] = -(F[c * H + j] - AF[j])
         else:
             dR[:] = r0
-        t, orientation = _tangent(J, dR, row, orientation)
+        t, orientation = _tangent(J, dR, row, orientation, aug, piv)
+        if orientation == 0:  # singular: the walk ends where it started
+            return x0.copy(), p0, 0, False, 0
         tx = t[:n]
         reach = (p_end - p) / t[n] if t[n] > 0 else np.inf
         lu = Fp - Z @ x + E * x
@@ -172,7 +189,7 @@ def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, hal
             x = x + reach * tx
             if n_rec > 0:
                 Fe = p_end * F if mode == LOAD else F
-                evaluate(x, Z, Fe, eps, kinds, limits, Phi, Psi, half_wave, False, R, A, lam, X, state)
+                evaluate(x, Z, Fe, eps, kinds, limits, Phi, Psi, half_wave, no_blocks, R, A, lam, X, state)
                 rec_x[k] = x
                 rec_p[k] = p_end
                 rec_s[k] = _slid(X[0], half_wave)

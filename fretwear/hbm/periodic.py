@@ -16,7 +16,10 @@ It computes only the effects present:
 The problem itself (condensation, DFT matrices, penalties, residual) is
 :class:`fretwear.hbm.problem.Problem`; :func:`walk` follows its exact
 piecewise-linear solution curves (load continuation, Newton homotopy, the
-normal-load walk of wear).
+normal-load walk of wear). :func:`solve_problem` runs this logic in Python
+around the compiled loops of :mod:`fretwear.hbm.kernels`; :func:`solve_periodic`
+runs it in one compiled call (:mod:`fretwear.hbm.compiled_sweep`, the sweep's
+kernel at one frequency), with the same answers.
 """
 
 from __future__ import annotations
@@ -24,8 +27,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Model
-from . import dlft
-from .kernels import LOAD, NEWTON, newton_kernel, walk_kernel
+from . import compiled_sweep, dlft
+from .kernels import LOAD, NEWTON, SINGULAR, newton_kernel, walk_kernel
 from .problem import NewtonResult, Problem
 from .solution import PeriodicSolution
 
@@ -39,6 +42,7 @@ __all__ = [
     "newton_homotopy",
     "follow_normal_load",
     "walk",
+    "polish",
     "LOAD",
     "NEWTON",
 ]
@@ -62,16 +66,29 @@ def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int =
     """
     scale = problem.residual_scale()
     b = problem.basis
-    try:
-        x, ok, it, r, code = newton_kernel(
-            np.asarray(x0, dtype=float).copy(), problem.Z, problem.F, problem.eps, problem.kinds,
-            problem.limits, b.synthesis, b.analysis, b.half_wave, tol * scale, max_iter,
-        )  # fmt: skip
-    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
-        return NewtonResult(np.asarray(x0, dtype=float), False, 0, np.inf, "singular Jacobian")
+    x, ok, it, r, code = newton_kernel(
+        np.array(x0, dtype=float), problem.Z, problem.F, problem.eps, problem.kinds, problem.limits,
+        b.synthesis, b.analysis, b.half_wave, tol * scale, max_iter,
+    )  # fmt: skip
     messages = {0: "", 1: "non-finite Newton step", 2: "line search failed",
-                3: f"no convergence in {max_iter} iterations"}  # fmt: skip
+                3: f"no convergence in {max_iter} iterations", SINGULAR: "singular Jacobian"}  # fmt: skip
     return NewtonResult(x, bool(ok), int(it), float(r / scale), messages[code])
+
+
+def polish(problem: Problem, x: np.ndarray) -> np.ndarray:
+    """One full Newton step from ``x``, kept if it does not raise the residual.
+
+    A walk ends on the last piece of its path, exact up to the round-off
+    gathered over the pieces; on a piecewise-linear residual one full step
+    from there lands on the solution of that piece to machine precision.
+    """
+    R, J, *_ = problem.evaluate(x)
+    try:
+        xt = x - np.linalg.solve(J, R)
+    except np.linalg.LinAlgError:
+        return x
+    Rt = problem.evaluate(xt, jacobian=False)[0]
+    return xt if np.abs(Rt).max() <= np.abs(R).max() else x
 
 
 def walk(problem: Problem, x, p, p_end, mode, F, r0, max_pieces, record: int = 0):
@@ -81,18 +98,17 @@ def walk(problem: Problem, x, p, p_end, mode, F, r0, max_pieces, record: int = 0
     state change, computed exactly by :func:`fretwear.hbm.dlft.boundary_distance`,
     and just past it. The tangent keeps the sign of ``det [J dR/dp; t]``, the
     invariant of a regular curve across the kinks (a dot product with the
-    previous tangent is not). Returns ``(x, p, pieces, arrived)``, and with
+    previous tangent is not); a singular augmented matrix ends the walk where
+    it started (no piece). Returns ``(x, p, pieces, arrived)``, and with
     ``record > 0`` also the path's breakpoints ``(x_k, p_k, slid_k)`` (at most ``record``).
     """
     b = problem.basis
+    x = np.array(x, dtype=float)
     rec = np.empty((record, x.size)), np.empty(record), np.empty(record)
-    try:
-        x, p, pieces, arrived, k = walk_kernel(
-            np.asarray(x, dtype=float).copy(), float(p), float(p_end), mode, problem.Z, F, r0, problem.eps,
-            problem.kinds, problem.limits, b.synthesis, b.analysis, b.half_wave, max_pieces, *rec,
-        )  # fmt: skip
-    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
-        return (x, p, 0, False) + ((rec[0][:0], rec[1][:0], rec[2][:0]) if record else ())
+    x, p, pieces, arrived, k = walk_kernel(
+        x, float(p), float(p_end), mode, problem.Z, F, r0, problem.eps, problem.kinds, problem.limits,
+        b.synthesis, b.analysis, b.half_wave, max_pieces, *rec,
+    )  # fmt: skip
     out = (x, p, int(pieces), bool(arrived))
     return out + ((rec[0][:k], rec[1][:k], rec[2][:k]) if record else ())
 
@@ -122,8 +138,8 @@ def load_homotopy(
             return NewtonResult(start.x, False, start.iterations, start.residual, "no solution at zero load")
         x = start.x
     x, s, pieces, _ = walk(problem, x, s, full, LOAD, problem.F0, np.zeros(0), max_pieces)
-    final = newton(problem, x, tol, max_iter)  # polish the end point (exact up to round-off already)
-    final.iterations += pieces
+    final = newton(problem, polish(problem, x), tol, max_iter)
+    final.iterations += pieces + 1
     if not final.converged:
         final.message = (
             f"load continuation ended at load factor {s / full:.6g} after {pieces} pieces; " + final.message
@@ -166,8 +182,8 @@ def newton_homotopy(
     """
     r0 = problem.evaluate(x0, jacobian=False)[0]
     x, sigma, pieces, _ = walk(problem, x0, 0.0, 1.0, NEWTON, problem.F, r0, max_pieces)
-    final = newton(problem, x, tol, 20)
-    final.iterations += pieces
+    final = newton(problem, polish(problem, x), tol, 20)
+    final.iterations += pieces + 1
     if not final.converged:
         final.message = f"Newton homotopy ended at sigma {sigma:.6g} after {pieces} pieces; " + final.message
     return final
@@ -216,9 +232,13 @@ def solve_periodic(
     -------
     PeriodicSolution
         With ``converged``, ``residual``, ``iterations``, ``message`` and ``path``.
+
+    The solve is the logic of :func:`solve_problem`, compiled: a one-frequency
+    :func:`fretwear.hbm.compiled_sweep.solve`.
     """
-    problem = Problem(model, omega, harmonics, samples, wear, eps, half_wave)
-    return solve_problem(problem, guess, tol, max_iter)
+    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    (out,) = compiled_sweep.solve(model, np.array([omega], dtype=float), settings, eps, tol, max_iter, guess)
+    return out if isinstance(out, PeriodicSolution) else solve_problem(out, guess, tol, max_iter)
 
 
 def solve_problem(

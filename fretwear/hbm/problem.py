@@ -11,6 +11,7 @@ place: :meth:`Problem.at_load` and :meth:`Problem.with_wear` return copies.
 from __future__ import annotations
 
 import copy
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -60,9 +61,14 @@ class Problem:
         Use odd harmonics and half a period; default: when the model allows it.
     force_scale : float
         Load factor applied to every external force (used by load continuation).
-    condensed : Condensed, optional
-        The condensation at ``omega`` on the active contacts, when already known
-        (sweeps condense every frequency at once).
+    condensed : Condensed or callable, optional
+        The condensation at ``omega`` on the active contacts, when already known,
+        or a function of ``(B, basis)`` that returns it (sweeps condense every
+        frequency at once).
+    march : tuple, optional
+        ``(x, R, lam, X, state)``: the residual and the march of :meth:`evaluate`
+        at unknowns ``x``, when a solver already has them (the compiled sweep);
+        :meth:`evaluate` then answers at ``x`` without marching again.
     """
 
     model: Model
@@ -74,7 +80,10 @@ class Problem:
     half_wave: bool | None = None
     force_scale: float = 1.0
     derivative: bool = False
-    condensed: Condensed | None = field(default=None, repr=False)
+    condensed: Condensed | Callable[[np.ndarray, HarmonicBasis], Condensed] | None = field(
+        default=None, repr=False
+    )
+    march: tuple | None = field(default=None, repr=False)
     basis: HarmonicBasis = field(init=False)
 
     def __post_init__(self) -> None:
@@ -106,14 +115,35 @@ class Problem:
         )
         self.B = m.relative_map(self.active)
         if self.active:
-            cond = self.condensed or condense(m, self.B, self.omega, self.basis, self.derivative)
+            cond = self.condensed
+            if cond is None:
+                cond = condense(m, self.B, self.omega, self.basis, self.derivative)
+            elif callable(cond):
+                cond = cond(self.B, self.basis)
             self.Z, self.F0, self.dZ, self.dF0 = cond.Z, cond.F, cond.dZ, cond.dF
             self.eps = self._penalty(self.eps)
 
     def at_load(self, force_scale: float) -> Problem:
         """The same problem with the external forces scaled by ``force_scale`` (a copy, same condensation)."""
         new = copy.copy(self)
-        new.force_scale = float(force_scale)
+        new.force_scale, new.march = float(force_scale), None
+        return new
+
+    def at_frequency(
+        self, omega: float, Z: np.ndarray, F: np.ndarray, eps: np.ndarray, march=None
+    ) -> Problem:
+        """The same problem at ``omega`` (rad/s), given its condensation ``Z``, ``F`` and penalties there.
+
+        A copy: sweeps condense every frequency at once and choose each penalty
+        ``eps`` (N/m, per active contact) as :class:`Problem` would, or take the
+        user's; ``march`` as the parameter of :class:`Problem`.
+        """
+        new = object.__new__(Problem)
+        new.__dict__.update(self.__dict__)
+        new.omega, new.condensed, new.march, new.Z, new.F0, new.eps = omega, None, march, Z, F, eps
+        if self.dZ is not None:  # no derivatives at the new frequency
+            new.dZ = new.dF0 = None
+            new.deps = np.zeros(len(eps))
         return new
 
     def with_wear(self, wear) -> Problem:
@@ -132,7 +162,7 @@ class Problem:
                 self.force_scale,
             )  # fmt: skip
         new = copy.copy(self)
-        new.wear, new.normal_loads = wear, loads
+        new.wear, new.normal_loads, new.march = wear, loads, None
         new.limits = self.limits.copy()
         new.limits[: len(active_f)] = [self.model.friction[i].mu * loads[i] for i in active_f]
         return new
@@ -173,6 +203,8 @@ class Problem:
         """Residual (N), Jacobian (N/m) or None, and the time-domain fields of the march."""
         nc, H = self.n_active, self.basis.size
         Ns = self.basis.marched_samples
+        if not jacobian and self.march is not None and np.array_equal(x, self.march[0]):
+            return self.march[1], None, np.empty((nc, H, H)), *self.march[2:]
         R = np.empty(nc * H)
         A = np.empty((nc, H, H))
         lam = np.empty((nc, Ns))

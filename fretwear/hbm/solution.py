@@ -7,6 +7,7 @@ Time histories are sampled on the DLFT grid of one full period
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -70,12 +71,26 @@ class PeriodicSolution:
     normal_loads: np.ndarray
     unknowns: np.ndarray
     problem: Problem = field(repr=False, compare=False)
+    _fields = None  # not a field: the batch provider of ``build``, if any
 
     @classmethod
-    def build(cls, problem: Problem, x: np.ndarray | None, res: NewtonResult, path: str) -> PeriodicSolution:
-        """The solution of ``problem`` at unknowns ``x``; time histories are computed on first access."""
+    def build(
+        cls,
+        problem: Problem,
+        x: np.ndarray | None,
+        res: NewtonResult,
+        path: str,
+        fields: Callable[[], tuple[tuple, np.ndarray]] | None = None,
+    ) -> PeriodicSolution:
+        """The solution of ``problem`` at unknowns ``x``; time histories are computed on first access.
+
+        ``fields``: a function that returns the march (contact force, slip
+        variable, state over the full period and the force harmonics) and the
+        DOF harmonics, when a sweep computes them for all its frequencies at
+        once (on the first request of any of them).
+        """
         basis = problem.basis
-        return cls(
+        sol = cls(
             model=problem.model,
             omega=problem.omega,
             harmonics=basis.harmonics,
@@ -91,10 +106,14 @@ class PeriodicSolution:
             unknowns=np.zeros(0) if x is None else x,
             problem=problem,
         )
+        sol._fields = fields
+        return sol
 
     @cached_property
     def _march(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Contact force, slip variable, state over the full period, and the force harmonics."""
+        if self._fields is not None:
+            return self._fields()[0]
         problem, basis = self.problem, self.problem.basis
         n_all, N = len(self.model.contacts), self.samples
         force = np.zeros((n_all, N))
@@ -112,6 +131,8 @@ class PeriodicSolution:
     @cached_property
     def dof_harmonics(self) -> np.ndarray:
         """Coefficients ``[a0, a1, b1, ...]`` of every DOF (m), shape (n, 2 Nh + 1), eq. 10."""
+        if self._fields is not None:
+            return self._fields()[1]
         p = self.problem
         return recover(self.model, p.B, self.omega, self.harmonics, self._march[3], p.force_scale)
 
@@ -126,9 +147,13 @@ class PeriodicSolution:
         return self.dof_harmonics @ full_synthesis(self.harmonics, self.samples).T
 
     @cached_property
+    def _relative_map(self) -> np.ndarray:
+        return self.model.relative_map()
+
+    @cached_property
     def relative_displacement(self) -> np.ndarray:
         """``u_r = B u`` of every contact of the model, friction first (m), shape (n_contacts, N)."""
-        return self.model.relative_map() @ self.displacement
+        return self._relative_map @ self.displacement
 
     @property
     def contact_force(self) -> np.ndarray:
@@ -147,8 +172,10 @@ class PeriodicSolution:
         For a contact left out of the solve (open), the relative displacement.
         """
         slip = self._march[1].copy()
-        inactive = np.setdiff1d(np.arange(len(self.model.contacts)), self.problem.active_index)
-        slip[inactive] = self.relative_displacement[inactive]
+        active = set(self.problem.active_index)
+        inactive = [i for i in range(len(self.model.contacts)) if i not in active]
+        if inactive:
+            slip[inactive] = self.relative_displacement[inactive]
         return slip
 
     @property
@@ -176,7 +203,7 @@ class PeriodicSolution:
     @property
     def relative_harmonics(self) -> np.ndarray:
         """Coefficients of every contact's relative displacement (m), shape (n_contacts, 2 Nh + 1)."""
-        return self.model.relative_map() @ self.dof_harmonics
+        return self._relative_map @ self.dof_harmonics
 
     @property
     def relative_amplitude(self) -> np.ndarray:
@@ -244,7 +271,7 @@ class PeriodicSolution:
         balance ``input_work = viscous_dissipation + contact_work`` exactly at
         convergence, and tends to ``friction_energy`` as ``Nh`` grows.
         """
-        v_rel = self.model.relative_map() @ self._velocity
+        v_rel = self._relative_map @ self._velocity
         return self._period_integral(np.sum(self.contact_force * v_rel, axis=0))
 
     @property

@@ -1,0 +1,189 @@
+"""The compiled numerical kernels: which there are, whether their machine code is cached, warming them up.
+
+fretwear's hot loops are Numba functions, compiled to machine code the first
+time they run and cached on disk (``__pycache__`` beside the modules, or under
+``NUMBA_CACHE_DIR``): only the first run of a computation on a machine, with a
+given Python, pays the compilation. The kernels are grouped by the
+computations that need them, so that a command compiles only its own:
+
+* ``"sweep"``: frequency sweeps and single-frequency solves
+  (:func:`fretwear.sweep`, :func:`fretwear.solve_periodic`; ``fretwear frf``,
+  ``fretwear point``, the dashboard's FRF scenes);
+* ``"solver"``: the periodic solver's loops as the slow-time (wear) methods
+  and the branch continuation use them (:func:`fretwear.hbm.periodic.solve_problem`,
+  :func:`fretwear.hbm.periodic.walk`; ``fretwear wear``, ``fretwear map``,
+  ``fretwear frf --continuation``).
+
+A front end tells its user before a first run::
+
+    message = fretwear.compile.notice("sweep")
+    if message:
+        print(message, file=sys.stderr)  # "compiling numerical kernels, first run only, about 40 s"
+
+and can compile ahead of time with :func:`warm`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pickle import dumps
+
+import numpy as np
+
+__all__ = ["Kernel", "KERNELS", "cached", "pending", "notice", "warm"]
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """A group of compiled entry points that one kind of computation needs.
+
+    Attributes
+    ----------
+    name : str
+        Key in :data:`KERNELS`.
+    purpose : str
+        The computations that need it.
+    entry_points : tuple of str
+        ``"module:function"`` of its Numba entry points (their callees are
+        compiled and cached with them).
+    seconds : float
+        Compile time measured in a new process on a loaded 2-core machine (s; the benchmark
+        ``benchmarks/bench_solver.py`` measures it again); what :func:`notice` announces.
+    run : callable
+        A small computation that runs every entry point once (compiles them,
+        or loads them from the cache).
+    """
+
+    name: str
+    purpose: str
+    entry_points: tuple[str, ...]
+    seconds: float
+    run: Callable[[], object]
+
+
+def _run_sweep() -> None:
+    from .hbm.continuation import sweep
+    from .model import paper_model
+
+    sweep(paper_model(), 2 * np.pi * np.array([0.3, 0.6, 0.7]), 3)
+
+
+def _run_solver() -> None:
+    from .hbm.periodic import load_homotopy, newton, walk
+    from .hbm.problem import Problem
+    from .model import paper_model
+
+    problem = Problem(paper_model(), 2 * np.pi * 0.7, 3)
+    x = load_homotopy(problem).x  # walk_kernel, then newton_kernel
+    newton(problem, x, 1e-10, 2)
+    walk(problem, x, 1.0, 0.9, 0, problem.F0, np.zeros(0), 10, record=2)
+    problem.evaluate(x)  # evaluate and jacobian_from_blocks, as Problem calls them
+
+
+#: the kernel groups, by name
+KERNELS: dict[str, Kernel] = {
+    k.name: k
+    for k in (
+        Kernel(
+            "sweep",
+            "frequency sweeps and single-frequency solves (fretwear.sweep, fretwear.solve_periodic)",
+            ("fretwear.hbm.compiled_sweep:sweep_kernel", "fretwear.hbm.condensation:condense_loop"),
+            40.0,
+            _run_sweep,
+        ),
+        Kernel(
+            "solver",
+            "the periodic solver in Python loops: wear histories, branch continuation",
+            (
+                "fretwear.hbm.kernels:newton_kernel",
+                "fretwear.hbm.kernels:walk_kernel",
+                "fretwear.hbm.dlft:evaluate",
+                "fretwear.hbm.dlft:jacobian_from_blocks",
+            ),  # fmt: skip
+            35.0,
+            _run_solver,
+        ),
+    )
+}
+
+
+def _dispatcher(entry_point: str):
+    module, name = entry_point.split(":")
+    return getattr(__import__(module, fromlist=[name]), name)
+
+
+def _in_cache(dispatcher) -> bool:
+    """Whether the on-disk cache holds machine code of ``dispatcher`` for this machine and this source.
+
+    Reads Numba's cache index as Numba itself does (its layout is not a public
+    API: on any surprise the answer is False, so a front end announces a
+    compilation that may not happen rather than miss one).
+    """
+    if dispatcher.overloads:  # compiled or loaded in this process
+        return True
+    try:
+        cache = dispatcher._cache
+        index = cache._cache_file._load_index()  # empty when missing or stale (source changed)
+        py_func = dispatcher.py_func
+        closure = b""
+        if py_func.__closure__ is not None:
+            closure = dumps(tuple(c.cell_contents for c in py_func.__closure__))
+        code = (hashlib.sha256(py_func.__code__.co_code).hexdigest(), hashlib.sha256(closure).hexdigest())
+        magic = dispatcher.targetctx.codegen().magic_tuple()
+        return any(key[1] == magic and key[2] == code for key in index)
+    except Exception:  # noqa: BLE001 - any change of Numba's internals: unknown, so not cached
+        return False
+
+
+def _check(names: tuple[str, ...]) -> tuple[str, ...]:
+    names = names or tuple(KERNELS)
+    unknown = [n for n in names if n not in KERNELS]
+    if unknown:
+        raise ValueError(f"kernel names must be among {sorted(KERNELS)}, got {unknown}")
+    return names
+
+
+def cached(name: str) -> bool:
+    """Whether every entry point of kernel ``name`` is compiled for this interpreter (cache or memory)."""
+    (name,) = _check((name,))
+    return all(_in_cache(_dispatcher(e)) for e in KERNELS[name].entry_points)
+
+
+def pending(*names: str) -> list[str]:
+    """The kernels among ``names`` (default: all) that a first run would compile."""
+    return [n for n in _check(names) if not cached(n)]
+
+
+def notice(*names: str) -> str | None:
+    """The line to show before a computation that needs kernels ``names``, or None if they are cached.
+
+    ``"compiling numerical kernels, first run only, about N s"``, with ``N`` the
+    sum of the pending kernels' measured compile times.
+    """
+    todo = pending(*names)
+    if not todo:
+        return None
+    seconds = sum(KERNELS[n].seconds for n in todo)
+    return f"compiling numerical kernels, first run only, about {seconds:.0f} s"
+
+
+def warm(*names: str, progress: Callable[[str, int, int], object] | None = None) -> dict[str, float]:
+    """Compile (or load from the cache) kernels ``names`` (default: all); returns the wall time of each (s).
+
+    ``progress(name, done, total)`` is called before each kernel and once at the end.
+    Thread-safe (Numba compiles under a global lock); the kernels release the GIL once compiled.
+    """
+    names = _check(names)
+    times = {}
+    for k, name in enumerate(names):
+        if progress is not None:
+            progress(name, k, len(names))
+        t0 = time.perf_counter()
+        KERNELS[name].run()
+        times[name] = time.perf_counter() - t0
+    if progress is not None:
+        progress("", len(names), len(names))
+    return times

@@ -1,0 +1,56 @@
+"""The compile notice: announced when the kernels' machine code is not cached, silent when it is."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import fretwear.compile as compiled
+from fretwear import cli, paper_model, sweep
+
+ROOT = Path(__file__).resolve().parents[1]
+NOTICE = "compiling numerical kernels, first run only, about "
+ASK = "import fretwear.compile as c; print(c.notice('sweep'))"
+
+
+def _notice_in_new_process(env: dict) -> str:
+    """What :func:`fretwear.compile.notice` says in a new interpreter (which has compiled nothing)."""
+    env = {**env, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))}
+    run = subprocess.run([sys.executable, "-c", ASK], env=env, cwd=ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    return run.stdout.strip()
+
+
+def test_a_new_process_reads_the_on_disk_cache(tmp_path):
+    """Empty cache: the notice; the cache this process filled: none. Neither compiles anything."""
+    empty = _notice_in_new_process({**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)})
+    seconds = compiled.KERNELS["sweep"].seconds
+    assert empty == NOTICE + f"{seconds:.0f} s"
+    assert not list(tmp_path.rglob("*.nbc"))  # asking compiled nothing (no machine code written)
+    sweep(paper_model(), 2 * np.pi * np.array([0.6, 0.7]), 3)  # compiles, or loads the cache it wrote
+    assert compiled.cached("sweep")
+    assert _notice_in_new_process(dict(os.environ)) == "None"
+
+
+def test_notice_sums_the_pending_groups(monkeypatch):
+    monkeypatch.setattr(compiled, "cached", lambda name: name == "sweep")
+    assert compiled.pending() == ["solver"]
+    assert compiled.notice("sweep") is None
+    assert compiled.notice() == NOTICE + f"{compiled.KERNELS['solver'].seconds:.0f} s"
+    monkeypatch.setattr(compiled, "cached", lambda name: False)
+    total = sum(k.seconds for k in compiled.KERNELS.values())
+    assert compiled.notice("sweep", "solver") == NOTICE + f"{total:.0f} s"
+    with pytest.raises(ValueError, match="kernel names must be among"):
+        compiled.notice("nonsense")
+
+
+@pytest.mark.parametrize("cache_empty", [True, False])
+def test_cli_prints_the_notice_once_only_when_kernels_must_compile(monkeypatch, capsys, cache_empty):
+    monkeypatch.setattr(compiled, "_in_cache", lambda dispatcher: not cache_empty)  # the cache state
+    assert cli.main(["point", "--f", "0.7", "--harmonics", "3"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    notices = [line for line in err if NOTICE in line]
+    assert notices == ([f"fretwear point: {compiled.notice('sweep')}"] if cache_empty else [])
