@@ -395,7 +395,8 @@ def test_a_task_the_cluster_loses_is_resubmitted(spec_path, local_run, tmp_path,
 
     monkeypatch.setattr(study, "compute_block", flaky)
     spec = study_spec.read_spec(spec_path)
-    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0") as client:
+    local = dict(processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0")
+    with distributed.Client(**local) as client:
         lines = []
         run = study.run_study(spec, tmp_path / "lost.zarr", client=client, progress=False, log=lines.append)
     assert run.complete and not run.failed_tasks
