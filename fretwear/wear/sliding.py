@@ -413,8 +413,8 @@ def sliding_table(
         lo = min(rho_min, table.rho_stick * (1 - 1e-3))
         hi = table.rho_stick if rho_max is None else min(rho_max, table.rho_stick)
         if table.rho_stick > 0 and lo < hi and not _complete(table, lo, hi):
-            if not len(table.rho):  # a first build covers every larger F_ex up to x REACH, and every smaller
-                lo, hi = lo / _REACH, table.rho_stick
+            if not len(table.rho):  # a first build also covers F_ex up to _REACH times larger
+                lo /= _REACH
             sampler = _Sampler(model, omega, 2.0 * table.rho_stick)
             sampler.solves = table.solves
             _adapt(table, sampler, lo, hi, tol, max_solves)
