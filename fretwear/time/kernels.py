@@ -62,7 +62,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .patterns import TAYLOR_ORDER
+from .patterns import TAYLOR_ORDER, matmul_into
 
 __all__ = [
     "OK",
@@ -554,18 +554,6 @@ def select(t, y, Z, forced, g, dirs, Minv, B, C, Kmat, F, omega, masks, Ah, forc
 # the march
 # ---------------------------------------------------------------------------
 @njit(cache=True, nogil=True)
-def _matmul(A, B, out):
-    """``out = A @ B`` for small square matrices (no allocation)."""
-    m = A.shape[0]
-    for i in range(m):
-        for j in range(m):
-            s = 0.0
-            for q in range(m):
-                s += A[i, q] * B[q, j]
-            out[i, j] = s
-
-
-@njit(cache=True, nogil=True)
 def _phi_at(series, sigma, out):
     """``exp(A_yy h sigma) = sum_k series[k] sigma^k``."""
     out[:, :] = series[_K]
@@ -706,10 +694,10 @@ def march(
             _state_at(c, best, Xn)
             if jacobian:
                 if best == 1.0:
-                    _matmul(phi[k], J, Jt)
+                    matmul_into(phi[k], J, Jt)
                 else:
                     _phi_at(phi_series[k], best, Phi)
-                    _matmul(Phi, J, Jt)
+                    matmul_into(Phi, J, Jt)
                 J, Jt = Jt, J
             X[:] = Xn
             if who < 0 and best == smax and smax < 1.0:

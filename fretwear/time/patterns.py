@@ -43,7 +43,7 @@ from scipy import linalg
 
 from ..model import Model
 
-__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "Table", "structure"]
+__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "Table", "matmul_into", "structure"]
 
 #: terms of the Taylor series of a step (polynomial degree)
 TAYLOR_ORDER = 30
@@ -307,9 +307,9 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
     e = K + 1
     while e:
         if e & 1:
-            _mm(power, base, work)
+            matmul_into(power, base, work)
             power, work = work, power
-        _mm(base, base, work)
+        matmul_into(base, base, work)
         base, work = work, base
         e >>= 1
     top = _inf_norm(power)
@@ -339,8 +339,8 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
 
 
 @njit(cache=True, nogil=True)
-def _mm(A, B, out):
-    """``out = A @ B`` for small square matrices."""
+def matmul_into(A, B, out):
+    """``out = A @ B`` for small square matrices (no allocation; ``out`` distinct from both)."""
     m = A.shape[0]
     for i in range(m):
         for j in range(m):
