@@ -238,11 +238,10 @@ def cost_ladder(
                 t_w, exact = _timed(lambda: wear_history(model, omega, "stepping", kw=kw, cycles=cycles,
                                                          **opts), repeats=1)  # fmt: skip
             reference["wear"] = f"{name} ({t_w:.2f} s)"
-            u0 = exact.u0[0]
             advance()
 
             def werr(h) -> float:
-                return float(np.max(np.abs(h.at(exact.cycles)["wear"][:, 0] - exact.wear[:, 0])) / u0)
+                return h.error_against(exact, fractions=())["wear"]
 
             for label, settings, opts in wear_runs:
                 method = "stepping" if label.startswith("stepping") else label

@@ -140,6 +140,27 @@ class WearHistory:
             out[name] = np.stack([np.interp(cycles, self.cycles, v) for v in values.T], axis=-1)
         return out
 
+    def error_against(
+        self, reference: WearHistory, fractions: tuple[float, ...] = (0.5, 0.9), contact: int = 0
+    ) -> dict[str, float]:
+        """This history's error against ``reference`` (the exact one), for contact ``contact``.
+
+        Returns
+        -------
+        dict of float
+            ``"wear"``: the largest ``|w - w_ref| / u0`` over the reference's
+            records (this history held past its end); ``"cycles_to_<f>"`` for each
+            fraction ``f``: ``N_f / N_f,ref - 1`` (negative: this history
+            reaches ``f u0`` early; nan where either does not reach it).
+        """
+        if self.u0[contact] != reference.u0[contact]:
+            raise ValueError("reference must be a history of the same contact (u0 differs)")
+        w = self.at(reference.cycles)["wear"][:, contact]
+        out = {"wear": float(np.max(np.abs(w - reference.wear[:, contact])) / self.u0[contact])}
+        for f in fractions:
+            out[f"cycles_to_{f:g}"] = self.cycles_to(f, contact) / reference.cycles_to(f, contact) - 1.0
+        return out
+
     def cycles_to(self, fraction: float, contact: int = 0) -> float:
         """Cycles at which contact ``contact`` reaches ``fraction * u0`` (nan if it does not)."""
         w = self.wear[:, contact] / self.u0[contact]

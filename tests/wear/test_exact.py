@@ -91,3 +91,18 @@ def test_exact_map_is_sampled_from_the_tables_and_builds_histories_on_demand():
     # Archard's scaling: K_w only rescales the cycle axis
     twice = fw.wear_map(model, freqs, cycles / 2, method="exact", dynamics="shooting", kw=2e-11)
     np.testing.assert_allclose(twice.wear, wm.wear, rtol=1e-12, atol=1e-18)
+
+
+def test_error_against_the_exact_history_measures_the_dlft_bias():
+    model = fw.paper_model(fex=10)
+    exact = fw.wear_history(model, OMEGA, "exact", dynamics="shooting", kw=1e-11, cycles=2e4)
+    assert exact.error_against(exact) == {"wear": 0.0, "cycles_to_0.5": 0.0, "cycles_to_0.9": 0.0}
+    dlft = fw.wear_history(model, OMEGA, "exact", harmonics=21, kw=1e-11, cycles=2e4)
+    err = dlft.error_against(exact)
+    # DLFT at Nh = 21 over-estimates the sliding distance near 10 N / 0.7 Hz: it wears early
+    direct = dlft.cycles_to(0.5) / exact.cycles_to(0.5) - 1
+    assert err["cycles_to_0.5"] == direct and -0.09 < direct < -0.05
+    assert 0.01 < err["wear"] < 0.2 and err["cycles_to_0.9"] < 0
+    with pytest.raises(ValueError, match="u0"):
+        other = fw.wear_history(fw.paper_model(fex=10, normal_load=12), OMEGA, kw=1e-11, cycles=10)
+        dlft.error_against(other)
