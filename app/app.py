@@ -2,8 +2,9 @@
 
 Bokeh executes this file for every new session: it builds a :class:`Session`
 whose runs go to the server's shared threads and whose results come from the
-process-wide cache, and the page around it. The first execution starts the
-warm-up (:mod:`app.warmup`) in the background.
+process-wide cache, applies the settings of the page's address (URL query,
+keyed like the CLI options), and builds the page around it. The first
+execution starts the warm-up (:mod:`app.warmup`) in the background.
 """
 
 import sys
@@ -22,6 +23,8 @@ from app.warmup import warm_in_background  # noqa: E402
 
 pn.extension(notifications=False)
 warm_in_background()
-session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.state.curdoc))
+session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.state.curdoc), start=False)
+problems = session.apply_query(pn.state.session_args or {})
+session.start(problems)
 pn.state.on_session_destroyed(lambda _context, s=session: s.close())
-build_page(session).servable(title="fretwear dashboard")
+build_page(session, pn.state.location).servable(title="fretwear dashboard")

@@ -18,6 +18,7 @@ stops at the next chunk (:class:`Cancelled`).
 
 from __future__ import annotations
 
+import importlib
 import logging
 import os
 import threading
@@ -421,10 +422,23 @@ _shared: dict[str, Any] = {}
 _shared_lock = threading.Lock()
 
 
+#: environment variable naming a module whose ``replacements()`` returns library functions by name
+#: (:class:`Library`) for the server's backend: the browser tests' seam (e.g. a method that overshoots)
+LIBRARY_VARIABLE = "FRETWEAR_APP_LIBRARY"
+
+
 def shared_backend() -> Backend:
-    """The backend of the server process (one thread pool for every session)."""
+    """The backend of the server process (one thread pool for every session).
+
+    With :data:`LIBRARY_VARIABLE` set, its module's ``replacements()`` replace
+    some library functions (tests only).
+    """
     with _shared_lock:
-        return _shared.setdefault("backend", Backend())
+        if "backend" not in _shared:
+            module = os.environ.get(LIBRARY_VARIABLE)
+            replacements = importlib.import_module(module).replacements() if module else {}
+            _shared["backend"] = Backend(**replacements)
+        return _shared["backend"]
 
 
 def shared_cache() -> ResultCache:

@@ -126,7 +126,7 @@ class Sampler(threading.Thread):
 def titles_for(fex: float, mu: float) -> list[str]:
     """The plot titles of the Regimes scene for ``F_ex`` and ``mu`` (see ``app.scenes.RegimesScene``)."""
     r = fex / (mu * NORMAL_LOAD)
-    return [f"FRF of mass 1, F_ex = {fex:g} N", f"Stick/slip regimes (current r = {r:.3g})"]
+    return [f"FRF of mass 1, Fₑₓ = {fex:g} N", f"Stick/slip regimes (current r = {r:.3g})"]
 
 
 class Driver:
