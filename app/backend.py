@@ -80,7 +80,7 @@ _LIBRARY_NAMES = tuple(k for k, v in vars(Library).items() if isinstance(v, stat
 
 
 class Cancelled(Exception):
-    """A newer request superseded the run that was computing this result."""
+    """A newer request superseded the run that was computing this result (or the server is stopping)."""
 
 
 @dataclass(frozen=True)
@@ -291,7 +291,12 @@ class Backend:
             self._tally(name)
             return function(*args, **kwargs)
 
-        futures = [self.pool.submit(run, *job) for job in jobs]
+        try:
+            futures = [self.pool.submit(run, *job) for job in jobs]
+        except RuntimeError as exc:  # "cannot schedule new futures after shutdown": the server is stopping
+            if "shutdown" not in str(exc):
+                raise
+            raise Cancelled from None
         try:
             for done, future in enumerate(as_completed(futures), 1):
                 future.result()

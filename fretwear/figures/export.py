@@ -152,6 +152,9 @@ def _matplotlib_bytes(fig, formats: tuple[str, ...], options: ExportOptions, cap
     plot = hv.renderer("matplotlib").get_plot(fig)
     figure = plot.state
     try:
+        if options.width is not None or options.height is not None:  # layouts size themselves by aspect
+            w, h = figure.get_size_inches()
+            figure.set_size_inches(options.width or w, options.height or h)
         canvas = FigureCanvasAgg(figure)  # HoloViews leaves the base canvas, which has no renderer
         bottom = 0.0
         if caption:
