@@ -19,6 +19,7 @@ from __future__ import annotations
 import io
 import logging
 import math
+import threading
 from collections.abc import Callable
 from functools import partial
 from typing import Any
@@ -67,17 +68,41 @@ if (navigator.clipboard && window.isSecureContext) {
 
 
 def document_dispatch(doc) -> Callable[[Callable[[], None]], None]:
-    """``dispatch`` of a :class:`Session` served in Bokeh document ``doc``: run callbacks on its loop."""
+    """``dispatch`` of a :class:`Session` served in Bokeh document ``doc``: run callbacks on its loop.
+
+    Callbacks that arrive before the page has loaded in the browser (a run
+    started with the session) wait for it (``pn.state.onload``): an update made
+    while the page is being sent could be lost, leaving the figures on the
+    results they were first drawn with.
+    """
     from panel.io.state import set_curdoc
+
+    served = doc is not None and doc.session_context is not None
+    lock = threading.Lock()
+    waiting: list[Callable[[], None]] | None = [] if served else None
 
     def run(callback: Callable[[], None]) -> None:
         with set_curdoc(doc):
             callback()
 
+    def loaded() -> None:
+        nonlocal waiting
+        with lock:
+            queued, waiting = waiting or [], None
+        for callback in queued:
+            run(callback)
+
+    if served:
+        pn.state.onload(loaded)
+
     def dispatch(callback: Callable[[], None]) -> None:
-        if doc is None or doc.session_context is None:
+        if not served or doc.session_context is None:
             callback()
             return
+        with lock:
+            if waiting is not None:
+                waiting.append(callback)
+                return
         try:
             doc.add_next_tick_callback(partial(run, callback))
         except Exception:  # noqa: BLE001 - the session was closed: nothing to update
@@ -619,6 +644,7 @@ def build_page(session: Session, location=None) -> pn.template.BootstrapTemplate
 
     ``location`` (``pn.state.location`` when served) receives the view as the
     address's query.
+
     """
     figures.load_backend("bokeh")
     keys = list(session.scenes)

@@ -242,12 +242,21 @@ class Page:
 
     def wait_title(self, text: str, absent: bool = False) -> float:
         """Wait until a visible plot title contains ``text`` (or none does); seconds waited."""
+        from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
         start = time.perf_counter()
-        self.page.wait_for_function(
-            f"""() => {{ const t = ({PLOTS_JS})([null, 0, 0]).filter(p => p.visible).map(p => p.title);
-                        return {"!" if absent else ""}t.some(s => s.includes({text!r})); }}""",
-            timeout=TIMEOUT,
-        )
+        try:
+            self.page.wait_for_function(
+                f"""() => {{ const t = ({PLOTS_JS})([null, 0, 0]).filter(p => p.visible).map(p => p.title);
+                            return {"!" if absent else ""}t.some(s => s.includes({text!r})); }}""",
+                timeout=TIMEOUT,
+            )
+        except PlaywrightTimeout:
+            words = " ".join(self.text().split())
+            pytest.fail(
+                f"no visible plot title {'without' if absent else 'with'} {text!r} after {TIMEOUT / 1e3:g} s;"
+                f" titles: {self.titles()}; address: {self.search()}; page: {words[-800:]}"
+            )
         return time.perf_counter() - start
 
     def text(self) -> str:
