@@ -704,10 +704,27 @@ def _write_figure(fig, args: argparse.Namespace, method: str, options: dict, **e
     save_figure(fig, args.out, caption=lambda markup: caption({**values, **extra}, model, markup))
 
 
+def _say_warnings(command: str, notes: Iterable[str], caught: list, limit: int = 3) -> None:
+    """Print the wear histories' ``notes`` (at most ``limit``, the rest counted), then the ``caught``
+    Python warnings they do not already say, one line each (never Python's ``file:line`` format)."""
+    notes = list(dict.fromkeys(notes))
+    for note in notes[:limit]:
+        print(f"fretwear {command}: warning: {note}", file=sys.stderr)
+    if len(notes) > limit:
+        print(f"fretwear {command}: warning: and {len(notes) - limit} more of the same kind", file=sys.stderr)
+    said = " ".join(notes)
+    for message in dict.fromkeys(" ".join(str(w.message).split()) for w in caught):
+        if message not in said:
+            print(f"fretwear {command}: warning: {message}", file=sys.stderr)
+
+
 def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
     """``fretwear wear``: one wear history as CSV, one row per record (or its figure)."""
     method, options = _wear_options(args, model)
-    hist = wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        hist = wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
+    _say_warnings("wear", hist.warnings, caught)
     if args.out.lower().endswith(_FIGURE_SUFFIXES):
         from .figures import line_figure, load_backend, wear_curve
 
@@ -740,8 +757,6 @@ def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
             row[f"{name}_half_p2p"] = float(hist.relative_half_peak_to_peak[k, j])
         rows.append(row)
     _write_csv(rows, args.out)
-    for note in hist.warnings:
-        print(f"fretwear wear: warning: {note}", file=sys.stderr)
     print(f"fretwear wear: {hist.method}, {len(rows)} records to N = {hist.cycles[-1]:g}, "
           f"status {hist.status}, "
           f"{hist.solves} solves, {hist.wall_time:.2f} s; wrote {args.out}", file=sys.stderr)  # fmt: skip
@@ -753,7 +768,10 @@ def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
     freqs = np.linspace(args.fmin, args.fmax, args.nf)
     cycles = cycle_grid(args.cycles, args.ncycles)
     method, options = _wear_options(args, model)
-    wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
+    _say_warnings("map", (f"{h.frequency:.4g} Hz: {w}" for h in wmap.histories for w in h.warnings), caught)
     if args.out.lower().endswith(_FIGURE_SUFFIXES):
         from .figures import load_backend, wear_map_figure
 

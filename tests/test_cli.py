@@ -451,3 +451,19 @@ def test_map_and_wear_figures_carry_their_parameters(tmp_path, capsys):
 def test_figures_bad_format(tmp_path, capsys):
     assert cli.main(["figures", "--out", str(tmp_path), "--formats", "gif"]) == 2
     assert "gif" in capsys.readouterr().err
+
+
+def test_wear_warnings_are_lines_that_say_where(tmp_path, capsys):
+    """The two-scale warning of a wear map names its frequency, in the command's format."""
+    code, _, err = run(capsys, "map", "--fmin", "0.5", "--fmax", "0.7", "--nf", "2", "--ncycles", "4",
+                       "--cycles", "1e3", "--harmonics", "3", "--fex", "14", "--mu", "0.8", "--kw", "1e-10",
+                       "--out", str(tmp_path / "m.csv"))  # fmt: skip
+    assert (
+        code == 0
+        and "RuntimeWarning" not in err
+        and all(line.startswith("fretwear map: ") for line in err.splitlines())
+    )
+    assert "fretwear map: warning: 0.5 Hz: wear per cycle at the start is" in err
+    code, _, err = run(capsys, "wear", "--f", "0.5", "--cycles", "1e3", "--harmonics", "3", "--fex", "14",
+                       "--mu", "0.8", "--kw", "1e-10", "--out", str(tmp_path / "w.csv"))  # fmt: skip
+    assert code == 0 and "RuntimeWarning" not in err and err.count("two-scale assumption") == 1
