@@ -78,8 +78,8 @@ CURVE_JS = """
     if (!v || seen.has(v)) continue;
     seen.add(v);
     const m = v.model;
-    if (m && m.title && typeof m.title.text === "string" && m.title.text.startsWith(prefix) && m.center) {
-      for (const legend of m.center) {
+    if (m && m.title && typeof m.title.text === "string" && m.title.text.startsWith(prefix)) {
+      for (const legend of [...(m.center ?? []), ...(m.right ?? [])]) {  // legends beside the axes too
         for (const item of legend.items ?? []) {
           if ((item.label?.value ?? item.label) === label) {
             const d = item.renderers[0].data_source.data;
@@ -212,7 +212,7 @@ async def run_sessions(url: str, seconds: float) -> tuple[list[Driver], float]:
             context = await browser.new_context(viewport={"width": 1280, "height": 900})
             pages.append(await context.new_page())
         start = time.monotonic()
-        await asyncio.gather(*(page.goto(url) for page in pages))
+        await asyncio.gather(*(page.goto(url, timeout=REDRAW_TIMEOUT * 1e3) for page in pages))
         await asyncio.gather(
             *(
                 page.wait_for_function(SHOWS_JS, arg=titles_for(10.0, 1.0), polling=100, timeout=120_000)
