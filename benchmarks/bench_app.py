@@ -17,6 +17,11 @@ with the machine's load average: on a loaded machine every figure grows.
 
     python benchmarks/bench_app.py            # 5 first pages, 10 slider moves
     python benchmarks/bench_app.py --quick    # 3 and 5
+    python benchmarks/bench_app.py --quick --screenshots assets   # and a screenshot of every scene
+
+With ``--screenshots DIR``, every scene is also opened from its address (the
+settings of its screenshot in :data:`SCREENSHOTS`) and saved as
+``DIR/scene_KEY.png`` once computed: the README's screenshots.
 """
 
 from __future__ import annotations
@@ -37,6 +42,30 @@ CHROMIUM = "/usr/bin/chromium"
 ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
 #: targets (s)
 FIRST_PAGE, SLIDER = 3.0, 0.3
+#: scene -> (address query, a plot title the computed scene shows) of the README's screenshots
+SCREENSHOTS = {
+    "regimes": ("", "Stick/slip regimes"),
+    "wearmap": ("scene=wearmap&f=0.6&N=3000", "Wear history at 0.6 Hz"),
+    "evolution": ("scene=evolution&fex=6&f=0.95", "Pseudo-FRFs of mass 1"),
+    "cycle": ("scene=cycle&fex=8&f=0.75&N=0", "Hysteresis loop"),
+    "methods": ("scene=methods", "Slow-time methods"),
+    "accuracy": ("scene=accuracy", "vs wall time"),
+}
+#: the page's text, shadow DOM included (Panel renders into shadow roots)
+TEXT_JS = """
+() => {
+  const out = [];
+  function walk(node) {
+    if (node.shadowRoot) walk(node.shadowRoot);
+    for (const c of node.childNodes) {
+      if (c.nodeType === Node.TEXT_NODE) out.push(c.textContent);
+      else if (c.nodeType === Node.ELEMENT_NODE && c.tagName !== "SCRIPT" && c.tagName !== "STYLE") walk(c);
+    }
+  }
+  walk(document.body);
+  return out.join(" ");
+}
+"""
 #: the visible plot titles of a page, from BokehJS
 TITLES_JS = """
 () => {
@@ -142,6 +171,26 @@ def slider_moves(browser, url: str, moves: int) -> list[float]:
     return seconds
 
 
+def screenshots(browser, url: str, folder: Path) -> list[Path]:
+    """Each scene of :data:`SCREENSHOTS` opened from its address, computed, saved as a PNG."""
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    for key, (query, title) in SCREENSHOTS.items():
+        context = browser.new_context(viewport={"width": 1500, "height": 1100})
+        page = context.new_page()
+        page.goto(url + (f"?{query}" if query else ""))
+        page.wait_for_function(
+            f"() => ({TITLES_JS})().some(s => s.includes({title!r}))", polling=200, timeout=300_000
+        )
+        page.wait_for_function(f"() => !({TEXT_JS})().includes('Computing')", polling=200, timeout=300_000)
+        time.sleep(1.0)  # the last redraw reaches the canvas
+        path = folder / f"scene_{key}.png"
+        page.screenshot(path=str(path), full_page=True)
+        written.append(path)
+        context.close()
+    return written
+
+
 def line(name: str, values: list[float], target: float) -> str:
     median = statistics.median(values)
     return (
@@ -154,6 +203,7 @@ def line(name: str, values: list[float], target: float) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="3 first pages and 5 slider moves")
+    parser.add_argument("--screenshots", type=Path, metavar="DIR", help="save a screenshot of every scene")
     args = parser.parse_args()
     if not Path(CHROMIUM).exists():
         sys.exit(f"{CHROMIUM} is missing (apt-get install chromium)")
@@ -169,6 +219,7 @@ def main() -> None:
                 browser = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=ARGS)
                 first, whole = first_pages(browser, url, pages)
                 slider = slider_moves(browser, url, moves)
+                shots = screenshots(browser, url, args.screenshots) if args.screenshots else []
                 browser.close()
         finally:
             proc.terminate()
@@ -181,6 +232,8 @@ def main() -> None:
     print(line("first page: first plot drawn", first, FIRST_PAGE))
     print(line("first page: the whole first scene", whole, FIRST_PAGE))
     print(line("F_ex slider release -> redrawn FRF", slider, SLIDER))
+    for path in shots:
+        print(f"wrote {path}")
 
 
 if __name__ == "__main__":

@@ -98,10 +98,17 @@ def marker_line(hv, x: float | None, vertical: bool = True):
 
 
 def overlay_options(
-    overlay, title: str, xlabel: str, ylabel: str, logx: bool, logy: bool, legend: bool, padding: float = 0.0
+    overlay,
+    title: str,
+    xlabel: str,
+    ylabel: str,
+    logx: bool,
+    logy: bool,
+    legend: bool,
+    padding: float | tuple[float, float] = 0.0,
 ):
     """Title, axis labels and scales of ``overlay``, its legend beside the axes; ``padding``: room
-    around the data (fraction of its range) so that no curve runs along the frame."""
+    around the data (fraction of its range; or ``(x, y)``) so that no curve runs along the frame."""
     return styled(
         overlay,
         {
@@ -290,7 +297,8 @@ def signals_figure(
 
     The shading comes first, then one curve per signal, then dotted horizontal
     lines at ``hlines`` (e.g. the slip limits ``+-mu F_N``), then the ``extra``
-    layers (e.g. a cursor).
+    layers (e.g. a cursor). The vertical axis leaves 6 % of room above and below,
+    so that a signal at its limit does not run along the frame.
     """
     hv = holoviews()
     ensure_backend()
@@ -312,7 +320,8 @@ def signals_figure(
         )
     layers += [marker_line(hv, h, vertical=False) for h in hlines]
     layers += list(extra)
-    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, len(signals) > 1)
+    legend = len(signals) > 1
+    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, legend, (0.0, 0.06))
 
 
 def wear_curve(history, cycles) -> tuple[np.ndarray, np.ndarray]:

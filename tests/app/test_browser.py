@@ -440,6 +440,10 @@ def test_legends_beside_the_curves_numbers_in_labels_and_room_around_loops(open_
     x = max(loop["glyphs"], key=lambda g: g["n"])["x"]
     width = max(x) - min(x)
     assert loop["x"][0] < min(x) - 0.03 * width and loop["x"][1] > max(x) + 0.03 * width
+    force = page.plot("Friction force")  # at the slip limits, the force does not run along the frame
+    y = [v for g in force["glyphs"] for v in g["y"] if v is not None]
+    height = max(y) - min(y)
+    assert force["y"][0] < min(y) - 0.03 * height and force["y"][1] > max(y) + 0.03 * height
     page.tab("Accuracy vs cost")
     page.page.get_by_text("Cheapest within 0.01").wait_for()
     pareto = page.plot("worst of all vs wall time")

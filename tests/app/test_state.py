@@ -451,6 +451,7 @@ def test_every_scene_draws_and_tabulates_with_its_record(computed):
     )
 
 
+@pytest.mark.slow  # every figure of every scene through Matplotlib: about half a minute
 def test_figure_exports_have_the_size_resolution_and_record_asked(computed):
     """Defect: the wear map scene's history figure could not be exported as PNG or SVG."""
     options = fretwear.figures.ExportOptions(width=6.0, height=3.5, dpi=100, fontsize=12)
