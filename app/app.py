@@ -8,6 +8,7 @@ execution starts the warm-up (:mod:`app.warmup`) in the background.
 """
 
 import sys
+import warnings
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -22,6 +23,9 @@ from app.session import Session  # noqa: E402
 from app.warmup import warm_in_background  # noqa: E402
 
 pn.extension(notifications=False)
+# the wear histories keep their warnings (the two-scale assumption, a polynomial misfit) and the scenes
+# show them as notes with their frequency: the server log need not repeat them as Python warnings
+warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"fretwear\.wear")
 warm_in_background()
 session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.state.curdoc), start=False)
 problems = session.apply_query(pn.state.session_args or {})
