@@ -892,12 +892,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, or a usage error already printed
         return exc.code if isinstance(exc.code, int) else EXIT_USAGE
-    if args.command == "study":  # its own checks (its --samples counts draws, not samples per period)
-        return study_command.run(args)
     try:
         _check(args)
         if args.command == "figures":
             return _figures(args)
+        if args.command == "study":
+            return study_command.run(args)
         if args.command == "interface":
             return interface_command.run(args)
         model, names = _model(args)
