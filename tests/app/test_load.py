@@ -190,8 +190,9 @@ class Driver:
         self.snapshots.append({"fex": values[0], "mu": values[1], "f": curve["x"], "x1": curve["y"]})
 
     async def run(self, until: float) -> None:
-        """Move until the time ``until`` (``time.monotonic``)."""
-        while time.monotonic() < until:
+        """Move until the time ``until`` (``time.monotonic``), and at least twice (on a loaded machine a
+        move can take longer than the whole run)."""
+        while time.monotonic() < until or len(self.latencies) < 2:
             await self.move()
 
     async def check_clean(self) -> None:
