@@ -2,11 +2,13 @@
 
 Bokeh executes this file for every new session: it builds a :class:`Session`
 whose runs go to the server's shared threads and whose results come from the
-process-wide cache, and the page around it. The first execution starts the
-warm-up (:mod:`app.warmup`) in the background.
+process-wide cache, applies the settings of the page's address (URL query,
+keyed like the CLI options), and builds the page around it. The first
+execution starts the warm-up (:mod:`app.warmup`) in the background.
 """
 
 import sys
+import warnings
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -21,7 +23,12 @@ from app.session import Session  # noqa: E402
 from app.warmup import warm_in_background  # noqa: E402
 
 pn.extension(notifications=False)
+# the wear histories keep their warnings (the two-scale assumption, a polynomial misfit) and the scenes
+# show them as notes with their frequency: the server log need not repeat them as Python warnings
+warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"fretwear\.wear")
 warm_in_background()
-session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.state.curdoc))
+session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.state.curdoc), start=False)
+problems = session.apply_query(pn.state.session_args or {})
+session.start(problems)
 pn.state.on_session_destroyed(lambda _context, s=session: s.close())
-build_page(session).servable(title="fretwear dashboard")
+build_page(session, pn.state.location).servable(title="fretwear dashboard")

@@ -19,6 +19,7 @@ stops at the next chunk (:class:`Cancelled`).
 from __future__ import annotations
 
 import functools
+import importlib
 import logging
 import operator
 import os
@@ -81,7 +82,7 @@ _LIBRARY_NAMES = tuple(k for k, v in vars(Library).items() if isinstance(v, stat
 
 
 class Cancelled(Exception):
-    """A newer request superseded the run that was computing this result."""
+    """A newer request superseded the run that was computing this result (or the server is stopping)."""
 
 
 @dataclass(frozen=True)
@@ -293,7 +294,12 @@ class Backend:
             self._tally(name)
             return function(*args, **kwargs)
 
-        futures = [self.pool.submit(run, *job) for job in jobs]
+        try:
+            futures = [self.pool.submit(run, *job) for job in jobs]
+        except RuntimeError as exc:  # "cannot schedule new futures after shutdown": the server is stopping
+            if "shutdown" not in str(exc):
+                raise
+            raise Cancelled from None
         try:
             for done, future in enumerate(as_completed(futures), 1):
                 future.result()
@@ -424,10 +430,23 @@ _shared: dict[str, Any] = {}
 _shared_lock = threading.Lock()
 
 
+#: environment variable naming a module whose ``replacements()`` returns library functions by name
+#: (:class:`Library`) for the server's backend: the browser tests' seam (e.g. a method that overshoots)
+LIBRARY_VARIABLE = "FRETWEAR_APP_LIBRARY"
+
+
 def shared_backend() -> Backend:
-    """The backend of the server process (one thread pool for every session)."""
+    """The backend of the server process (one thread pool for every session).
+
+    With :data:`LIBRARY_VARIABLE` set, its module's ``replacements()`` replace
+    some library functions (tests only).
+    """
     with _shared_lock:
-        return _shared.setdefault("backend", Backend())
+        if "backend" not in _shared:
+            module = os.environ.get(LIBRARY_VARIABLE)
+            replacements = importlib.import_module(module).replacements() if module else {}
+            _shared["backend"] = Backend(**replacements)
+        return _shared["backend"]
 
 
 def shared_cache() -> ResultCache:

@@ -1,16 +1,25 @@
-"""The Panel page of one session: sidebar controls, one tab per scene, progress and figures.
+"""The Panel page of one session: sidebar controls, one tab per scene, progress, figures and exports.
 
 Every figure is a ``hv.DynamicMap`` that redraws when its scene publishes
 (``Scene.version``); the wear map's tap stream selects the point the other
-figures show. Sliders act on release (``value_throttled``) and have a number
-box for precise values; logarithmic quantities (``k_w``, the horizon, the
-tolerance) have a slider over the exponent and a text box for the value.
+figures show, and the cycle scene's player moves an instant through the
+period (``CycleScene.frame``). Each control is a label with its symbol and
+a glossary note, a slider that acts on release, and a text box for the exact
+value (what is typed is kept and, when it is not a valid value, reported
+with the valid range). Only the visible tab is built: the others are built
+when first shown.
+
+The view lives in the page's address (``?fex=14&mu=0.8&...&scene=wearmap``,
+keyed like the CLI options), can be copied as a link, and saved to and
+loaded from a settings file that ``fretwear COMMAND --settings FILE`` reads too.
 """
 
 from __future__ import annotations
 
 import io
+import logging
 import math
+import threading
 from collections.abc import Callable
 from functools import partial
 from typing import Any
@@ -21,31 +30,79 @@ import panel as pn
 import param
 
 from fretwear import figures
+from fretwear.figures.record import parse_settings, settings_json
 
-from .scenes import QUANTITY_LABELS, TARGETS, AccuracyScene, Scene, sidebar_equivalent
+from .glossary import glossary_markdown, help_mark, term
+from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, CycleScene, Scene
 from .session import Session
-from .state import CUSTOM, LADDERS, METHODS, PRESETS
+from .state import CUSTOM, LADDERS, METHODS, PRESETS, number_text, parse_number
 
-__all__ = ["build_page", "document_dispatch"]
+__all__ = ["build_page", "document_dispatch", "ExportSettings", "NumberInput"]
+
+log = logging.getLogger(__name__)
+
+#: period of the animation's frames (ms): one period of the response in about 8 s
+FRAME_PERIOD_MS = 250
 
 TITLE = "fretwear: vibration and fretting wear of a friction contact"
-INTRO = """A 2-DOF structure with a friction contact between its masses (Salles et al., section 2.1),
-solved by harmonic balance with the DLFT method; the contact wears by Archard's law on a slow time
-scale, which relaxes its normal load. Values in SI units, frequencies in Hz."""
+INTRO = f"""A 2-DOF structure with a friction contact between its masses (Salles et al., section 2.1),
+solved by harmonic balance with the {term("DLFT")} method; the contact wears by Archard's law on a slow
+time scale, which relaxes its normal load. SI units, frequencies in Hz. Hover a ? mark or a dotted term
+for its meaning; all terms are in the *Glossary* tab."""
+#: copies the page's address (which holds the view) to the clipboard, or selects it for Ctrl+C
+COPY_JS = """
+const url = window.location.href;
+const done = (text) => { button.label = text; setTimeout(() => { button.label = "Copy link"; }, 2500); };
+if (navigator.clipboard && window.isSecureContext) {
+  navigator.clipboard.writeText(url).then(
+    () => done("Copied"), () => done("Copy failed: use the address bar"));
+} else {
+  const area = document.createElement("textarea");
+  area.value = url;
+  document.body.appendChild(area);
+  area.select();
+  done(document.execCommand("copy") ? "Copied" : "Copy failed: use the address bar");
+  area.remove();
+}
+"""
 
 
 def document_dispatch(doc) -> Callable[[Callable[[], None]], None]:
-    """``dispatch`` of a :class:`Session` served in Bokeh document ``doc``: run callbacks on its loop."""
+    """``dispatch`` of a :class:`Session` served in Bokeh document ``doc``: run callbacks on its loop.
+
+    Callbacks that arrive before the page has loaded in the browser (a run
+    started with the session) wait for it (``pn.state.onload``): an update made
+    while the page is being sent could be lost, leaving the figures on the
+    results they were first drawn with.
+    """
     from panel.io.state import set_curdoc
+
+    served = doc is not None and doc.session_context is not None
+    lock = threading.Lock()
+    waiting: list[Callable[[], None]] | None = [] if served else None
 
     def run(callback: Callable[[], None]) -> None:
         with set_curdoc(doc):
             callback()
 
+    def loaded() -> None:
+        nonlocal waiting
+        with lock:
+            queued, waiting = waiting or [], None
+        for callback in queued:
+            run(callback)
+
+    if served:
+        pn.state.onload(loaded)
+
     def dispatch(callback: Callable[[], None]) -> None:
-        if doc is None or doc.session_context is None:
+        if not served or doc.session_context is None:
             callback()
             return
+        with lock:
+            if waiting is not None:
+                waiting.append(callback)
+                return
         try:
             doc.add_next_tick_callback(partial(run, callback))
         except Exception:  # noqa: BLE001 - the session was closed: nothing to update
@@ -54,217 +111,394 @@ def document_dispatch(doc) -> Callable[[Callable[[], None]], None]:
     return dispatch
 
 
-def _link(widget, obj: param.Parameterized, name: str, event: str = "value_throttled") -> None:
-    """Two-way link of ``widget`` (its ``event``: on release for sliders) and ``obj.name``."""
-    widget.param.watch(lambda e: setattr(obj, name, e.new), event)
-    obj.param.watch(lambda e: setattr(widget, "value", e.new), name)
+def _label(html: str, glossary: str | None, margin=(6, 10, 0, 10)) -> pn.pane.HTML:
+    """A control's label: its name with symbols, and the glossary note of ``glossary``."""
+    return pn.pane.HTML(f"{html}{'' if glossary is None else help_mark(glossary)}", margin=margin)
 
 
-class LogInput(pn.Column):
-    """A slider over ``log10(value)`` and a text box for the value, linked to a number parameter."""
+class NumberInput(pn.Column):
+    """Label, slider (on release) and text box of one number of ``obj`` (a control or the selection).
 
-    def __init__(self, obj: param.Parameterized, name: str, label: str, start: float, end: float) -> None:
+    ``typer(name, text)`` takes the box's text (``Controls.type_text``); the
+    box shows the value with 12 significant digits at most, or what was typed
+    while it is not a number. With ``log``, the slider runs over ``log10``.
+    """
+
+    def __init__(
+        self,
+        obj: param.Parameterized,
+        name: str,
+        label: str,
+        glossary: str | None,
+        start: float,
+        end: float,
+        step: float,
+        typer: Callable[[str, str], None],
+        typed: Callable[[], dict[str, str]],
+        *,
+        integer: bool = False,
+        log: bool = False,
+        slider: bool = True,
+        placeholder: str | None = None,
+    ) -> None:
+        self._obj, self._name, self._log, self._typed = obj, name, log, typed
+        self._start, self._end = start, end
         value = getattr(obj, name)
-        self._slider = pn.widgets.FloatSlider(
-            label=label,
+        self._integer = integer and not log
+        kind = pn.widgets.IntSlider if self._integer else pn.widgets.FloatSlider
+        position = self._position(value)
+        self._slider = kind(
             start=start,
             end=end,
-            step=0.1,
-            value=float(np.clip(math.log10(value), start, end)),
-            format="0.0",
+            step=step,
+            value=start if position is None else position,
+            show_value=False,
             sizing_mode="stretch_width",
+            margin=(4, 10),
+            visible=slider,
         )
-        self._text = pn.widgets.TextInput(value=f"{value:.3g}", sizing_mode="stretch_width")
-        super().__init__(self._slider, self._text, sizing_mode="stretch_width", margin=0)
-        self._slider.param.watch(lambda e: setattr(obj, name, float(f"{10**e.new:.3g}")), "value_throttled")
+        self._box = pn.widgets.TextInput(
+            value=number_text(value), width=110 if slider else None, margin=(0, 10, 4, 0),
+            sizing_mode=None if slider else "stretch_width", placeholder=placeholder or name,
+        )  # fmt: skip
+        super().__init__(
+            _label(label, glossary),
+            pn.Row(self._slider, self._box, sizing_mode="stretch_width", margin=0),
+            sizing_mode="stretch_width",
+            margin=0,
+        )
 
-        def typed(e):
-            if e.new == f"{getattr(obj, name):.3g}":  # the value shown, not an edit
-                return
-            try:
-                number = float(e.new)
-            except ValueError:
-                number = math.nan
-            setattr(obj, name, number)
+        def released(event):
+            value = float(f"{10**event.new:.3g}") if log else event.new
+            setattr(obj, name, value if not integer else int(value))
 
-        self._text.param.watch(typed, "value")
+        self._slider.param.watch(released, "value_throttled")
+        self._box.param.watch(lambda e: typer(name, e.new), "value")
+        obj.param.watch(self._pull, name)
+        if hasattr(obj, "typed"):
+            obj.param.watch(self._pull, "typed")
 
-        def pull(e):
-            if isinstance(e.new, (int, float)) and math.isfinite(e.new) and e.new > 0:
-                self._slider.value = float(np.clip(math.log10(e.new), start, end))
-                self._text.value = f"{e.new:.3g}"
+    def _position(self, value: Any) -> float | None:
+        """Slider position of ``value`` (``None`` when it has none)."""
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            return None
+        if self._log:
+            if value <= 0:
+                return None
+            value = math.log10(value)
+        value = float(np.clip(value, self._start, self._end))
+        return round(value) if self._integer else value
 
-        obj.param.watch(pull, name)
+    def _pull(self, *_events) -> None:
+        value = getattr(self._obj, self._name)
+        if self._name not in self._typed():
+            self._box.value = number_text(value)
+        position = self._position(value)
+        if position is not None:
+            self._slider.value = position
 
 
 class BandInput(pn.Column):
-    """The frequency band: a range slider and two number boxes that keep what was typed.
+    """The frequency band: a range slider and two text boxes that keep what was typed.
 
-    Panel's ``EditableRangeSlider`` replaces a typed lower bound above the
-    upper one by the upper one (and the reverse): the message would then name
-    values the user did not type. Here each box sets its own control, and an
-    inverted band is reported by :meth:`Controls.problems`.
+    Each box sets its own control (``Controls.type_text``), and an inverted
+    band is reported by :meth:`Controls.problems`; the slider keeps the last
+    valid band.
     """
 
-    def __init__(self, controls: param.Parameterized, start: float, end: float) -> None:
+    def __init__(self, controls, start: float, end: float) -> None:
         self._slider = pn.widgets.RangeSlider(
-            label="Frequency band (Hz)",
-            start=start,
-            end=end,
-            step=0.01,
-            value=(controls.fmin, controls.fmax),
-            sizing_mode="stretch_width",
-        )
+            start=start, end=end, step=0.01, value=(controls.fmin, controls.fmax), show_value=False,
+            sizing_mode="stretch_width", margin=(4, 10),
+        )  # fmt: skip
         self._low, self._high = (
-            pn.widgets.FloatInput(label=label, value=value, step=0.01, sizing_mode="stretch_width")
-            for label, value in (("f min (Hz)", controls.fmin), ("f max (Hz)", controls.fmax))
+            pn.widgets.TextInput(
+                value=number_text(getattr(controls, n)), width=110, margin=(0, 10, 4, 0), placeholder=n
+            )  # fmt: skip
+            for n in ("fmin", "fmax")
         )
         super().__init__(
-            self._slider,
-            pn.Row(self._low, self._high, sizing_mode="stretch_width"),
+            _label("Frequency band f<sub>min</sub> to f<sub>max</sub> (Hz)", None),
+            pn.Row(self._slider, sizing_mode="stretch_width", margin=0),
+            pn.Row(
+                pn.pane.HTML("from", margin=(8, 4, 0, 10)),
+                self._low,
+                pn.pane.HTML("to", margin=(8, 4, 0, 0)),
+                self._high,
+                margin=0,
+            ),  # fmt: skip
             sizing_mode="stretch_width",
             margin=0,
         )
         self._slider.param.watch(
-            lambda e: controls.param.update(fmin=e.new[0], fmax=e.new[1]), "value_throttled"
+            lambda e: controls.param.update(fmin=float(f"{e.new[0]:.6g}"), fmax=float(f"{e.new[1]:.6g}")),
+            "value_throttled",
         )
-        self._low.param.watch(lambda e: setattr(controls, "fmin", e.new), "value")
-        self._high.param.watch(lambda e: setattr(controls, "fmax", e.new), "value")
+        self._low.param.watch(lambda e: controls.type_text("fmin", e.new), "value")
+        self._high.param.watch(lambda e: controls.type_text("fmax", e.new), "value")
 
         def pull(*_events):
             low, high = controls.fmin, controls.fmax
-            self._low.value, self._high.value = low, high
-            # an invalid band stays in the boxes, with its message; the slider keeps the last valid one
+            for box, name, value in ((self._low, "fmin", low), (self._high, "fmax", high)):
+                if name not in controls.typed:
+                    box.value = number_text(value)
             if all(isinstance(v, (int, float)) and math.isfinite(v) for v in (low, high)) and low < high:
                 self._slider.param.update(
                     start=min(self._slider.start, low), end=max(self._slider.end, high), value=(low, high)
                 )
 
-        controls.param.watch(pull, ["fmin", "fmax"])
+        controls.param.watch(pull, ["fmin", "fmax", "typed"])
+
+
+def _lazy_card(title: str, build: Callable[[], list], collapsed: bool = True) -> pn.Card:
+    """A card whose content ``build()`` is made when it is first expanded (a lighter first page)."""
+    card = pn.Card(title=title, collapsed=collapsed, sizing_mode="stretch_width")
+
+    def fill(*_events):
+        if not card.collapsed and not card.objects:
+            card.objects = build()
+
+    card.param.watch(fill, "collapsed")
+    fill()
+    return card
+
+
+class ExportSettings(param.Parameterized):
+    """Size, resolution and font size of the exported figures, as typed (checked by :meth:`options`)."""
+
+    width = param.Parameter("7", doc="Width (in)")
+    height = param.Parameter("4", doc="Height (in)")
+    dpi = param.Parameter("150", doc="Resolution of PNG files (dots per inch)")
+    fontsize = param.Parameter("10", doc="Font size of the axis labels (pt)")
+
+    def options(self) -> figures.ExportOptions:
+        """The :class:`~fretwear.figures.ExportOptions` typed (``ValueError`` naming the bad one)."""
+        values = {}
+        for name in ("width", "height", "dpi", "fontsize"):
+            text = str(getattr(self, name))
+            number = parse_number(text)
+            if number is None:
+                low, high, unit = figures.ExportOptions.RANGES[name]
+                unit = f" {unit}" if unit else ""
+                raise ValueError(f"{name} must be a number in [{low:g}, {high:g}]{unit}, got {text!r}")
+            values[name] = int(number) if name == "dpi" and float(number).is_integer() else number
+        return figures.ExportOptions(**values)
+
+
+class SafeDownload(pn.widgets.FileDownload):
+    """A download whose file is made on click by ``make()``; a failure goes to ``failed(message)``,
+    never to the server log as a traceback, and nothing downloads."""
+
+    def __init__(self, make: Callable[[], bytes], failed: Callable[[str], None], **params: Any) -> None:
+        self._make, self._failed = make, failed
+        super().__init__(**params)
+
+    @param.depends("_clicks", watch=True)
+    def _transfer(self):
+        try:
+            data = self._make()
+        except Exception as exc:  # noqa: BLE001 - every export failure reaches the page as a message
+            log.warning("export failed: %s", exc, exc_info=not isinstance(exc, ValueError))
+            self._failed(f"{self.filename}: {' '.join(str(exc).split())}")
+            return
+        self._failed("")
+        self._sync_data(io.BytesIO(data))
 
 
 def _sidebar(session: Session) -> list:
     c = session.controls
-    preset = pn.widgets.Select(label="Preset", options=[CUSTOM, *PRESETS], value=c.preset)
-    preset.param.watch(lambda e: c.apply_preset(e.new), "value")
-    c.param.watch(lambda e: setattr(preset, "value", e.new), "preset")
+    preset = pn.widgets.Select(options=[CUSTOM, *PRESETS], value=c.preset, sizing_mode="stretch_width",
+                               margin=(0, 10))  # fmt: skip
+    lesson = pn.pane.Markdown("", sizing_mode="stretch_width", margin=(0, 10))
 
-    def slider(kind, name, label, start, end, step=None):
-        w = kind(
-            label=label,
-            start=start,
-            end=end,
-            value=getattr(c, name),
-            sizing_mode="stretch_width",
-            **({} if step is None else {"step": step}),
-        )
-        _link(w, c, name)
-        return w
+    def chosen(event):
+        if event.new != c.preset:
+            session.apply_preset(event.new)
 
-    fex = slider(pn.widgets.EditableFloatSlider, "fex", "F_ex: excitation on mass 1 (N)", 0.5, 30, 0.1)
-    mu = slider(pn.widgets.EditableFloatSlider, "mu", "mu: friction coefficient", 0.05, 2, 0.01)
-    harmonics = slider(pn.widgets.EditableIntSlider, "harmonics", "Nh: harmonics", 1, 41)
-    degree = slider(pn.widgets.EditableIntSlider, "degree", "Degree of the polynomial method", 0, 12)
-    band = BandInput(c, 0.05, 3.0)
+    def show_preset(*_events):
+        preset.value = c.preset
+        lesson.object = f"*What to look at:* {PRESETS[c.preset].lesson}" if c.preset in PRESETS else ""
+
+    preset.param.watch(chosen, "value")
+    c.param.watch(show_preset, "preset")
+    show_preset()
+
+    def number(name, label, glossary, start, end, step, **kw):
+        return NumberInput(c, name, label, glossary, start, end, step, c.type_text, lambda: c.typed, **kw)
+
+    def selected(name, label, glossary):
+        return NumberInput(session, name, label, glossary, 0, 1, 1, session.type_text,
+                           lambda: session.typed, slider=False)  # fmt: skip
+
     method = pn.widgets.RadioButtonGroup(
-        label="Slow-time method", options=list(METHODS), value=c.method, color="primary", variant="outline"
+        options=list(METHODS), value=c.method, color="primary", variant="outline",
+        sizing_mode="stretch_width", margin=(4, 10),
+    )  # fmt: skip
+    method.param.watch(lambda e: setattr(c, "method", e.new), "value")
+    c.param.watch(lambda e: setattr(method, "value", e.new), "method")
+    advanced = _lazy_card(
+        "More settings",
+        lambda: [
+            number("normal_load", "F<sub>N</sub>: initial normal load (N)", "F_N", 1, 50, 0.5),
+            number(
+                "tol",
+                "Tolerance (fraction of u<sub>0</sub>), slider over log<sub>10</sub>",
+                "tolerance",
+                -4,
+                -1,
+                0.1,
+                log=True,
+            ),  # fmt: skip
+            number("n_frequencies", "Frequencies of the maps", None, 5, 201, 1, integer=True),
+            number("n_cycles", "Cycle counts of the wear map", None, 10, 200, 1, integer=True),
+        ],
     )
-    _link(method, c, "method", event="value")
-    normal = slider(pn.widgets.EditableFloatSlider, "normal_load", "F_N: initial normal load (N)", 1, 50, 0.5)
-    n_f = slider(pn.widgets.EditableIntSlider, "n_frequencies", "Frequencies of the maps", 5, 201)
-    n_n = slider(pn.widgets.EditableIntSlider, "n_cycles", "Cycle counts of the wear map", 10, 200)
-    advanced = pn.Card(
-        normal,
-        LogInput(c, "tol", "log10 tolerance (fraction of u0)", -4, -1),
-        n_f,
-        n_n,
-        title="More settings",
-        collapsed=True,
-        sizing_mode="stretch_width",
-    )
-    f_sel = pn.widgets.FloatInput(
-        label="f (Hz)", value=session.frequency, step=0.01, sizing_mode="stretch_width"
-    )
-    n_sel = pn.widgets.FloatInput(
-        label="N (cycles)", value=session.cycles, step=1000, sizing_mode="stretch_width"
-    )
-    _link(f_sel, session, "frequency", event="value")
-    _link(n_sel, session, "cycles", event="value")
     return [
+        _label("<b>Preset</b>: one lesson each", None),
         preset,
-        fex,
-        mu,
-        LogInput(c, "kw", "log10 k_w: Archard coefficient (1/Pa)", -14, -6),
-        LogInput(c, "horizon", "log10 cycle horizon", 2, 8),
-        band,
-        harmonics,
-        pn.pane.Markdown("Slow-time method", margin=(0, 10)),
+        lesson,
+        number("fex", "F<sub>ex</sub>: excitation on mass 1 (N)", "F_ex", 0.5, 30, 0.1),
+        number("mu", "μ: friction coefficient", "mu", 0.05, 2, 0.01),
+        number(
+            "kw",
+            "k<sub>w</sub>: Archard coefficient (1/Pa), slider over log<sub>10</sub>",
+            "k_w",
+            -14,
+            -6,
+            0.1,
+            log=True,
+        ),  # fmt: skip
+        number("horizon", "Cycle horizon (cycles), slider over log<sub>10</sub>", "N", 2, 8, 0.1, log=True),
+        BandInput(c, 0.05, 3.0),
+        number("harmonics", "N<sub>h</sub>: harmonics", "Nh", 1, 64, 1, integer=True),
+        _label("Slow-time method", "method"),
         method,
-        degree,
+        number("degree", "Degree of the polynomial method", None, 0, 12, 1, integer=True),
         advanced,
-        pn.pane.Markdown("**Selected point** (click the wear map)", margin=(10, 10, 0, 10)),
-        pn.Row(f_sel, n_sel),
+        _label("<b>Selected point</b> (click the wear map)", None, margin=(12, 10, 0, 10)),
+        pn.Row(selected("frequency", "f (Hz)", None), selected("cycles", "N (cycles)", "N"), margin=0),
+        _share_card(session),
     ]
 
 
-def _draw(
-    scene: Scene, name: str, version: int, x: float | None = None, y: float | None = None
-) -> hv.Overlay:
-    """Figure ``name`` of ``scene``; ``x``, ``y`` (the wear map's tap stream) act through the session."""
-    return scene.figure(name)
+def _share_card(session: Session) -> pn.Card:
+    """Copy link, save and load the settings (built when first expanded)."""
+    return _lazy_card("Link and settings", partial(_share_widgets, session))
+
+
+def _share_widgets(session: Session) -> list:
+    copy = pn.widgets.Button(label="Copy link", color="primary", variant="outline",
+                             description="Copy the page's address: it reproduces this view")  # fmt: skip
+    copy.js_on_click(args={"button": copy}, code=COPY_JS)
+    message = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
+
+    def failed(text: str) -> None:
+        message.object, message.visible = text, bool(text)
+
+    save = SafeDownload(
+        lambda: settings_json(session.record()).encode(),
+        failed,
+        filename="fretwear_settings.json",
+        label="Save settings",
+        color="primary",
+        variant="outline",
+    )
+    load = pn.widgets.FileInput(accept=".json", multiple=False, sizing_mode="stretch_width")
+
+    def loaded(event):
+        if not event.new:
+            return
+        name = load.filename or "settings"
+        try:
+            record = parse_settings(event.new.decode("utf-8", errors="replace"), f"settings file {name!r}")
+        except ValueError as exc:
+            failed(str(exc))
+            return
+        problems = session.apply_record(record, source=f"settings file {name!r}")
+        failed("; ".join(problems))
+
+    load.param.watch(loaded, "value")
+    return [
+        pn.Row(copy, save, margin=0),
+        _label("Load settings (a file saved here; the CLI reads it with --settings FILE)", None),
+        load,
+        message,
+    ]
+
+
+def _draw(scene: Scene, name: str, version: int, **_streams: Any) -> hv.Overlay:
+    """Figure ``name`` of ``scene``; other stream values (the tap, the frame) act through the scene."""
+    return scene.figure(name, live=True)
 
 
 def _figure_pane(scene: Scene, name: str, session: Session) -> pn.pane.HoloViews:
-    streams = [hv.streams.Params(scene, ["version"])]
+    streams: list = [hv.streams.Params(scene, ["version"])]
     if (scene.key, name) == ("wearmap", "wear_map"):
         # a stream of the DynamicMap itself: a Tap with ``source=`` does not link to a plot of overlays
         tap = hv.streams.Tap(x=None, y=None)
         tap.add_subscriber(lambda x, y: session.select(x, y))
         streams.append(tap)
+    if isinstance(scene, CycleScene):
+        streams = [hv.streams.Params(scene, ["version", "frame"])]  # the animation redraws them
     dmap = hv.DynamicMap(partial(_draw, scene, name), streams=streams)
     return pn.pane.HoloViews(dmap, backend="bokeh", sizing_mode="stretch_width", linked_axes=False)
 
 
-def _download(scene: Scene, what: pn.widgets.Select, fmt: str) -> io.BytesIO:
-    """File of the selected figure or dataset; a note in the file when it cannot be made."""
-    try:
+def _export_card(scene: Scene, settings: ExportSettings) -> pn.Card:
+    """Downloads of the scene's figures and datasets, with the export options (built when expanded)."""
+    return _lazy_card(
+        "Export: figures as PNG, SVG (Matplotlib) or HTML, data as CSV, each with its parameters",
+        partial(_export_widgets, scene, settings),
+    )
+
+
+def _export_widgets(scene: Scene, settings: ExportSettings) -> list:
+    figure = pn.widgets.Select(label="Figure", options=list(scene.figure_names), width=200)
+    dataset = pn.widgets.Select(label="Dataset", options=list(scene.dataset_names), width=200)
+    message = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
+
+    def failed(text: str) -> None:
+        message.object = f"Export failed: {text}" if text else ""
+        message.visible = bool(text)
+
+    def make(select: pn.widgets.Select, fmt: str) -> bytes:
         if fmt == "csv":
-            return io.BytesIO(scene.export_csv(what.value).encode())
-        return io.BytesIO(scene.export_figure(what.value, fmt))
-    except ValueError as exc:
-        return io.BytesIO(f"not available: {exc}\n".encode())
+            return scene.export_csv(select.value).encode()
+        return scene.export_figure(select.value, fmt, settings.options())
 
-
-def _export_card(scene: Scene) -> pn.Card:
-    figure = pn.widgets.Select(label="Figure", options=list(scene.figure_names), width=220)
-    dataset = pn.widgets.Select(label="Dataset", options=list(scene.dataset_names), width=220)
-    buttons: list[tuple[pn.widgets.FileDownload, pn.widgets.Select, str]] = []
+    buttons = {}
     for select, fmt in [(figure, f) for f in figures.FIGURE_FORMATS] + [(dataset, "csv")]:
-        button = pn.widgets.FileDownload(
+        buttons[fmt] = SafeDownload(
+            partial(make, select, fmt),
+            failed,
             label=fmt.upper(),
-            callback=partial(_download, scene, select, fmt),
             filename=scene.filename(select.value, fmt),
             color="primary",
             variant="outline",
-            width=80,
+            width=70,
             align="end",
         )
-        buttons.append((button, select, fmt))
 
     def rename(*_events):
-        for button, select, fmt in buttons:
-            button.filename = scene.filename(select.value, fmt)
+        for fmt, button in buttons.items():
+            button.filename = scene.filename((dataset if fmt == "csv" else figure).value, fmt)
 
     figure.param.watch(rename, "value")
     dataset.param.watch(rename, "value")
-    by_format = {fmt: b for b, _, fmt in buttons}
-    return pn.Card(
-        pn.Row(figure, *(by_format[f] for f in figures.FIGURE_FORMATS)),
-        pn.Row(dataset, by_format["csv"]),
-        title="Export (PNG and SVG via Matplotlib, standalone HTML, CSV)",
-        collapsed=False,
-        sizing_mode="stretch_width",
-    )
+    boxes = []
+    for name, label in (("width", "width (in)"), ("height", "height (in)"), ("dpi", "dpi (PNG)"),
+                        ("fontsize", "font size (pt)")):  # fmt: skip
+        box = pn.widgets.TextInput(
+            label=label, value=str(getattr(settings, name)), width=95, placeholder=name
+        )
+        box.param.watch(lambda e, n=name: setattr(settings, n, e.new), "value")
+        settings.param.watch(lambda e, b=box: setattr(b, "value", str(e.new)), name)
+        boxes.append(box)
+    return [
+        pn.Row(figure, *(buttons[f] for f in figures.FIGURE_FORMATS), *boxes),
+        pn.Row(dataset, buttons["csv"]),
+        message,
+    ]
 
 
 def _accuracy_controls(scene: AccuracyScene, session: Session) -> pn.Column:
@@ -272,27 +506,31 @@ def _accuracy_controls(scene: AccuracyScene, session: Session) -> pn.Column:
     quantity = pn.widgets.Select(
         label="Error on", options={v: k for k, v in QUANTITY_LABELS.items()}, value=scene.quantity, width=250
     )
-    _link(quantity, scene, "quantity", event="value")
+    quantity.param.watch(lambda e: setattr(scene, "quantity", e.new), "value")
+    scene.param.watch(lambda e: setattr(quantity, "value", e.new), "quantity")
     target = pn.widgets.DiscreteSlider(
         label="Target error", options={f"{t:g}": t for t in TARGETS}, value=scene.target, width=300
     )
-    _link(target, scene, "target")
+    target.param.watch(lambda e: setattr(scene, "target", e.new), "value_throttled")
+    scene.param.watch(lambda e: setattr(target, "value", e.new), "target")
     ladder = pn.widgets.RadioButtonGroup(
-        label="Ladder", options=list(LADDERS), value=scene.ladder, variant="outline", align="end"
+        options=list(LADDERS), value=scene.ladder, variant="outline", align="end"
     )
-    _link(ladder, scene, "ladder", event="value")
+    ladder.param.watch(lambda e: setattr(scene, "ladder", e.new), "value")
+    scene.param.watch(lambda e: setattr(ladder, "value", e.new), "ladder")
     wear = pn.widgets.Checkbox(label="wear rungs: w(N) (several seconds)", value=scene.wear, align="end")
-    _link(wear, scene, "wear", event="value")
+    wear.param.watch(lambda e: setattr(scene, "wear", e.new), "value")
+    scene.param.watch(lambda e: setattr(wear, "value", e.new), "wear")
     advice = pn.pane.Markdown("", sizing_mode="stretch_width")
-    apply = pn.widgets.Button(label="Apply", color="primary", disabled=True, min_width=120, align="center")
+    apply = pn.widgets.Button(label="Apply", color="primary", disabled=True, width=100, align="center")
 
     def show(*_events):
         advice.object = scene.advice()
-        rung = scene.applicable()
-        apply.disabled = rung is None
-        apply.label = "Apply" if rung is None else f"Apply: {sidebar_equivalent(rung)[1]}"
+        apply.disabled = scene.applicable() is None
 
     def click(_event):
+        from .scenes import sidebar_equivalent
+
         rung = scene.applicable()
         if rung is not None:
             session.apply(sidebar_equivalent(rung)[0])
@@ -302,12 +540,48 @@ def _accuracy_controls(scene: AccuracyScene, session: Session) -> pn.Column:
     show()
     return pn.Column(
         pn.Row(quantity, target, pn.pane.Markdown("Ladder", align="end"), ladder, wear),
-        pn.Row(advice, apply, sizing_mode="stretch_width"),
+        pn.Row(apply, advice, sizing_mode="stretch_width"),
         sizing_mode="stretch_width",
     )
 
 
-def _scene_tab(scene: Scene, session: Session) -> pn.Column:
+def _cycle_controls(scene: CycleScene) -> pn.Row:
+    """Play/pause of the animation of one period, the instant shown, and the summary of the solution.
+
+    The server advances the frames (a periodic callback): a frame that takes
+    longer to draw than the period delays the next one instead of queueing
+    frames, so that a loaded server never falls behind the page.
+    """
+    play = pn.widgets.Toggle(label="Play", value=False, width=90, align="end", color="primary")
+    instant = pn.widgets.IntSlider(
+        label="instant of the period (frame)", start=0, end=ANIMATION_FRAMES - 1, value=scene.frame, width=260
+    )
+    instant.param.watch(lambda e: setattr(scene, "frame", e.new), "value_throttled")
+    scene.param.watch(lambda e: setattr(instant, "value", e.new), "frame")
+    running: dict[str, Any] = {}
+
+    def step() -> None:
+        scene.frame = (scene.frame + 1) % ANIMATION_FRAMES
+
+    def toggled(event) -> None:
+        play.label = "Pause" if event.new else "Play"
+        if event.new and "callback" not in running:
+            running["callback"] = pn.state.add_periodic_callback(step, period=FRAME_PERIOD_MS, start=False)
+        if "callback" in running:
+            (running["callback"].start if event.new else running["callback"].stop)()
+
+    play.param.watch(toggled, "value")
+    summary = pn.pane.Markdown("", sizing_mode="stretch_width")
+
+    def show(*_events):
+        summary.object = scene.summary()
+
+    scene.param.watch(show, "version")
+    show()
+    return pn.Row(play, instant, summary, sizing_mode="stretch_width")
+
+
+def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
     panes = [_figure_pane(scene, name, session) for name in scene.figure_names]
     grid = pn.GridBox(*panes, ncols=min(2, len(panes)), sizing_mode="stretch_width")
     notes = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
@@ -319,16 +593,12 @@ def _scene_tab(scene: Scene, session: Session) -> pn.Column:
     scene.param.watch(show_notes, "notes")
     show_notes()
     explanation = pn.pane.Markdown(scene.explanation.strip(), sizing_mode="stretch_width")
-    controls = [_accuracy_controls(scene, session)] if isinstance(scene, AccuracyScene) else []
-    return pn.Column(
-        explanation,
-        *controls,
-        grid,
-        notes,
-        _export_card(scene),
-        name=scene.title,
-        sizing_mode="stretch_width",
-    )
+    controls = []
+    if isinstance(scene, AccuracyScene):
+        controls = [_accuracy_controls(scene, session)]
+    elif isinstance(scene, CycleScene):
+        controls = [_cycle_controls(scene)]
+    return [explanation, *controls, grid, notes, _export_card(scene, export)]
 
 
 def _status(session: Session) -> pn.Column:
@@ -337,33 +607,80 @@ def _status(session: Session) -> pn.Column:
     )
     text = pn.pane.Markdown("", margin=(0, 10))
     error = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
+    notice = pn.pane.Alert("", alert_type="info", visible=False, sizing_mode="stretch_width")
 
     def update(*_events: Any) -> None:
         bar.visible = session.busy
         bar.value = session.progress
         text.object = f"{session.status} ({session.progress} %)" if session.busy else ""
         error.object, error.visible = session.error, bool(session.error)
+        notice.object, notice.visible = session.notice, bool(session.notice)
 
-    session.param.watch(update, ["busy", "progress", "status", "error"])
+    session.param.watch(update, ["busy", "progress", "status", "error", "notice"])
     update()
-    return pn.Column(error, pn.Row(bar, text, sizing_mode="stretch_width"), sizing_mode="stretch_width")
+    return pn.Column(
+        error, notice, pn.Row(bar, text, sizing_mode="stretch_width"), sizing_mode="stretch_width"
+    )
 
 
-def build_page(session: Session) -> pn.template.BootstrapTemplate:
-    """The page of ``session``: sidebar, status line and one tab per scene."""
+def _address(session: Session, location) -> None:
+    """Keep the page's address query equal to the view (``Session.query``)."""
+    if location is None:
+        return
+
+    def write(*_events):
+        search = "?" + session.query()
+        if location.search != search:
+            location.search = search
+
+    watched = [(session, ["scene", "frequency", "cycles"]), (session.controls, list(session.controls.param))]
+    watched.append((session.scenes["accuracy"], ["quantity", "target", "ladder", "wear"]))
+    for obj, names in watched:
+        obj.param.watch(write, [n for n in names if n not in ("name", "typed", "preset")])
+
+
+def build_page(session: Session, location=None) -> pn.template.BootstrapTemplate:
+    """The page of ``session``: sidebar, status line and one tab per scene and the glossary.
+
+    ``location`` (``pn.state.location`` when served) receives the view as the
+    address's query.
+
+    """
     figures.load_backend("bokeh")
     keys = list(session.scenes)
+    export = ExportSettings()
+    glossary = pn.pane.Markdown(glossary_markdown(), sizing_mode="stretch_width", name="Glossary")
     tabs = pn.Tabs(
-        *(_scene_tab(session.scenes[k], session) for k in keys),
+        *(pn.Column(name=session.scenes[k].title, sizing_mode="stretch_width") for k in keys),
+        glossary,
         dynamic=True,
         active=keys.index(session.scene),
         sizing_mode="stretch_width",
     )
-    tabs.param.watch(lambda e: setattr(session, "scene", keys[e.new]), "active")
+
+    def fill(index: int) -> None:
+        """Build the tab ``index`` when first shown."""
+        if index < len(keys) and not tabs[index].objects:
+            tabs[index].objects = _scene_tab(session.scenes[keys[index]], session, export)
+
+    def shown(event):
+        fill(event.new)
+        if event.new < len(keys):
+            session.scene = keys[event.new]
+
+    def follow(event):
+        index = keys.index(event.new)
+        fill(index)
+        tabs.active = index
+
+    fill(tabs.active)
+    tabs.param.watch(shown, "active")
+    session.param.watch(follow, "scene")
+    _address(session, location)
     return pn.template.BootstrapTemplate(
         title=TITLE,
         # one root per area: every root costs Bokeh a pass over all the document's models
         sidebar=[pn.Column(pn.pane.Markdown(INTRO), *_sidebar(session), sizing_mode="stretch_width")],
         main=[pn.Column(_status(session), tabs, sizing_mode="stretch_width")],
-        sidebar_width=360,
+        sidebar_width=380,
     )

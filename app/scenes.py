@@ -4,7 +4,8 @@ A scene draws only what its session published into it (:meth:`Scene.publish`):
 results, the settings and the selected point they belong to. Its figures keep
 the same layers whatever the state (empty data while nothing is computed), as
 the dashboard's ``DynamicMap`` objects require. Figures come from the builders
-of :mod:`fretwear.figures`, which also renders them to PNG, SVG and HTML.
+of :mod:`fretwear.figures`, which also renders them to PNG, SVG and HTML with
+their parameter record (:meth:`Scene.record`).
 """
 
 from __future__ import annotations
@@ -15,21 +16,29 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 import param
 
+import fretwear
 from fretwear import figures
+from fretwear.figures.record import caption, csv_header
+from fretwear.figures.sketch import STATE_NAMES, model_sketch, sketch_scale
 from fretwear.hbm.harmonics import default_samples
 from fretwear.studies.accuracy import QUANTITIES, CostStudy, Rung
 
 from .backend import Failure
+from .glossary import term
 from .state import CONVERGENCE_HARMONICS, LADDERS, METHODS, Controls, Settings, Task, Tasks
 
 if TYPE_CHECKING:
     import holoviews as hv
 
-__all__ = ["Selection", "Scene", "SCENES", "sidebar_equivalent"]
+__all__ = ["Selection", "Scene", "SCENES", "sidebar_equivalent", "ANIMATION_FRAMES"]
 
-HZ = "frequency (Hz)"
-X1 = "x1 amplitude, first harmonic (m)"
+HZ = "frequency f (Hz)"
+X1 = "x₁ amplitude, first harmonic (m)"
+WEAR = "w / u₀"
+CYCLES = "cycles N"
 EMPTY = (np.zeros(0), np.zeros(0))
+#: frames of the animation of one period (the cycle scene)
+ANIMATION_FRAMES = 32
 
 
 @dataclass(frozen=True)
@@ -49,6 +58,29 @@ def _failure_note(name: str, value: Any) -> list[str]:
     return [f"{name}: {value}"] if isinstance(value, Failure) else []
 
 
+def _history_notes(histories: list, limit: int = 4) -> list[str]:
+    """Notes on wear histories: where each stopped early or warned, and where one overshoots ``u0``.
+
+    Each note names its frequency; past ``limit`` notes the rest are counted.
+    """
+    notes = [
+        f"{h.frequency:.4g} Hz ({h.method}): stopped early, {h.status}" for h in histories if not h.converged
+    ]
+    notes += [f"{h.frequency:.4g} Hz ({h.method}): {w}" for h in histories for w in h.warnings]
+    worst = max(histories, key=lambda h: np.nanmax(h.wear_fraction), default=None)
+    if worst is not None and np.nanmax(worst.wear_fraction) > 1:
+        k = int(np.nanargmax(worst.wear_fraction[:, 0]))
+        notes.insert(
+            0,
+            f"w / u₀ reaches {worst.wear_fraction[k, 0]:.3g} > 1 at {worst.frequency:.4g} Hz, "
+            f"N = {worst.cycles[k]:.3g} ({worst.method}): past u₀ the contact is unloaded and stops "
+            "wearing, so the excess is the method's error (the colour scale extends to show it)",
+        )
+    if len(notes) > limit:
+        notes = [*notes[:limit], f"and {len(notes) - limit} more notes (the CSV export has every history)"]
+    return notes
+
+
 class Scene(param.Parameterized):
     """One tab of the dashboard. Subclasses set the class attributes and the ``_figure_*`` methods."""
 
@@ -58,6 +90,8 @@ class Scene(param.Parameterized):
     figure_names: ClassVar[tuple[str, ...]]
     dataset_names: ClassVar[tuple[str, ...]]
     uses_selection: ClassVar[bool] = False
+    #: whether the scene's results depend on wear (its record has k_w, the method and its options)
+    wears: ClassVar[bool] = True
     #: parameters of the scene that change what it computes (the session refreshes when they change)
     inputs: ClassVar[tuple[str, ...]] = ()
 
@@ -92,34 +126,61 @@ class Scene(param.Parameterized):
         return []
 
     # -- what to show ---------------------------------------------------------------------
-    def figure(self, name: str) -> hv.Overlay:
-        """Figure ``name`` of the published results, as a HoloViews overlay."""
+    def figure(self, name: str, live: bool = False) -> hv.Overlay:
+        """Figure ``name`` of the published results, as a HoloViews overlay.
+
+        ``live``: as the page shows it (with what only the page has, e.g. the
+        animation's cursor); exports draw the figure without it.
+        """
         if name not in self.figure_names:
             raise ValueError(f"scene {self.key!r} has no figure {name!r}; it has {self.figure_names}")
-        return getattr(self, f"_figure_{name}")()
+        return getattr(self, f"_figure_{name}")(**({"live": True} if live and self.live else {}))
+
+    #: whether the page's figures have more than the exported ones (``_figure_*`` take ``live``)
+    live: ClassVar[bool] = False
 
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
         """Tables (column name -> values) of the published results, by name."""
         return {}
+
+    def record(self) -> dict[str, Any]:
+        """The parameter record of the published results (settings record keys, see
+        :mod:`fretwear.figures.record`): what every export of this scene is stamped with."""
+        out = self.settings.record(wear=self.wears)
+        if self.uses_selection:
+            out["f"] = self.selection.frequency
+            if self.wears:
+                out["N"] = self.selection.cycles
+        return out
 
     # -- export ---------------------------------------------------------------------------
     def filename(self, name: str, fmt: str) -> str:
         """Download file name of figure or dataset ``name``."""
         return f"fretwear_{self.key}_{name}.{fmt}"
 
-    def export_figure(self, name: str, fmt: str) -> bytes:
-        """Figure ``name`` as ``png``, ``svg`` or standalone ``html`` bytes."""
+    def export_figure(self, name: str, fmt: str, options: figures.ExportOptions | None = None) -> bytes:
+        """Figure ``name`` as ``png``, ``svg`` or standalone ``html`` bytes, with its parameter record
+        as a caption; ``options``: size, resolution, font size."""
         if fmt not in figures.FIGURE_FORMATS:
             raise ValueError(f"fmt must be one of {figures.FIGURE_FORMATS}, got {fmt!r}")
+        if not self.results:
+            raise ValueError(f"nothing to export yet: the {self.title} scene has not been computed")
         figures.load_backend("bokeh" if fmt == "html" else "matplotlib")
-        return figures.figure_bytes(self.figure(name), fmt, title=f"fretwear: {self.title}, {name}")
+        record = self.record()
+        return figures.figure_bytes(
+            self.figure(name),
+            fmt,
+            title=f"fretwear: {self.title}, {name}",
+            options=options,
+            caption=lambda markup: caption(record, markup=markup),
+        )
 
     def export_csv(self, name: str) -> str:
-        """Dataset ``name`` as CSV text."""
+        """Dataset ``name`` as CSV text, after its parameter record (``#`` lines)."""
         tables = self.datasets()
         if name not in tables:
             raise ValueError(f"no dataset {name!r} in scene {self.key!r} (yet); available: {sorted(tables)}")
-        return figures.csv_text(tables[name])
+        return figures.csv_text(tables[name], csv_header(self.record()))
 
 
 def _linear_curves(scene: Scene) -> dict[str, tuple]:
@@ -141,20 +202,28 @@ def _linear_table(scene: Scene) -> dict[str, dict[str, np.ndarray]]:
     return {"linear_frf": table}
 
 
+def _no_wear(scene: Scene) -> tuple:
+    """``(f, x1)`` of the nonlinear FRF without wear (HBM + DLFT sweep), whatever the slow-time method."""
+    frf = _ok(scene.results.get("frf"))
+    return EMPTY if frf is None else (frf["f_hz"], frf["amplitude"][:, 0])
+
+
 class RegimesScene(Scene):
     key = "regimes"
     title = "Regimes"
     figure_names = ("frf", "regime_map")
     dataset_names = ("nonlinear_frf", "linear_frf", "regime_map", "stick_boundary")
-    explanation = """
+    wears = False
+    explanation = f"""
 **What you see.** Left: the response of mass 1 with the contact stuck and with it open (linear,
-dashed), and the nonlinear response without wear (HBM + DLFT). Right: the fraction of the period the
-contact slips, over frequency and the load ratio `r = F_ex / (mu F_N)`; the red line is the exact stick
-boundary (below it the contact never slips, so it never wears), the white line separates mostly stuck
-from mostly slipping periods, the dashed line is the current `r`.
+dashed), and the nonlinear response without wear ({term("DLFT", "HBM + DLFT")}). Right: the fraction
+of the period the contact slips, over frequency and the load ratio
+{term("r", "r = F<sub>ex</sub> / (μ F<sub>N</sub>)")};
+the red line is the exact stick boundary (below it the contact never slips, so it never wears), the
+white line separates mostly stuck from mostly slipping periods, the dashed line is the current r.
 
-**Try.** Move `F_ex`: the dashed line moves and the nonlinear FRF leaves the stuck curve where the
-line crosses the stick boundary. Raise `Nh` to sharpen the stick-slip transitions."""
+**Try.** Move {term("F_ex")}: the dashed line moves and the nonlinear FRF leaves the stuck curve where
+the line crosses the stick boundary. Raise {term("Nh")} to sharpen the stick-slip transitions."""
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         t = self.tasks
@@ -169,15 +238,14 @@ line crosses the stick boundary. Raise `Nh` to sharpen the stick-slip transition
 
     def _figure_frf(self):
         curves = _linear_curves(self)
-        frf = _ok(self.results.get("frf"))
-        curves["nonlinear, no wear"] = EMPTY if frf is None else (frf["f_hz"], frf["amplitude"][:, 0])
+        curves["nonlinear, no wear"] = _no_wear(self)
         return figures.line_figure(
             curves,
             xlabel=HZ,
             ylabel=X1,
             logy=True,
             dashed=list(curves)[:2],
-            title=f"FRF of mass 1, F_ex = {self.settings.model.fex:g} N",
+            title=f"FRF of mass 1, Fₑₓ = {self.settings.model.fex:g} N",
         )
 
     def _figure_regime_map(self):
@@ -195,7 +263,7 @@ line crosses the stick boundary. Raise `Nh` to sharpen the stick-slip transition
             ratios,
             z,
             xlabel=HZ,
-            ylabel="r = F_ex / (mu F_N)",
+            ylabel="r = Fₑₓ / (μ Fₙ)",
             zlabel="slip fraction of the period",
             clim=(0, 1),
             levels=(0.5,),
@@ -239,17 +307,18 @@ class WearMapScene(Scene):
     figure_names = ("wear_map", "history", "pseudo_frf")
     dataset_names = ("wear_map", "history", "pseudo_frf")
     uses_selection = True
-    explanation = """
-**What you see.** The wear depth `w / u0` over frequency and the number of cycles `N` (log scale), by
-the selected slow-time method (`exact`: no slow-time error), with contours at 10, 50 and 90 %. Hover
-for values. **Click a point**: beside and below, the wear history `w(N)` at that frequency and the
-pseudo-FRF of mass 1 at that cycle count, next to the one without wear.
+    explanation = f"""
+**What you see.** The {term("wear map")}: the worn depth w / {term("u0")} over frequency and the number
+of cycles {term("N")} (log scale), by the selected {term("method", "slow-time method")} (exact: no
+slow-time error), with contours at 10, 50 and 90 %. Hover for values. **Click a point**: beside and
+below, the wear history w(N) at that frequency and the {term("pseudo-FRF")} of mass 1 at that cycle
+count, next to the response without wear.
 
 **Try.** Click inside the worn band, then near its edges: wear starts where the contact slips and
-spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` matters)."""
+spreads as the normal load relaxes. Raise {term("k_w")} to wear faster (only N k<sub>w</sub> matters)."""
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
-        return [self.tasks.wear_map(s)]
+        return [self.tasks.frf(s), self.tasks.wear_map(s)]
 
     def _map(self):
         return _ok(self.results.get("wear_map"))
@@ -261,17 +330,13 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
 
     def _notes(self) -> list[str]:
         wm = self._map()
-        if wm is None:
-            return []
-        notes = [f"{h.frequency:.4g} Hz: {h.status}" for h in wm.histories if not h.converged]
-        warnings = sorted({w for h in wm.histories for w in h.warnings})
-        return notes + warnings[:3]
+        return [] if wm is None else _history_notes(wm.histories)
 
     def _figure_wear_map(self):
         s, wm, sel = self.settings, self._map(), self.selection
         f, cycles = (s.frequencies, s.cycles) if wm is None else (wm.frequency, wm.cycles)
         z = np.zeros((len(f), len(cycles))) if wm is None else wm.wear_fraction[:, :, 0]
-        title = f"Wear map ({s.method}, k_w = {s.kw:.3g} 1/Pa)"
+        title = f"Wear map ({s.method}, wear coefficient {s.kw:.3g} 1/Pa)"
         return figures.wear_map_figure(f, cycles, z, title=title, point=(sel.frequency, sel.cycles))
 
     def _history(self):
@@ -285,24 +350,26 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
             curve = figures.wear_curve(h, self.settings.dense_cycles)
             point = (sel.cycles, float(h.at([sel.cycles])["wear"][0, 0] / h.u0[0]))
         f = np.nan if h is None else h.frequency
+        title = f"Wear history at {f:.4g} Hz"
+        if h is not None and not np.isclose(f, sel.frequency, rtol=1e-9):
+            title += f" (the map's frequency nearest to f = {sel.frequency:.4g} Hz)"
         return figures.line_figure(
-            {"w / u0": curve},
-            xlabel="cycles N",
-            ylabel="w / u0",
+            {"wear history": curve},
+            xlabel=CYCLES,
+            ylabel=WEAR,
             logx=True,
             point=point,
-            title=f"Wear history at {f:.4g} Hz",
+            padding=0.05,
+            title=title,
         )
 
-    def _pseudo(self) -> tuple[np.ndarray, np.ndarray] | None:
+    def _pseudo(self) -> np.ndarray | None:
         wm = self._map()
-        return None if wm is None else wm.pseudo_frf([0.0, self.selection.cycles])[:, :, 0]
+        return None if wm is None else wm.pseudo_frf([self.selection.cycles])[0, :, 0]
 
     def _figure_pseudo_frf(self):
         wm, sel, p = self._map(), self.selection, self._pseudo()
-        curves = {"no wear": EMPTY, "selected N": EMPTY}
-        if p is not None:
-            curves = {"no wear": (wm.frequency, p[0]), "selected N": (wm.frequency, p[1])}
+        curves = {"no wear": _no_wear(self), "selected N": EMPTY if p is None else (wm.frequency, p)}
         return figures.line_figure(
             curves,
             xlabel=HZ,
@@ -316,7 +383,7 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
         wm, h, p = self._map(), self._history(), self._pseudo()
         if wm is None:
             return {}
-        return {
+        out = {
             "wear_map": wm.long_table(),
             "history": {
                 "cycles": h.cycles,
@@ -329,11 +396,11 @@ spreads as the normal load relaxes. Raise `k_w` to wear faster (only `N k_w` mat
             },
             "pseudo_frf": {
                 "f_hz": wm.frequency,
-                "x1_h1_N0": p[0],
-                "x1_h1_selected": p[1],
+                "x1_h1_selected": p,
                 "selected_cycles": np.full(len(wm.frequency), self.selection.cycles),
             },
         }
+        return out
 
 
 class EvolutionScene(Scene):
@@ -341,37 +408,51 @@ class EvolutionScene(Scene):
     title = "FRF evolution"
     figure_names = ("evolution",)
     dataset_names = ("pseudo_frfs", "linear_frf")
-    explanation = """
-**What you see.** Pseudo-FRFs of mass 1 (the response after `N` cycles of wear at each frequency) for
-`N = 0` and four cycle counts up to the horizon `H`, over the linear FRFs with the contact stuck and
-open (paper Fig. 8-9). As the contact wears, the normal load relaxes and the response moves from the
-stuck resonance (1 Hz) towards the free one (0.5 Hz).
+    explanation = f"""
+**What you see.** {term("pseudo-FRF", "Pseudo-FRFs")} of mass 1 (the response after {term("N")} cycles
+of wear at each frequency) without wear and at four cycle counts up to the horizon, over the linear
+FRFs with the contact stuck and open (paper Fig. 8-9). As the contact wears, the normal load relaxes
+and the response moves from the stuck resonance (1 Hz) towards the free one (0.5 Hz).
 
 **Try.** The paper presets at 6, 10 and 14 N; the wear map of the same settings is shared with the
 *Wear map* scene, so switching between them costs nothing."""
 
-    _labels = ("N = 0", "N = H/1000", "N = H/100", "N = H/10", "N = H")
+    #: keys of the snapshot curves (their legend shows the cycle counts)
+    _keys = ("no wear", "snapshot 1", "snapshot 2", "snapshot 3", "snapshot 4")
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         t = self.tasks
-        return [t.linear(s, "stuck"), t.linear(s, "open"), t.wear_map(s)]
+        return [t.linear(s, "stuck"), t.linear(s, "open"), t.frf(s), t.wear_map(s)]
+
+    def _snapshots(self) -> np.ndarray:
+        """Cycle counts of the worn curves (the first snapshot, ``N = 0``, is drawn from the FRF)."""
+        return self.settings.snapshots[1:]
 
     def _pseudo(self):
         wm = _ok(self.results.get("wear_map"))
-        return None if wm is None else wm.pseudo_frf(self.settings.snapshots)[:, :, 0]
+        return None if wm is None else wm.pseudo_frf(self._snapshots())[:, :, 0]
+
+    def _notes(self) -> list[str]:
+        wm = _ok(self.results.get("wear_map"))
+        return [] if wm is None else _history_notes(wm.histories)
 
     def _figure_evolution(self):
         curves = _linear_curves(self)
         wm, p = _ok(self.results.get("wear_map")), self._pseudo()
-        for i, label in enumerate(self._labels):
-            curves[label] = EMPTY if p is None else (wm.frequency, p[i])
+        curves["no wear"] = _no_wear(self)
+        for i, key in enumerate(self._keys[1:]):
+            curves[key] = EMPTY if p is None else (wm.frequency, p[i])
+        shown = {"no wear": "N = 0 (no wear)"} | {
+            key: f"N = {n:.3g}" for key, n in zip(self._keys[1:], self._snapshots(), strict=True)
+        }
         return figures.line_figure(
             curves,
             xlabel=HZ,
             ylabel=X1,
             logy=True,
             dashed=list(curves)[:2],
-            title=f"Pseudo-FRFs of mass 1, H = {self.settings.horizon:.3g} cycles",
+            legend_labels=shown,
+            title=f"Pseudo-FRFs of mass 1, horizon {self.settings.horizon:.3g} cycles",
         )
 
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
@@ -379,7 +460,7 @@ stuck resonance (1 Hz) towards the free one (0.5 Hz).
         wm, p = _ok(self.results.get("wear_map")), self._pseudo()
         if p is not None:
             out["pseudo_frfs"] = {"f_hz": wm.frequency} | {
-                f"x1_h1_N{n:.6g}": p[i] for i, n in enumerate(self.settings.snapshots)
+                f"x1_h1_N{n:.6g}": p[i] for i, n in enumerate(self._snapshots())
             }
         return out
 
@@ -387,17 +468,24 @@ stuck resonance (1 Hz) towards the free one (0.5 Hz).
 class CycleScene(Scene):
     key = "cycle"
     title = "Inside one cycle"
-    figure_names = ("displacements", "force", "loop")
+    figure_names = ("model", "displacements", "force", "loop")
     dataset_names = ("cycle",)
     uses_selection = True
-    explanation = """
-**What you see.** One period of the steady response at the selected frequency after `N` cycles of
-wear: the displacements, the friction force and its limits `+-mu F_N(w)`, with the slipping
-intervals shaded, and the hysteresis loop (friction force against relative displacement), whose area
-is the energy dissipated per cycle.
+    explanation = f"""
+**What you see.** The model (paper Fig. 4) with its current values and one period of its steady
+response at the selected frequency after {term("N")} cycles of wear: the masses move (displacements
+magnified), the interface is green while the contact sticks and red while it slips
+({term("stick-slip", "stick / slip")}), the worn depth w is drawn on mass 1 to scale of {term("u0")}.
+Below: the displacements, the friction force and its limits ±{term("mu")} {term("F_N")}(w), with the
+slipping intervals shaded, and the hysteresis loop (friction force against relative displacement),
+whose area is the energy dissipated per cycle. **Play** runs the period; the black lines and the dot
+follow it on the plots.
 
-**Try.** Pick a point on the wear map, or type `f` and `N` above: with wear the limits shrink, the
-contact slips longer and the loop flattens."""
+**Try.** Pick a point on the wear map, or type f and N in the sidebar: with wear the limits shrink,
+the contact slips longer and the loop flattens."""
+
+    frame = param.Integer(0, bounds=(0, ANIMATION_FRAMES - 1), doc="Frame of the animation of one period")
+    live = True
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         history = self.tasks.history(s, sel.frequency) if sel.cycles > 0 else None
@@ -410,15 +498,37 @@ contact slips longer and the loop flattens."""
         sol = self._point()
         if sol is None:
             return []
-        notes = [
-            f"wear w = {sol.wear[0]:.4g} m (w / u0 = {sol.wear[0] / sol.model.friction[0].u0:.3f}), "
+        notes = []
+        if not sol.converged:
+            notes.append(f"the periodic solve did not converge: {sol.message}")
+        h = _ok(self.results.get("history"))
+        return notes + ([] if h is None else _history_notes([h]))
+
+    def summary(self) -> str:
+        """What the published solution shows, in one line (empty while there is none)."""
+        sol = self._point()
+        if sol is None:
+            return ""
+        return (
+            f"w = {sol.wear[0]:.4g} m (w / u₀ = {sol.wear[0] / sol.model.friction[0].u0:.3f}), "
             f"F_N = {sol.normal_loads[0]:.4g} N, "
             f"slipping {100 * np.mean(sol.state[0] == 1):.0f} % of the period, "
             f"dissipated energy {sol.friction_energy[0]:.4g} J per cycle"
-        ]
-        if not sol.converged:
-            notes.append(f"the periodic solve did not converge: {sol.message}")
-        return notes
+        )
+
+    def sample(self, frame: int | None = None) -> int | None:
+        """Index of the time sample shown at animation ``frame`` (default the current one)."""
+        sol = self._point()
+        if sol is None:
+            return None
+        frame = self.frame if frame is None else frame
+        return int(round(frame * sol.samples / ANIMATION_FRAMES)) % sol.samples
+
+    def phase(self, frame: int | None = None) -> float:
+        """``t / T`` shown at animation ``frame`` (NaN while there is no solution)."""
+        k = self.sample(frame)
+        sol = self._point()
+        return np.nan if k is None else float(sol.time[k] * sol.omega / (2 * np.pi))
 
     def _spans(self, sol) -> list[tuple[float, float]]:
         """Intervals of t / T where the contact slips."""
@@ -431,13 +541,49 @@ contact slips longer and the loop flattens."""
         sel = self.selection
         return f"f = {sel.frequency:.4g} Hz, N = {sel.cycles:.3g}"
 
-    def _figure_displacements(self):
+    def _figure_model(self, live: bool = False):
+        sol, k = self._point(), self.sample()
+        if sol is None:
+            s = self.settings.model
+            model = fretwear.paper_model(fex=s.fex, mu=s.mu, normal_load=s.normal_load, kn=s.kn)
+            return model_sketch(model, title=f"The model (at rest), {self._title()}")
+        state = int(sol.state[0, k])
+        scale = sketch_scale(sol.displacement)
+        return model_sketch(
+            sol.model,
+            displacement=tuple(sol.displacement[:, k]),
+            scale=scale,
+            state=state,
+            wear=float(sol.wear[0]),
+            normal_load=float(sol.normal_loads[0]),
+            title=f"t / T = {self.phase():.2f}: {STATE_NAMES[state]} (displacements × {scale:.2g})",
+        )
+
+    def _cursor(self, name: str, live: bool) -> list:
+        """The animation's current instant on the page's figure ``name`` (none in exports): a vertical
+        line at ``t / T`` on the signals, a dot on the hysteresis loop."""
+        if not live:
+            return []
+        hv = figures.holoviews()
+        t, k, sol = self.phase(), self.sample(), self._point()
+        if name == "loop":
+            xy = (
+                (np.nan, np.nan)
+                if sol is None
+                else (sol.relative_displacement[0][k], sol.contact_force[0][k])
+            )
+            return [figures.styled(hv.Points([xy], ["x", "y"]), {"color": "black"}, {"size": 12}, {"s": 60})]
+        return [figures.styled(hv.VLine(t), {"color": "black"}, {"line_width": 2}, {"linewidth": 1.5})]
+
+    def _figure_displacements(self, live: bool = False):
         sol = self._point()
-        names = ("x1", "x2", "x1 - x2")
+        names = ("x₁", "x₂", "x₁ − x₂")
+        cursor = self._cursor("displacements", live)
         if sol is None:
             return figures.signals_figure(
-                [], {n: [] for n in names}, xlabel="t / T", ylabel="displacement (m)", title=self._title()
-            )
+                [], {n: [] for n in names}, xlabel="t / T", ylabel="displacement (m)", title=self._title(),
+                extra=cursor,
+            )  # fmt: skip
         t = sol.time * sol.omega / (2 * np.pi)
         signals = dict(zip(names, (*sol.displacement, sol.relative_displacement[0]), strict=True))
         return figures.signals_figure(
@@ -447,9 +593,10 @@ contact slips longer and the loop flattens."""
             xlabel="t / T",
             ylabel="displacement (m)",
             title=f"Displacements, {self._title()}",
+            extra=cursor,
         )
 
-    def _figure_force(self):
+    def _figure_force(self, live: bool = False):
         sol = self._point()
         t, force, limit = [], [], np.nan
         spans = []
@@ -467,10 +614,11 @@ contact slips longer and the loop flattens."""
             hlines=(limit, -limit),
             xlabel="t / T",
             ylabel="friction force (N)",
-            title=f"Friction force and +-mu F_N, {self._title()}",
+            title=f"Friction force and ±μ Fₙ, {self._title()}",
+            extra=self._cursor("force", live),
         )
 
-    def _figure_loop(self):
+    def _figure_loop(self, live: bool = False):
         sol = self._point()
         curve, energy = EMPTY, np.nan
         if sol is not None:
@@ -479,9 +627,11 @@ contact slips longer and the loop flattens."""
             energy = sol.friction_energy[0]
         return figures.line_figure(
             {"hysteresis loop": curve},
-            xlabel="x1 - x2 (m)",
+            xlabel="x₁ − x₂ (m)",
             ylabel="friction force (N)",
+            padding=0.08,
             title=f"Hysteresis loop: dissipated energy {energy:.4g} J per cycle",
+            extra=self._cursor("loop", live),
         )
 
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
@@ -507,16 +657,18 @@ class MethodsScene(Scene):
     figure_names = ("methods", "harmonics")
     dataset_names = ("methods", "harmonics")
     uses_selection = True
-    explanation = """
-**What you see.** Left: the wear history at the selected frequency by the four slow-time methods:
-the exact load path (Archard's law integrated along the exact piecewise-linear path of the periodic
-response as the load relaxes: no slow-time error), stepping (HBM + DLFT, adaptive steps in `N`), the
-paper's polynomial method (one nonlinear solve for the whole evolution) and direct time integration
-with cycle jumps (paper Fig. 11). Right: the exact load path with 1, 3, 7, 15 and 21 harmonics, so that
-only the harmonic truncation differs (paper Fig. 10).
+    explanation = f"""
+**What you see.** Left: the wear history at the selected frequency by the four
+{term("method", "slow-time methods")}: the exact load path (Archard's law integrated along the exact
+piecewise-linear path of the periodic response as the load relaxes: no slow-time error), stepping
+(HBM + {term("DLFT")}, adaptive steps in N), the paper's polynomial method (one nonlinear solve for
+the whole evolution) and direct time integration with cycle jumps (paper Fig. 11). Right: the exact
+load path with 1, 3, 7, 15 and 21 harmonics, so that only the harmonic truncation differs (paper
+Fig. 10).
 
-**Try.** The paper's case: `F_ex = 10 N`, `f = 0.7 Hz`, `Nh = 3`, degree 4. Raise the degree when
-the polynomial curve misses the plateau; loosen the tolerance to see stepping drift."""
+**Try.** The paper's case: F<sub>ex</sub> = 10 N, f = 0.7 Hz, {term("Nh")} = 3, degree 4. Raise the
+degree when the polynomial curve misses the plateau; loosen the {term("tolerance")} to see stepping
+drift."""
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         t, f = self.tasks, sel.frequency
@@ -524,15 +676,12 @@ the polynomial curve misses the plateau; loosen the tolerance to see stepping dr
         convergence = [t.history(s, f, "exact", nh, name=f"Nh = {nh}") for nh in CONVERGENCE_HARMONICS]
         return sorted(methods + convergence, key=lambda task: task.weight)
 
+    def record(self) -> dict[str, Any]:
+        """The record of the comparison: every method runs, so the method is not one of the settings."""
+        return {k: v for k, v in super().record().items() if k not in ("method",)}
+
     def _notes(self) -> list[str]:
-        notes = []
-        for name in METHODS:
-            h = _ok(self.results.get(name))
-            if h is not None:
-                notes += [f"{name}: {w}" for w in h.warnings]
-                if not h.converged:
-                    notes.append(f"{name}: stopped early ({h.status})")
-        return notes
+        return _history_notes([h for name in METHODS if (h := _ok(self.results.get(name))) is not None])
 
     def _curves(self, names) -> dict[str, tuple]:
         out = {}
@@ -545,9 +694,10 @@ the polynomial curve misses the plateau; loosen the tolerance to see stepping dr
         sel = self.selection
         return figures.line_figure(
             self._curves(METHODS),
-            xlabel="cycles N",
-            ylabel="w / u0",
+            xlabel=CYCLES,
+            ylabel=WEAR,
             logx=True,
+            padding=0.05,
             title=f"Slow-time methods at {sel.frequency:.4g} Hz",
         )
 
@@ -555,9 +705,11 @@ the polynomial curve misses the plateau; loosen the tolerance to see stepping dr
         names = [f"Nh = {nh}" for nh in CONVERGENCE_HARMONICS]
         return figures.line_figure(
             self._curves(names),
-            xlabel="cycles N",
-            ylabel="w / u0",
+            xlabel=CYCLES,
+            ylabel=WEAR,
             logx=True,
+            padding=0.05,
+            legend_labels={n: n.replace("Nh", "Nₕ") for n in names},
             title=f"Harmonic convergence (exact load path) at {self.selection.frequency:.4g} Hz",
         )
 
@@ -661,20 +813,21 @@ class AccuracyScene(Scene):
     figure_names = ("pareto",)
     dataset_names = ("ladder", "reference")
     inputs = ("ladder", "wear")
-    explanation = """
-**What you see.** Each point is one discretisation (a *rung*) at the selected frequency `f`: its wall
+    explanation = f"""
+**What you see.** Each point is one discretisation (a *rung*) at the selected frequency f: its wall
 time on this server against its relative error on the chosen quantity, measured against a converged
-reference (shooting on the exact event-driven time integration for the periodic quantities; stepping
-with shooting dynamics at tolerance 1e-5 for `w(N)`). DLFT rungs vary `Nh` (and the samples per period
-N), the wear rungs the slow-time method, `Nh`, tolerance and degree; *worst of all* takes each rung's
-largest error over what it measures. The dashed line is the Pareto front, the ring marks the sidebar's
-current settings, the star the cheapest rung within the target error. **Apply** sets the sidebar to the
-cheapest rung within the target that the sidebar can reproduce: the shooting reference, stepping with
-shooting dynamics and DLFT with other than the default samples have no sidebar setting.
+reference (named under the recommendation: shooting on the exact event-driven time integration for the
+periodic quantities, the library's most accurate slow-time solution for w(N)). {term("DLFT")} rungs
+vary {term("Nh")} (and the samples per period N), the wear rungs the {term("method", "slow-time method")},
+N<sub>h</sub>, {term("tolerance")} and degree; *worst of all* takes each rung's largest error over what it
+measures. The dashed line is the Pareto front, the red ring marks the sidebar's current settings, the
+star the cheapest rung within the target error. **Apply** sets the sidebar to the cheapest rung within
+the target that the sidebar can reproduce: the shooting reference, stepping with shooting dynamics and
+DLFT with other than the default samples have no sidebar setting.
 
 **Try.** Move the target: the star moves along the front. Tick *wear rungs* (the slow-time methods
-with `k_w` and the horizon of the sidebar: several seconds) and choose `w(N)`. Wall times are single
-runs on a server that works for every session: compare them within one ladder."""
+with {term("k_w")} and the horizon of the sidebar: several seconds) and choose w(N). Wall times are
+single runs on a server that works for every session: compare them within one ladder."""
 
     quantity = param.Selector(default=WORST, objects=list(QUANTITY_LABELS), doc="Error measure")
     target = param.Selector(default=1e-2, objects=list(TARGETS), doc="Target relative error")
@@ -724,6 +877,10 @@ runs on a server that works for every session: compare them within one ladder.""
         study = self.study()
         if study is None:
             return ""
+        reference = "; ".join(f"{k}: {v}" for k, v in sorted(study.reference.items()))
+        return f"{self._advice(study)}\n\n*Reference* ({reference})."
+
+    def _advice(self, study: CostStudy) -> str:
         name, target = QUANTITY_LABELS[self.quantity], self.target
         measured = [r for r in study.rungs if np.isfinite(self.error(r))]
         if not measured:
@@ -753,12 +910,19 @@ runs on a server that works for every session: compare them within one ladder.""
             f"{sidebar_equivalent(settable)[1]}."
         )
 
-    def export_figure(self, name: str, fmt: str) -> bytes:
+    def export_figure(self, name: str, fmt: str, options: figures.ExportOptions | None = None) -> bytes:
         """Figure ``name`` as ``png``, ``svg`` or ``html`` bytes; ``ValueError`` when no rung is drawn."""
         study = self.study()
         if study is None or not any(np.isfinite(self.error(r)) for r in study.rungs):
             raise ValueError(f"no rung measures {QUANTITY_LABELS[self.quantity]} (yet)")
-        return super().export_figure(name, fmt)
+        return super().export_figure(name, fmt, options)
+
+    def record(self) -> dict[str, Any]:
+        """The ladder's record: the model and frequency, and ``k_w`` and the horizon with the wear rungs
+        (the ladder does not depend on the sidebar's Nh, method or tolerances)."""
+        s = self.settings
+        out = {"fex": s.model.fex, "mu": s.model.mu, "fn": s.model.normal_load, "f": self.selection.frequency}
+        return out | ({"kw": s.kw, "cycles": s.horizon} if self.wear else {})
 
     def _notes(self) -> list[str]:
         study = self.study()
@@ -782,14 +946,16 @@ runs on a server that works for every session: compare them within one ladder.""
         times = np.array([r.wall_time for r in rungs])
         # errors of zero (the reference; rungs exact to round-off) are drawn at the bottom of the axis
         floor = min([*errors[errors > 0], self.target]) / 10
-        # ranges with room for the text labels right of the points, valid without points too
-        xlim = (times.min() / 2, times.max() * 30) if len(rungs) else (1e-4, 1.0)
+        # ranges with room for the text labels beside the points, valid without points too: labels go
+        # right of the points, and left of those in the last half decade
+        xlim = (times.min() / 2, times.max() * 2) if len(rungs) else (1e-4, 1.0)
+        right_edge = times.max() / 10**0.5 if len(rungs) else np.inf
         ylim = (floor / 2, max([*errors, self.target]) * 3)
         xd = hv.Dimension("x", label="wall time (s)", range=xlim)
         yd = hv.Dimension("y", label=f"relative error: {name}", range=ylim)
         vdims = ["rung", "family", "error", "converged"]
 
-        def points(items: list[Rung], label: str, style: dict, bokeh: dict, mpl: dict):
+        def points(items: list[Rung], label: str, style: dict, bokeh: dict, mpl: dict, marker: bool = False):
             table = {
                 "x": np.array([r.wall_time for r in items], dtype=float),
                 "y": np.array([max(self.error(r), floor) for r in items], dtype=float),
@@ -798,6 +964,8 @@ runs on a server that works for every session: compare them within one ladder.""
                 "error": np.array([self.error(r) for r in items], dtype=float),
                 "converged": [str(r.converged) for r in items],
             }
+            if marker and not items:  # a marker with no point: one hidden row, so that its legend has a glyph
+                table = {k: np.array([np.nan]) if k in ("x", "y", "error") else [""] for k in table}
             layer = hv.Points(table, [xd, yd], vdims, label=label)
             return figures.styled(layer, {"framewise": True, **style}, {"tools": ["hover"], **bokeh}, mpl)
 
@@ -808,15 +976,29 @@ runs on a server that works for every session: compare them within one ladder.""
             yd,
             label="Pareto front",
         )
-        labels = hv.Labels(
-            (
-                [r.wall_time for r in rungs],
-                [max(self.error(r), floor) for r in rungs],
-                [f" {_short(r)}" for r in rungs],
-            ),
-            [xd, yd],
-            "text",
-        )
+
+        def labels(items: list[Rung], align: str):
+            text = hv.Labels(
+                (
+                    [r.wall_time for r in items],
+                    [max(self.error(r), floor) for r in items],
+                    [f" {_short(r)} " for r in items],
+                ),
+                [xd, yd],
+                "text",
+            )
+            return figures.styled(
+                text,
+                {"show_legend": False},
+                {
+                    "text_font_size": "8pt",
+                    "text_align": align,
+                    "text_baseline": "middle",
+                    "text_color": "#333",
+                },
+                {"size": 7, "horizontalalignment": align, "verticalalignment": "center", "color": "#333"},
+            )
+
         best = self.recommended()
         layers = [
             points(
@@ -827,30 +1009,23 @@ runs on a server that works for every session: compare them within one ladder.""
                 {"s": 40},
             ),
             figures.styled(curve, {"color": "gray"}, {"line_dash": "dashed"}, {"linestyle": "--"}),
-            figures.styled(
-                labels,
-                {"show_legend": False},
-                {
-                    "text_font_size": "8pt",
-                    "text_align": "left",
-                    "text_baseline": "middle",
-                    "text_color": "#333",
-                },
-                {"size": 7, "horizontalalignment": "left", "verticalalignment": "center", "color": "#333"},
-            ),
+            labels([r for r in rungs if r.wall_time <= right_edge], "left"),
+            labels([r for r in rungs if r.wall_time > right_edge], "right"),
             points(
                 [r for r in rungs if self.is_current(r)],
                 "current settings",
-                {"color": "red"},
-                {"size": 20, "fill_alpha": 0, "line_width": 2.5},
+                {},
+                {"size": 20, "fill_alpha": 0, "line_color": "red", "line_width": 2.5},
                 {"s": 250, "facecolors": "none", "edgecolors": "red", "linewidth": 2},
+                marker=True,
             ),
             points(
                 [best] if best in rungs else [],
                 "recommended",
-                {"color": "gold"},
-                {"size": 22, "marker": "star", "line_color": "black"},
-                {"s": 300, "marker": "*", "edgecolors": "black"},
+                {},
+                {"size": 22, "marker": "star", "fill_color": "gold", "line_color": "black"},
+                {"s": 300, "marker": "*", "color": "gold", "edgecolors": "black"},
+                marker=True,
             ),
             figures.marker_line(hv, self.target, vertical=False),
         ]

@@ -20,17 +20,33 @@ from __future__ import annotations
 import logging
 import math
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import Executor, Future
+from contextlib import contextmanager
 from functools import partial
 from typing import Any
+from urllib.parse import parse_qsl, urlencode
 
 import numpy as np
 import param
 
+from fretwear.figures.record import SETTINGS_KEYS
+
 from .backend import Backend, Cancelled, ResultCache, shared_backend, shared_cache
-from .scenes import SCENES, Scene, Selection
-from .state import Controls, Job, Settings, Task, Tasks
+from .scenes import SCENES, AccuracyScene, Scene, Selection
+from .state import (
+    CONTROL_KEYS,
+    CUSTOM,
+    PRESETS,
+    Controls,
+    Job,
+    Settings,
+    Task,
+    Tasks,
+    number_text,
+    parse_number,
+    shown,
+)
 
 __all__ = ["Session"]
 
@@ -56,6 +72,9 @@ class Session(param.Parameterized):
     dispatch : callable, optional
         ``dispatch(callback)`` runs ``callback`` where the page may be
         updated; default: call it at once.
+    start : bool
+        Show the visible scene at once; ``False`` waits for :meth:`start`
+        (e.g. after applying the page's address).
     """
 
     scene = param.Selector(default=SCENES[0].key, objects=[s.key for s in SCENES], doc="Visible scene")
@@ -65,6 +84,8 @@ class Session(param.Parameterized):
     progress = param.Integer(0, bounds=(0, 100), doc="Progress of the run (%)")
     status = param.String("", doc="What the run is computing")
     error = param.String("", doc="Invalid input, shown instead of computing")
+    notice = param.String("", doc="What the dashboard changed by itself (e.g. moved the selected point)")
+    typed = param.Dict({}, doc="Texts typed into the selection's boxes that are not numbers")
 
     def __init__(
         self,
@@ -73,6 +94,7 @@ class Session(param.Parameterized):
         cache: ResultCache | None = None,
         executor: Executor | None = None,
         dispatch: Callable[[Callable[[], None]], None] | None = None,
+        start: bool = True,
         **params: Any,
     ) -> None:
         super().__init__(**params)
@@ -88,12 +110,24 @@ class Session(param.Parameterized):
         self._shown: dict[str, tuple] = {}
         self._future: Future | None = None
         self._reported: tuple[int, int, str] = (0, -1, "")
+        self._held, self._pending, self._moving = 0, False, False
         self.controls.param.watch(self.refresh, [p for p in self.controls.param if p != "name"])
-        self.param.watch(self.refresh, ["scene", "frequency", "cycles"])
+        self.param.watch(self.refresh, ["scene", "frequency", "cycles", "typed"])
         for scene in self.scenes.values():
             if scene.inputs:
                 scene.param.watch(self.refresh, list(scene.inputs))
+        if start:
+            self.refresh()
+        else:
+            self._held = 1
+
+    def start(self, problems: list[str] = ()) -> None:
+        """Show the visible scene (a session made with ``start=False``); ``problems``: of the settings
+        applied before, shown as a notice."""
+        self._held, self._pending = 0, False
         self.refresh()
+        if problems:
+            self.notice = "Some settings of the address were left out: " + "; ".join(problems)
 
     @property
     def current(self) -> Scene:
@@ -110,24 +144,220 @@ class Session(param.Parameterized):
             return
         grid = s.cycles
         n = float(np.clip(10.0**log10_cycles, grid[1], grid[-1]))
-        self.param.update(frequency=s.snap(f_hz), cycles=float(f"{n:.3g}"))
+        self.param.update(frequency=s.snap(f_hz), cycles=float(f"{n:.3g}"), typed={})
 
     def apply(self, changes: dict[str, Any]) -> None:
         """Set the sidebar controls ``changes`` (name -> value) in one update: one request."""
         self.controls.param.update(**changes)
 
+    @contextmanager
+    def one_request(self) -> Iterator[None]:
+        """Changes made inside make one request, when the block ends (not one per change)."""
+        self._held += 1
+        try:
+            yield
+        finally:
+            self._held -= 1
+        if not self._held and self._pending:
+            self._pending = False
+            self.refresh()
+
+    def apply_preset(self, name: str) -> None:
+        """Preset ``name``: its controls, scene and selected point in one request."""
+        if name == CUSTOM:
+            self.controls.preset = CUSTOM
+            return
+        preset = PRESETS[name]
+        with self.one_request():
+            self.controls.apply_preset(name)
+            self.param.update(scene=preset.scene, frequency=preset.frequency, cycles=preset.cycles, typed={})
+
+    # -- the view as a settings record (URL query, settings file) -----------------------------
+    def record(self) -> dict[str, Any]:
+        """The whole view as a settings record: controls, scene, selected point, accuracy settings."""
+        acc = self.scenes["accuracy"]
+        return {
+            **self.controls.record(),
+            "f": self.frequency,
+            "N": self.cycles,
+            "scene": self.scene,
+            "quantity": acc.quantity,
+            "target": acc.target,
+            "ladder": acc.ladder,
+            "rungs": acc.wear,
+        }
+
+    def query(self) -> str:
+        """The view as a URL query (``fex=14&mu=0.8&...&scene=wearmap``): the values that differ from
+        the defaults, and always the scene and the selected point."""
+        default = Session.defaults()
+        items = []
+        for key, value in self.record().items():
+            if key in ("scene", "f", "N") or value != default.get(key):
+                text = str(value).lower() if isinstance(value, bool) else number_text(value) or str(value)
+                items.append((key, text))
+        return urlencode(items)
+
+    @staticmethod
+    def defaults() -> dict[str, Any]:
+        """The settings record of a new session."""
+        controls = Controls()
+        record = {CONTROL_KEYS[name]: getattr(controls, name) for name in CONTROL_KEYS}
+        acc = {p: AccuracyScene.param[p].default for p in ("quantity", "target", "ladder", "wear")}
+        return record | {"f": Session.param.frequency.default, "N": Session.param.cycles.default,
+                         "scene": Session.param.scene.default, "quantity": acc["quantity"],
+                         "target": acc["target"], "ladder": acc["ladder"], "rungs": acc["wear"]}  # fmt: skip
+
+    def apply_query(self, query: str | dict[str, list[str]]) -> list[str]:
+        """Apply a URL query (text, or parsed: key -> values); the problems met, each in one line.
+
+        Numbers are typed into the controls as into their boxes (an invalid one
+        is kept and reported like a typed one); unknown keys and bad names are
+        reported and left out.
+        """
+        pairs = parse_qsl(query) if isinstance(query, str) else [(k, v[-1]) for k, v in query.items()]
+        record, problems = {}, []
+        for key, text in pairs:
+            text = text.decode() if isinstance(text, bytes) else text
+            if key not in SETTINGS_KEYS:
+                problems.append(f"address: unknown setting {key!r} (known: {', '.join(SETTINGS_KEYS)})")
+                continue
+            kind = SETTINGS_KEYS[key][0]
+            if kind is str:
+                record[key] = text
+            elif kind is bool:
+                record[key] = text.lower() in ("1", "true", "yes", "on")
+            else:
+                record[key] = text  # typed as into a box: checked with the controls
+        return problems + self.apply_record(record, source="address")
+
+    def apply_record(self, record: dict[str, Any], source: str = "settings") -> list[str]:
+        """Apply a settings record (values or their texts) in one request; the problems met.
+
+        Control values go through the controls' checks (an invalid one is shown
+        as typed, with its valid range); the scene, the method and the accuracy
+        scene's choices must be among theirs.
+        """
+        problems = []
+        names = {key: name for name, key in CONTROL_KEYS.items()}
+        acc = self.scenes["accuracy"]
+        with self.one_request():
+            for key, value in record.items():
+                if key in ("scene", "method", "quantity", "ladder") or key == "target":
+                    owner, name = {"scene": (self, "scene"), "method": (self.controls, "method"),
+                                   "quantity": (acc, "quantity"), "ladder": (acc, "ladder"),
+                                   "target": (acc, "target")}[key]  # fmt: skip
+                    objects = owner.param[name].objects
+                    if key == "target":
+                        value = parse_number(str(value))
+                        match = [t for t in objects if value is not None and math.isclose(t, value)]
+                        value = match[0] if match else value
+                    if value not in objects:
+                        shown = ", ".join(number_text(o) or str(o) for o in objects)
+                        problems.append(f"{source}: {key} must be one of {shown}, got {value!r}")
+                        continue
+                    setattr(owner, name, value)
+                elif key == "rungs":
+                    acc.wear = bool(value)
+                elif key in ("f", "N"):
+                    number = value if isinstance(value, (int, float)) else parse_number(str(value))
+                    if number is None:
+                        problems.append(f"{source}: {key} must be a number, got {value!r}")
+                        continue
+                    self.type_text("frequency" if key == "f" else "cycles", number_text(number))
+                elif key in names:
+                    self.controls.type_text(
+                        names[key], value if isinstance(value, str) else number_text(value)
+                    )
+        return problems
+
+    def type_text(self, name: str, text: str) -> None:
+        """Set the selected ``frequency`` or ``cycles`` from the text of its box (``Controls.type_text``)."""
+        value = parse_number(text)
+        typed = {k: v for k, v in self.typed.items() if k != name}
+        if value is None:
+            self.typed = {**typed, name: text}
+        else:
+            self.param.update(typed=typed, **{name: value})
+
     def _selection_problems(self) -> list[str]:
         out = []
+        for name, label, unit in (("frequency", "selected f", "Hz"), ("cycles", "selected N", "cycles")):
+            if name in self.typed:
+                text = self.typed[name]
+                out.append(f"{label} must be a number ({unit}), got {text!r}" if text.strip()
+                           else f"{label} must be a number ({unit}); the box is empty")  # fmt: skip
+        if out:
+            return out
         f, n = self.frequency, self.cycles
+        band, horizon = self._band(), self._horizon()
         if not (isinstance(f, (int, float)) and math.isfinite(f) and 0 < f <= 20):
-            out.append(f"selected frequency must be a number > 0 and <= 20 Hz, got {f!r}")
-        if not (isinstance(n, (int, float)) and math.isfinite(n) and 0 <= n <= 1e12):
-            out.append(f"selected N must be a number >= 0 and <= 1e12 cycles, got {n!r}")
+            out.append(f"selected f must be a number > 0 and <= 20 Hz, got {shown(f)}")
+        elif band is not None and not band[0] <= f <= band[1]:
+            out.append(
+                f"selected f must be within the frequency band {band[0]:g} to {band[1]:g} Hz, "
+                f"got {number_text(f)}"
+            )
+        top = 1e12 if horizon is None else horizon
+        if not (isinstance(n, (int, float)) and math.isfinite(n) and 0 <= n <= top):
+            within = "1e12 cycles" if horizon is None else f"the cycle horizon {horizon:g}"
+            out.append(f"selected N must be a number >= 0 and <= {within}, got {shown(n)}")
         return out
 
+    def _band(self) -> tuple[float, float] | None:
+        """The frequency band of valid controls (``None`` when they are not)."""
+        c = self.controls
+        if any(k in c.typed for k in ("fmin", "fmax")) or any(p.startswith("f m") for p in c.problems()):
+            return None
+        return (c.fmin, c.fmax)
+
+    def _horizon(self) -> float | None:
+        c = self.controls
+        if "horizon" in c.typed or any(p.startswith("cycle horizon") for p in c.problems()):
+            return None
+        return float(c.horizon)
+
+    def _follow(self, events: tuple) -> bool:
+        """Move the selected point into a band or horizon that a control change left it out of.
+
+        Returns whether it moved (the move makes its own request).
+        """
+        changed = {e.name for e in events if getattr(e, "obj", None) is self.controls}
+        if not changed & {"fmin", "fmax", "n_frequencies", "horizon"}:
+            return False
+        try:
+            s = self.controls.settings()
+        except ValueError:
+            return False
+        f, n, moves = self.frequency, self.cycles, []
+        if isinstance(f, (int, float)) and math.isfinite(f) and not s.fmin <= f <= s.fmax:
+            f = s.snap(f)
+            moves.append(f"f from {number_text(self.frequency)} to {number_text(f)} Hz "
+                         f"(the band is {s.fmin:g} to {s.fmax:g} Hz)")  # fmt: skip
+        if isinstance(n, (int, float)) and math.isfinite(n) and n > s.horizon:
+            n = s.horizon
+            moves.append(f"N from {number_text(self.cycles)} to the horizon {s.horizon:g}")
+        if not moves:
+            return False
+        self._moving = True
+        try:
+            self.param.update(
+                frequency=f, cycles=n, notice="The selected point moved: " + "; ".join(moves) + "."
+            )
+        finally:
+            self._moving = False
+        return True
+
     # -- requests ---------------------------------------------------------------------------
-    def refresh(self, *_events: Any) -> None:
+    def refresh(self, *events: Any) -> None:
         """Show the visible scene for the current controls: from the cache, or start a run."""
+        if self._held:
+            self._pending = True
+            return
+        if events and not self._moving:
+            self.notice = ""  # a change by the user: what the dashboard moved before is old news
+        if self._follow(events):
+            return
         problems = self.controls.problems() + self._selection_problems()
         with self._lock:
             self._generation += 1

@@ -31,7 +31,14 @@ from .backend import Backend, Cancelled, Failure, ModelSpec, Progress, ResultCac
 __all__ = [
     "METHODS",
     "PRESETS",
+    "Preset",
+    "CUSTOM",
+    "DEFAULT_PRESET",
+    "CONTROL_KEYS",
     "LADDERS",
+    "number_text",
+    "parse_number",
+    "shown",
     "Controls",
     "Settings",
     "Task",
@@ -62,19 +69,99 @@ LADDERS: dict[str, dict[str, Any]] = {
     "full": {},
 }
 
-_PAPER = {"mu": 1.0, "normal_load": 10.0, "kw": 1e-11, "horizon": 1e5, "fmin": 0.3, "fmax": 1.3}
-#: presets: the paper's three excitation levels (section 2.1) and teaching cases
-PRESETS: dict[str, dict[str, Any]] = {
-    "Paper: F_ex = 6 N": {**_PAPER, "fex": 6.0},
-    "Paper: F_ex = 10 N": {**_PAPER, "fex": 10.0},
-    "Paper: F_ex = 14 N": {**_PAPER, "fex": 14.0},
-    "All stick (r = 0.2, 0.3-0.8 Hz)": {**_PAPER, "fex": 2.0, "fmax": 0.8},
-    "Stick-slip (r = 0.6)": {**_PAPER, "fex": 6.0},
-    "Gross slip (r = 2.5)": {**_PAPER, "fex": 25.0},
-    "Wear-through (k_w = 1e-10)": {**_PAPER, "fex": 10.0, "kw": 1e-10, "horizon": 1e4},
+
+@dataclass(frozen=True)
+class Preset:
+    """Settings that show one lesson: control values, the scene to open, the point and what to look at.
+
+    Attributes
+    ----------
+    controls : dict
+        Control values (:class:`Controls` names); the others keep their defaults.
+    scene : str
+        Key of the scene the preset opens.
+    frequency, cycles : float
+        Selected point (Hz, cycles).
+    lesson : str
+        One sentence on what to look at.
+    """
+
+    controls: dict[str, Any]
+    scene: str
+    frequency: float
+    cycles: float
+    lesson: str
+
+
+_PAPER = {"fex": 10.0, "mu": 1.0, "normal_load": 10.0, "kw": 1e-11, "horizon": 1e5, "fmin": 0.3, "fmax": 1.3}
+#: presets: the paper's three excitation levels (section 2.1) and teaching cases, one lesson each
+PRESETS: dict[str, Preset] = {
+    "Paper, Fₑₓ = 10 N: regimes": Preset(
+        _PAPER,
+        "regimes",
+        0.7,
+        1e4,
+        "Without wear the response of mass 1 follows the stuck curve away from 1 Hz and leaves it where "
+        "the dashed line r = 1 enters the region where the contact slips.",
+    ),
+    "Paper, Fₑₓ = 6 N: wear opens the contact": Preset(
+        {**_PAPER, "fex": 6.0},
+        "evolution",
+        0.95,
+        1e4,
+        "Only where the contact slips, between 0.85 and 1.1 Hz, does it wear: there the response falls "
+        "from the stuck curve onto the open one as the cycles go by.",
+    ),
+    "Paper, Fₑₓ = 14 N: the worn band": Preset(
+        {**_PAPER, "fex": 14.0, "kw": 2e-12, "horizon": 5e5},
+        "wearmap",
+        0.6,
+        5e4,
+        "Wear starts near 0.5 Hz, where the contact slips most, and the worn band spreads to higher "
+        "frequencies as the normal load relaxes.",
+    ),
+    "Resonance moves down (Fₑₓ = 10 N, 1e6 cycles)": Preset(
+        {**_PAPER, "kw": 1e-12, "horizon": 1e6},
+        "evolution",
+        0.7,
+        1e5,
+        "As the contact wears, the resonance moves from the stuck one near 1 Hz to the free one at 0.5 Hz.",
+    ),
+    "All stick (r = 0.2)": Preset(
+        {**_PAPER, "fex": 2.0, "fmax": 0.8},
+        "regimes",
+        0.6,
+        1e4,
+        "Below the red stick boundary the contact never slips: the nonlinear FRF lies on the stuck linear "
+        "FRF and nothing wears.",
+    ),
+    "Stick-slip inside one cycle (r = 0.8)": Preset(
+        {**_PAPER, "fex": 8.0},
+        "cycle",
+        0.75,
+        0.0,
+        "Press play: the interface turns red while the masses slide at the friction limit and green "
+        "while they move together; the flat parts of the loop are the slips.",
+    ),
+    "Gross slip (r = 2.5)": Preset(
+        {**_PAPER, "fex": 25.0},
+        "cycle",
+        0.8,
+        0.0,
+        "The contact slips almost all the period: the friction force sits at ±μ F_N and the loop is "
+        "nearly a rectangle.",
+    ),
+    "Worn through (Fₑₓ = 12 N)": Preset(
+        {**_PAPER, "fex": 12.0},
+        "cycle",
+        0.7,
+        1e5,
+        "Worn to 0.99 u0, the contact has lost 99 % of its normal load: the friction limit and the loop "
+        "shrink a hundredfold and the masses slide past each other.",
+    ),
 }
 CUSTOM = "custom"
-DEFAULT_PRESET = "Paper: F_ex = 10 N"
+DEFAULT_PRESET = "Paper, Fₑₓ = 10 N: regimes"
 
 #: (name, low, high, integer, unit) of every control: the valid ranges shown to the user
 _RANGES = {
@@ -91,10 +178,52 @@ _RANGES = {
     "n_frequencies": ("frequencies", 3, 401, True, ""),
     "n_cycles": ("cycle points", 4, 400, True, ""),
 }
+#: key of each control in a settings record (URL query, settings file), named like the CLI options
+CONTROL_KEYS = {
+    "fex": "fex",
+    "mu": "mu",
+    "normal_load": "fn",
+    "kw": "kw",
+    "horizon": "cycles",
+    "harmonics": "harmonics",
+    "method": "method",
+    "degree": "degree",
+    "tol": "tol",
+    "fmin": "fmin",
+    "fmax": "fmax",
+    "n_frequencies": "nf",
+    "n_cycles": "ncycles",
+}
+
+
+def number_text(value: Any) -> str:
+    """``value`` as a number box shows it: 12 significant digits at most (no float noise), ``""`` for none."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return ""
+    return f"{value:.12g}" if math.isfinite(value) else str(value)
+
+
+def shown(value: Any) -> str:
+    """``value`` as a message names it: a number as its box shows it, anything else as its repr."""
+    return number_text(value) or repr(value)
+
+
+def parse_number(text: str) -> float | None:
+    """The number typed as ``text`` (``None`` when it is not one), rounded to 12 significant digits."""
+    try:
+        value = float(text.strip().replace("\u2212", "-"))
+    except ValueError:
+        return None
+    return float(f"{value:.12g}") if math.isfinite(value) else value
 
 
 class Controls(param.Parameterized):
-    """What the sidebar edits, kept as entered (an emptied box gives ``None``); see :meth:`problems`."""
+    """What the sidebar edits, in the units shown; see :meth:`problems`.
+
+    Number boxes set a value with :meth:`type_text`: a text that is not a
+    number is kept in :attr:`typed` and reported as typed, and nothing is
+    computed until it is corrected.
+    """
 
     preset = param.Selector(default=DEFAULT_PRESET, objects=[CUSTOM, *PRESETS], doc="Preset")
     fex = param.Number(
@@ -105,7 +234,7 @@ class Controls(param.Parameterized):
         10.0, allow_None=True, softbounds=(1.0, 50.0), doc="Initial normal load F_N (N)"
     )
     kw = param.Number(1e-11, allow_None=True, doc="Archard wear coefficient k_w (1/Pa)")
-    harmonics = param.Number(7, allow_None=True, softbounds=(1, 41), doc="Harmonics Nh")
+    harmonics = param.Number(7, allow_None=True, softbounds=(1, 64), doc="Harmonics Nh")
     degree = param.Number(4, allow_None=True, softbounds=(0, 12), doc="Degree of the polynomial method")
     fmin = param.Number(0.3, allow_None=True, softbounds=(0.05, 3.0), doc="Lowest frequency (Hz)")
     fmax = param.Number(1.3, allow_None=True, softbounds=(0.05, 3.0), doc="Highest frequency (Hz)")
@@ -116,34 +245,45 @@ class Controls(param.Parameterized):
     )
     n_frequencies = param.Number(41, allow_None=True, softbounds=(5, 201), doc="Frequencies of the maps")
     n_cycles = param.Number(60, allow_None=True, softbounds=(10, 200), doc="Cycle counts of the wear map")
+    typed = param.Dict({}, doc="Texts typed into number boxes that are not numbers, by control")
 
     _physical = ("fex", "mu", "normal_load", "kw", "fmin", "fmax", "horizon")
 
     def __init__(self, **params: Any) -> None:
         preset = params.get("preset", DEFAULT_PRESET)
         if preset != CUSTOM and preset in PRESETS:
-            params = {**PRESETS[preset], **params}
+            params = {**PRESETS[preset].controls, **params}
         super().__init__(**params)
         self._applying = False
         self._edited()
         self.param.watch(self._edited, list(self._physical))
 
     def apply_preset(self, name: str) -> None:
-        """Set the controls of preset ``name`` in one update."""
+        """Set the controls of preset ``name`` in one update (the others to their defaults)."""
         if name == CUSTOM:
             self.preset = CUSTOM
             return
+        defaults = {k: self.param[k].default for k in CONTROL_KEYS}
         self._applying = True
         try:
-            self.param.update(preset=name, **PRESETS[name])
+            self.param.update(preset=name, typed={}, **{**defaults, **PRESETS[name].controls})
         finally:
             self._applying = False
 
     def _edited(self, *_events) -> None:
         if not self._applying and self.preset != CUSTOM:
-            values = PRESETS[self.preset]
+            values = PRESETS[self.preset].controls
             if any(getattr(self, k) != v for k, v in values.items()):
                 self.preset = CUSTOM
+
+    def type_text(self, name: str, text: str) -> None:
+        """Set control ``name`` from the text of its number box (kept in :attr:`typed` if not a number)."""
+        value = parse_number(text)
+        typed = {k: v for k, v in self.typed.items() if k != name}
+        if value is None:
+            self.typed = {**typed, name: text}
+        else:
+            self.param.update(typed=typed, **{name: value})
 
     def problems(self) -> list[str]:
         """One message per invalid control (empty when every value is valid)."""
@@ -152,12 +292,17 @@ class Controls(param.Parameterized):
             value = getattr(self, name)
             unit = f" {unit}" if unit else ""
             kind = "a whole number" if integer else "a number"
+            op = ">=" if integer else ">"
+            valid = f"{label} must be {kind} {op} {low:g} and <= {high:g}{unit}"
+            if name in self.typed:
+                text = self.typed[name]
+                out.append(f"{valid}, got {text!r}" if text.strip() else f"{valid}; the box is empty")
+                continue
             ok = isinstance(value, (int, float)) and math.isfinite(value)
             ok = ok and (value >= low if integer else value > low) and value <= high
             ok = ok and (not integer or float(value).is_integer())
             if not ok:
-                op = ">=" if integer else ">"
-                out.append(f"{label} must be {kind} {op} {low:g} and <= {high:g}{unit}, got {value!r}")
+                out.append(f"{valid}, got {shown(value)}")
         if not out and self.fmin >= self.fmax:
             out.append(f"f min must be below f max, got {self.fmin:g} >= {self.fmax:g} Hz")
         return out
@@ -180,6 +325,16 @@ class Controls(param.Parameterized):
             n_frequencies=int(self.n_frequencies),
             n_cycles=int(self.n_cycles),
         )
+
+    def record(self) -> dict[str, Any]:
+        """The controls as a settings record (:mod:`fretwear.figures.record` keys), as they stand."""
+        out = {}
+        for name, key in CONTROL_KEYS.items():
+            value = getattr(self, name)
+            if isinstance(value, float) and value.is_integer() and _RANGES.get(name, (0,) * 4)[3]:
+                value = int(value)
+            out[key] = value
+        return out
 
 
 @dataclass(frozen=True)
@@ -243,6 +398,24 @@ class Settings:
         """The frequency of the map grid nearest to ``f_hz``."""
         grid = self.frequencies
         return float(grid[np.argmin(np.abs(grid - f_hz))])
+
+    def record(self, wear: bool = True) -> dict[str, Any]:
+        """Settings record of a figure or table drawn for these settings (its parameter record).
+
+        With ``wear``, the slow-time method and only the options it takes
+        (tolerance, degree), ``k_w`` and the horizon; without, the harmonics only.
+        """
+        out: dict[str, Any] = {
+            "fex": self.model.fex,
+            "mu": self.model.mu,
+            "fn": self.model.normal_load,
+            "harmonics": self.harmonics,
+        }
+        if wear:
+            options = self.options()
+            out |= {"kw": self.kw, "cycles": self.horizon, "method": self.method}
+            out |= {k: options[k] for k in ("tol", "degree") if k in options}
+        return out
 
 
 class Job:

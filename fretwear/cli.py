@@ -49,6 +49,7 @@ import json
 import math
 import os
 import sys
+import warnings
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -67,7 +68,7 @@ from .studies import study as study_command
 from .studies import wear_map
 from .studies.accuracy import QUANTITIES, cost_ladder
 from .time import ShootingSolution, shooting, shooting_sweep
-from .wear import METHODS, method_options, resolve_method, wear_history
+from .wear import METHODS, cycle_grid, method_options, resolve_method, wear_history
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USAGE", "EXIT_NOT_CONVERGED"]
 
@@ -184,6 +185,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(its row is still written, with converged=False).",
     )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    parser.commands = commands.choices  # type: ignore[attr-defined]  # name -> subcommand parser
 
     frf = commands.add_parser(
         "frf",
@@ -241,14 +243,20 @@ def build_parser() -> argparse.ArgumentParser:
                       help="excitation frequency (Hz), > 0")  # fmt: skip
     _add_model_options(wear)
     _add_wear_options(wear)
-    wear.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
+    wear.add_argument(
+        "--out",
+        required=True,
+        metavar="FILE.csv",
+        help="CSV file to write ('-': stdout), or the figure of w(N): .png, .svg, .html",
+    )
 
     wmap = commands.add_parser(
         "map",
-        help="wear map over frequency x cycles (CSV long format, or NPZ)",
+        help="wear map over frequency x cycles (CSV long format, NPZ, or the figure)",
         description="Wear map W(f, N) (paper Fig. 7) with the response, over linspace(fmin, fmax, nf) "
-        "and ncycles log-spaced cycle counts from 1 to --cycles. CSV long format (f_hz, cycles, w, ...), "
-        "or NumPy NPZ arrays when --out ends in .npz.",
+        "and the cycle counts 0 then ncycles - 1 log-spaced over the four decades up to --cycles (the "
+        "dashboard's grid). CSV long format (f_hz, cycles, w, ...), NumPy NPZ arrays when --out ends in "
+        ".npz, or the figure when it ends in .png, .svg or .html (with its parameters as caption).",
     )
     _add_model_options(wmap)
     wmap.add_argument("--fmin", type=_number(0.0, strict=True, unit="Hz"), required=True,
@@ -260,7 +268,8 @@ def build_parser() -> argparse.ArgumentParser:
     wmap.add_argument("--ncycles", type=_number(2, integer=True), default=60,
                       help="number of log-spaced cycle counts (-), >= 2; default 60")  # fmt: skip
     _add_wear_options(wmap)
-    wmap.add_argument("--out", required=True, metavar="FILE", help="CSV (long format) or .npz file")
+    wmap.add_argument("--out", required=True, metavar="FILE",
+                      help="CSV (long format), .npz, or a figure: .png, .svg, .html")  # fmt: skip
     cost = commands.add_parser(
         "cost",
         help="what accuracy costs: error vs wall time over a ladder of settings (CSV)",
@@ -295,9 +304,53 @@ def build_parser() -> argparse.ArgumentParser:
                          help="wear horizon (cycles), > 0; default 1e5")  # fmt: skip
     figures.add_argument("--nf", type=_number(2, integer=True), default=41,
                          help="frequencies of the maps (-), >= 2; default 41")  # fmt: skip
+    figures.add_argument("--ncycles", type=_number(3, integer=True), default=60,
+                         help="cycle counts of the maps (-), >= 3; default 60")  # fmt: skip
+    figures.add_argument("--fmin", type=_number(0.0, strict=True, unit="Hz"), default=0.3,
+                         help="lowest frequency (Hz), > 0; default 0.3")  # fmt: skip
+    figures.add_argument("--fmax", type=_number(0.0, strict=True, unit="Hz"), default=1.3,
+                         help="highest frequency (Hz), > --fmin; default 1.3")  # fmt: skip
+    figures.add_argument(
+        "--f",
+        type=_number(0.0, strict=True, unit="Hz"),
+        default=0.7,
+        metavar="HZ",
+        help="frequency of the wear histories of Fig. 10 and 11 (Hz), > 0; default 0.7",
+    )
+    figures.add_argument("--method", choices=("auto", *METHODS), default="auto",
+                         help="slow-time method of the wear maps; default auto (exact)")  # fmt: skip
+    figures.add_argument(
+        "--tol",
+        type=_number(0.0, strict=True),
+        default=1e-3,
+        help="tolerance of stepping and time integration (fraction of u0); default 1e-3",
+    )
+    figures.add_argument(
+        "--degree",
+        type=_number(0, integer=True),
+        default=4,
+        help="degree of the polynomial method (Fig. 11, 12, 14), in [1, 12]; default 4",
+    )
     figures.add_argument("--formats", default="png,svg,csv",
                          help="formats, comma-separated: png, svg, html, csv")  # fmt: skip
+    figures.add_argument("--width", type=_number(0.0, strict=True, unit="in"),
+                         help="figure width (in), in [2, 30]; default: each figure's own")  # fmt: skip
+    figures.add_argument("--height", type=_number(0.0, strict=True, unit="in"),
+                         help="figure height (in), in [2, 30]; default: each figure's own")  # fmt: skip
+    figures.add_argument(
+        "--dpi",
+        type=_number(1, integer=True),
+        default=120,
+        help="resolution of the PNG files (dots per inch), in [50, 600]; default 120",
+    )
+    figures.add_argument(
+        "--fontsize",
+        type=_number(0.0, strict=True, unit="pt"),
+        help="font size of the axis labels (pt), in [4, 40]; default Matplotlib's",
+    )
 
+    for name in ("frf", "linear", "point", "wear", "map", "cost", "figures"):
+        _add_settings_option(commands.choices[name])
     interface_command.add_arguments(
         commands.add_parser(
             "interface",
@@ -317,6 +370,81 @@ def build_parser() -> argparse.ArgumentParser:
         )
     )
     return parser
+
+
+def _add_settings_option(parser: argparse.ArgumentParser) -> None:
+    """``--settings FILE``: defaults of the options from a settings file of the dashboard."""
+    parser.add_argument(
+        "--settings",
+        metavar="FILE",
+        help="JSON settings file saved by the dashboard (or written by hand: keys named like these "
+        'options, e.g. {"fex": 14, "mu": 0.8, "kw": 1e-10}): the values of the options it names '
+        "that this command takes; options given here win, the other keys are ignored",
+    )
+
+
+#: settings-file keys (fretwear.figures.record) that are options of the commands, by option dest
+_SETTINGS_DESTS = ("fex", "mu", "fn", "kw", "cycles", "harmonics", "method", "degree", "tol", "fmin", "fmax",
+                   "nf", "ncycles", "f", "target")  # fmt: skip
+
+
+def _on_command_line(action: argparse.Action, argv: Sequence[str]) -> bool:
+    return any(a == o or a.startswith(o + "=") for a in argv for o in action.option_strings)
+
+
+def _settings_path(argv: Sequence[str]) -> str | None:
+    for i, arg in enumerate(argv):
+        if arg == "--settings" and i + 1 < len(argv):
+            return argv[i + 1]
+        if arg.startswith("--settings="):
+            return arg.split("=", 1)[1]
+    return None
+
+
+def _apply_settings(parser: argparse.ArgumentParser, argv: Sequence[str]) -> None:
+    """Make the values of the ``--settings`` file the defaults of the command's options.
+
+    Each value goes through its option's own check (an invalid one is a usage
+    error naming the option and the file). The slow-time method applies to the
+    commands whose ``--method`` is one; ``kw`` and ``cycles`` to ``cost`` only
+    when the file asks for the wear rungs (``"rungs": true``). Options given on
+    the command line win. The command remembers which options came from the file
+    (``args.from_settings``): a slow-time option the method does not take is then
+    left out, not an error.
+    """
+    path = _settings_path(argv)
+    command = next((a for a in argv if a in parser.commands), None)  # type: ignore[attr-defined]
+    if path is None or command is None:
+        return
+    from .figures.record import read_settings
+
+    try:
+        record = read_settings(path)
+    except ValueError as exc:
+        raise UsageError(f"argument --settings: {exc}") from None
+    sub = parser.commands[command]  # type: ignore[attr-defined]
+    taken = []
+    for action in sub._actions:
+        key = action.dest
+        if key not in _SETTINGS_DESTS or key not in record or _on_command_line(action, argv):
+            continue
+        if command == "cost" and key in ("kw", "cycles") and not record.get("rungs", False):
+            continue
+        value = record[key]
+        if key == "method" and action.choices is not None and value not in action.choices:
+            continue  # a slow-time method; this command's --method is the periodic solver
+        flag = action.option_strings[0]
+        text = repr(value) if isinstance(value, float) else str(value)
+        try:
+            converted = action.type(text) if action.type is not None else text
+        except argparse.ArgumentTypeError as exc:
+            raise UsageError(f"argument {flag} (from --settings {Path(path).name}): {exc}") from None
+        if action.choices is not None and converted not in action.choices:
+            raise UsageError(f"argument {flag} (from --settings {Path(path).name}): must be one of "
+                             f"{', '.join(map(str, action.choices))}, got {converted!r}")  # fmt: skip
+        action.default, action.required = converted, False
+        taken.append(key)
+    sub.set_defaults(from_settings=tuple(taken))
 
 
 def _add_method_option(parser: argparse.ArgumentParser) -> None:
@@ -413,12 +541,8 @@ def _check(args: argparse.Namespace) -> None:
 
 # -- records -----------------------------------------------------------------------
 def _record(sol: PeriodicSolution | ShootingSolution, names: _Names, model: Model) -> dict:
-    """CSV row / JSON object of one periodic solution (HBM + DLFT or shooting)."""
-    if isinstance(sol, ShootingSolution):
-        rel = model.relative_map(model.friction) @ sol.first_harmonic
-        rel_amp, path, message = np.hypot(rel[:, 0], rel[:, 1]), "shooting", ""
-    else:
-        rel_amp, path, message = sol.relative_amplitude, sol.path, sol.message
+    """CSV row / JSON object of one periodic solution (HBM + DLFT or shooting: the same attributes)."""
+    rel_amp, path, message = sol.relative_amplitude, sol.path, sol.message
     row: dict = {"f_hz": float(sol.omega / (2 * np.pi))}
     for name, h1, p2p in zip(names.dofs, sol.amplitude, sol.half_peak_to_peak, strict=True):
         row[f"{name}_h1"], row[f"{name}_half_p2p"] = float(h1), float(p2p)
@@ -547,6 +671,8 @@ def _wear_options(args: argparse.Namespace, model: Model) -> tuple[str, dict]:
         raise UsageError(f"argument --tol: must be in (0, 1), got {args.tol:g}")
     method = resolve_method(model, args.method, args.dynamics or "dlft", args.fixed_step)
     given = {k: getattr(args, k) for k in _METHOD_OPTIONS if getattr(args, k) is not None}
+    from_file = getattr(args, "from_settings", ())
+    given = {k: v for k, v in given.items() if k in METHODS[method].options or k not in from_file}
     unused = [k for k in given if k not in METHODS[method].options]
     if unused:
         flags = ", ".join("--" + k.replace("_", "-") for k in unused)
@@ -556,10 +682,66 @@ def _wear_options(args: argparse.Namespace, model: Model) -> tuple[str, dict]:
     return method, method_options(method, settings)
 
 
+_FIGURE_SUFFIXES = (".png", ".svg", ".html")
+
+
+def _stamp(args: argparse.Namespace, method: str, options: dict) -> tuple[dict, str]:
+    """The parameter record (and model) of a figure of ``wear`` or ``map``."""
+    from .figures.record import MODEL
+
+    values = {"kw": args.kw, "cycles": args.cycles, "method": method, **options}
+    if args.model is None:
+        values |= {"fex": args.fex or PAPER_DEFAULTS["fex"], "mu": args.mu or PAPER_DEFAULTS["mu"]}
+        values["fn"] = args.fn if args.fn is not None else PAPER_DEFAULTS["fn"]
+        kn = args.kn or PAPER_DEFAULTS["kn"]
+        return values, MODEL if kn == PAPER_DEFAULTS["kn"] else MODEL.replace("1e7", f"{kn:g}")
+    return values, f"model file {Path(args.model).name}"
+
+
+def _write_figure(fig, args: argparse.Namespace, method: str, options: dict, **extra) -> None:
+    from .figures import caption, save_figure
+
+    values, model = _stamp(args, method, options)
+    save_figure(fig, args.out, caption=lambda markup: caption({**values, **extra}, model, markup))
+
+
+def _say_warnings(command: str, notes: Iterable[str], caught: list, limit: int = 3) -> None:
+    """Print the wear histories' ``notes`` (at most ``limit``, the rest counted), then the ``caught``
+    Python warnings they do not already say, one line each (never Python's ``file:line`` format)."""
+    notes = list(dict.fromkeys(notes))
+    for note in notes[:limit]:
+        print(f"fretwear {command}: warning: {note}", file=sys.stderr)
+    if len(notes) > limit:
+        print(f"fretwear {command}: warning: and {len(notes) - limit} more of the same kind", file=sys.stderr)
+    said = " ".join(notes)
+    for message in dict.fromkeys(" ".join(str(w.message).split()) for w in caught):
+        if message not in said:
+            print(f"fretwear {command}: warning: {message}", file=sys.stderr)
+
+
 def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
-    """``fretwear wear``: one wear history as CSV, one row per record."""
+    """``fretwear wear``: one wear history as CSV, one row per record (or its figure)."""
     method, options = _wear_options(args, model)
-    hist = wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        hist = wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
+    _say_warnings("wear", hist.warnings, caught)
+    if args.out.lower().endswith(_FIGURE_SUFFIXES):
+        from .figures import line_figure, load_backend, wear_curve
+
+        load_backend("bokeh" if args.out.lower().endswith(".html") else "matplotlib")
+        curve = wear_curve(hist, cycle_grid(args.cycles))
+        fig = line_figure(
+            {"wear history": curve},
+            xlabel="cycles N",
+            ylabel="w / u₀",
+            logx=True,
+            padding=0.05,
+            title=f"Wear history at {args.f:.4g} Hz ({hist.method})",
+        )
+        _write_figure(fig, args, hist.method, options, f=args.f)
+        print(f"fretwear wear: {hist.method}, status {hist.status}; wrote {args.out}", file=sys.stderr)
+        return EXIT_OK if hist.converged else EXIT_NOT_CONVERGED
     rows = []
     for k, N in enumerate(hist.cycles):
         row: dict = {"cycles": float(N)}
@@ -576,8 +758,6 @@ def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
             row[f"{name}_half_p2p"] = float(hist.relative_half_peak_to_peak[k, j])
         rows.append(row)
     _write_csv(rows, args.out)
-    for note in hist.warnings:
-        print(f"fretwear wear: warning: {note}", file=sys.stderr)
     print(f"fretwear wear: {hist.method}, {len(rows)} records to N = {hist.cycles[-1]:g}, "
           f"status {hist.status}, "
           f"{hist.solves} solves, {hist.wall_time:.2f} s; wrote {args.out}", file=sys.stderr)  # fmt: skip
@@ -585,12 +765,22 @@ def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
 
 
 def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
-    """``fretwear map``: wear map as a long CSV table or NPZ arrays."""
+    """``fretwear map``: wear map as a long CSV table, NPZ arrays or its figure."""
     freqs = np.linspace(args.fmin, args.fmax, args.nf)
-    cycles = np.geomspace(1.0, max(args.cycles, 1.0 + 1e-9), args.ncycles)
+    cycles = cycle_grid(args.cycles, args.ncycles)
     method, options = _wear_options(args, model)
-    wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
-    if args.out.endswith(".npz"):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
+    _say_warnings("map", (f"{h.frequency:.4g} Hz: {w}" for h in wmap.histories for w in h.warnings), caught)
+    if args.out.lower().endswith(_FIGURE_SUFFIXES):
+        from .figures import load_backend, wear_map_figure
+
+        load_backend("bokeh" if args.out.lower().endswith(".html") else "matplotlib")
+        fig = wear_map_figure(freqs, cycles, wmap.wear_fraction[:, :, 0],
+                              title=f"Wear map ({method}, wear coefficient {args.kw:.3g} 1/Pa)")  # fmt: skip
+        _write_figure(fig, args, method, options)
+    elif args.out.endswith(".npz"):
         np.savez_compressed(args.out, frequency_hz=wmap.frequency, cycles=wmap.cycles, wear=wmap.wear,
                             wear_fraction=wmap.wear_fraction, amplitude=wmap.amplitude,
                             half_peak_to_peak=wmap.half_peak_to_peak,
@@ -629,15 +819,48 @@ def _cost(args: argparse.Namespace, model: Model, names: _Names) -> int:
 
 
 def _figures(args: argparse.Namespace) -> int:
-    """``fretwear figures``: the paper's figure set, written headlessly."""
-    from .figures import paper_figures
+    """``fretwear figures``: the paper's figure set, written headlessly.
+
+    Warnings of the computations are printed as one line each, like those of
+    ``fretwear wear`` (never as Python's ``file:line: RuntimeWarning`` with a source line).
+    """
+    from .figures import ExportOptions, paper_figures
 
     formats = tuple(f.strip() for f in args.formats.split(",") if f.strip())
+    if args.fmax <= args.fmin:
+        raise UsageError(f"argument --fmax: must be > --fmin = {args.fmin:g} Hz, got {args.fmax:g}")
+    options = ExportOptions(width=args.width, height=args.height, dpi=args.dpi, fontsize=args.fontsize)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    written = paper_figures(out, harmonics=args.harmonics, kw=args.kw, cycles=args.cycles,
-                            frequencies=args.nf, formats=formats,
-                            log=lambda msg: print(f"fretwear figures: {msg}", file=sys.stderr))  # fmt: skip
+    said: set[str] = set()
+
+    def say(message: str) -> None:
+        said.add(message)
+        print(f"fretwear figures: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        written = paper_figures(
+            out,
+            harmonics=args.harmonics,
+            kw=args.kw,
+            cycles=args.cycles,
+            frequencies=args.nf,
+            cycle_points=args.ncycles,
+            fmin=args.fmin,
+            fmax=args.fmax,
+            f_study=args.f,
+            method=args.method,
+            tol=args.tol,
+            degree=args.degree,
+            formats=formats,
+            options=options,
+            log=say,
+        )
+    reported = " ".join(said)
+    for message in dict.fromkeys(" ".join(str(w.message).split()) for w in caught):
+        if message not in reported:  # the wear histories' warnings were reported with where they arose
+            print(f"fretwear figures: warning: {message}", file=sys.stderr)
     print(f"fretwear figures: wrote {len(written)} files to {out}", file=sys.stderr)
     return EXIT_OK
 
@@ -672,8 +895,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     int
         ``0`` success, ``2`` bad input, ``3`` some frequency did not converge.
     """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser()
     try:
-        args = build_parser().parse_args(argv)
+        _apply_settings(parser, argv)
+    except UsageError as exc:
+        command = next((a for a in argv if a in parser.commands), "")  # type: ignore[attr-defined]
+        print(f"fretwear {command}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    try:
+        args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, or a usage error already printed
         return exc.code if isinstance(exc.code, int) else EXIT_USAGE
     try:

@@ -359,27 +359,111 @@ def test_wear_bad_input(tmp_path, monkeypatch, capsys, argv, fragment):
     assert fragment in err and "Traceback" not in err
 
 
-def test_figures_command_writes_the_paper_set(tmp_path):
+def test_figures_command_writes_the_paper_set(tmp_path, capsys):
+    """The paper's set at the size asked; a wear coefficient that breaks the two-scale assumption is
+    reported in lines of the command (as ``wear`` does), never as Python's ``RuntimeWarning`` with its
+    source line."""
     out = tmp_path / "figs"
-    argv = [
-        "figures",
-        "--out",
-        str(out),
-        "--harmonics",
-        "3",
-        "--nf",
-        "4",
-        "--cycles",
-        "1e4",
-        "--formats",
-        "png,csv",
-    ]
+    argv = ["figures", "--out", str(out), "--harmonics", "3", "--nf", "4", "--ncycles", "5",
+            "--cycles", "1e4", "--kw", "1e-9", "--formats", "png,csv", "--width", "4", "--height", "3",
+            "--dpi", "50"]  # fmt: skip
     assert cli.main(argv) == 0
     names = sorted(p.name for p in out.iterdir())
     assert [n for n in names if n.endswith(".png")] == [f"fig{k:02d}.png" for k in range(5, 15)]
-    assert all((out / n).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for n in names if n.endswith(".png"))
+    assert {png_size((out / n).read_bytes()) for n in names if n.endswith(".png")} == {(200, 150)}
+    err = capsys.readouterr().err
+    assert "RuntimeWarning" not in err and all(
+        line.startswith("fretwear figures: ") for line in err.splitlines()
+    )
+    assert "fretwear figures: warning: fig07, 14 N, 0.3 Hz: " in err and "two-scale assumption" in err
+    header = [line for line in (out / "fig07.csv").read_text().splitlines() if line.startswith("#")]
+    assert "# k_w = 1e-09 1/Pa" in header and "# Nh = 3" in header
+
+
+def png_size(data: bytes) -> tuple[int, int]:
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
+def test_wear_reports_the_method_it_ran(tmp_path, capsys):
+    """``auto`` is not a method: the message names the one that ran."""
+    code, _, err = run(capsys, "wear", "--f", "0.7", "--cycles", "1e3", "--harmonics", "3", "--out",
+                       str(tmp_path / "w.csv"))  # fmt: skip
+    assert code == 0 and err.startswith("fretwear wear: exact, ") and "auto" not in err
+
+
+@pytest.mark.parametrize(
+    "argv,method",
+    [
+        (["wear", "--f", "0.7", "--method", "polynomial"], "polynomial"),
+        (["wear", "--f", "0.7", "--method", "time"], "time"),
+        (["map", "--fmin", "0.5", "--fmax", "0.9", "--nf", "3", "--method", "polynomial"], "polynomial"),
+    ],
+)
+def test_dynamics_where_it_does_not_apply_is_an_error(tmp_path, capsys, argv, method):
+    code, _, err = run(capsys, *argv, "--dynamics", "shooting", "--out", str(tmp_path / "x.csv"))
+    assert code == 2 and f"argument --dynamics: not taken by method '{method}'" in err
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_settings_file_of_the_dashboard(tmp_path, capsys):
+    """``--settings FILE``: the dashboard's settings file sets the options; the command line wins; keys
+    another command takes (the scene, the map's grid) are ignored; bad values name the option and file."""
+    from fretwear.figures.record import settings_json
+
+    path = tmp_path / "view.json"
+    path.write_text(settings_json({"fex": 14, "mu": 0.8, "kw": 1e-10, "cycles": 2000, "harmonics": 3,
+                                   "f": 0.6, "nf": 11, "scene": "wearmap", "method": "exact"}))  # fmt: skip
+    out = tmp_path / "w.csv"
+    assert cli.main(["wear", "--settings", str(path), "--out", str(out)]) == 0
+    model = paper_model(fex=14, mu=0.8)
+    ref = cli.wear_history(model, 2 * np.pi * 0.6, "exact", kw=1e-10, cycles=2000, harmonics=3)
+    _, rows = read_csv(out)
+    np.testing.assert_allclose(column(rows, "w"), ref.wear[:, 0], rtol=1e-12)
+    assert cli.main(["wear", "--settings", str(path), "--f", "0.9", "--out", str(out)]) == 0
+    ref = cli.wear_history(model, 2 * np.pi * 0.9, "exact", kw=1e-10, cycles=2000, harmonics=3)
+    np.testing.assert_allclose(column(read_csv(out)[1], "w"), ref.wear[:, 0], rtol=1e-12)
+    capsys.readouterr()
+    path.write_text('{"mu": -1}')
+    code, _, err = run(capsys, "wear", "--settings", str(path), "--f", "0.7", "--out", str(out))
+    assert code == 2 and err.startswith("fretwear wear: error: argument --mu (from --settings view.json):")
+    path.write_text('{"fex": 10, "colour": "red"}')
+    code, _, err = run(capsys, "point", "--settings", str(path), "--f", "0.7")
+    assert code == 2 and "unknown keys ['colour']" in err and "Traceback" not in err
+    code, _, err = run(capsys, "point", "--settings", str(tmp_path / "missing.json"), "--f", "0.7")
+    assert code == 2 and "settings file" in err and "missing.json" in err
+
+
+def test_map_and_wear_figures_carry_their_parameters(tmp_path, capsys):
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / "map.svg"
+    argv = ["map", "--fmin", "0.5", "--fmax", "0.9", "--nf", "3", "--ncycles", "4", "--cycles", "1e4",
+            "--harmonics", "3", "--fex", "12", "--out", str(out)]  # fmt: skip
+    assert cli.main(argv) == 0
+    text = "".join(ET.fromstring(out.read_text()).itertext())
+    assert "Fₑₓ = 12 N" in text and "k_w = 1e-11 1/Pa" in text and "method = exact" in text
+    out = tmp_path / "wear.png"
+    assert cli.main(["wear", "--f", "0.7", "--cycles", "1e3", "--harmonics", "3", "--out", str(out)]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and b"method = exact" in out.read_bytes()
 
 
 def test_figures_bad_format(tmp_path, capsys):
     assert cli.main(["figures", "--out", str(tmp_path), "--formats", "gif"]) == 2
     assert "gif" in capsys.readouterr().err
+
+
+def test_wear_warnings_are_lines_that_say_where(tmp_path, capsys):
+    """The two-scale warning of a wear map names its frequency, in the command's format."""
+    code, _, err = run(capsys, "map", "--fmin", "0.5", "--fmax", "0.7", "--nf", "2", "--ncycles", "4",
+                       "--cycles", "1e3", "--harmonics", "3", "--fex", "14", "--mu", "0.8", "--kw", "1e-10",
+                       "--out", str(tmp_path / "m.csv"))  # fmt: skip
+    assert (
+        code == 0
+        and "RuntimeWarning" not in err
+        and all(line.startswith("fretwear map: ") for line in err.splitlines())
+    )
+    assert "fretwear map: warning: 0.5 Hz: wear per cycle at the start is" in err
+    code, _, err = run(capsys, "wear", "--f", "0.5", "--cycles", "1e3", "--harmonics", "3", "--fex", "14",
+                       "--mu", "0.8", "--kw", "1e-10", "--out", str(tmp_path / "w.csv"))  # fmt: skip
+    assert code == 0 and "RuntimeWarning" not in err and err.count("two-scale assumption") == 1

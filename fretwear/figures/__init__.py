@@ -1,11 +1,23 @@
 """Plotting and export, kept out of the numerical layers.
 
 :mod:`~fretwear.figures.plots` builds HoloViews figures from library results,
-:mod:`~fretwear.figures.export` writes them (PNG, SVG, HTML) and tables (CSV),
+:mod:`~fretwear.figures.sketch` draws the paper's 2-DOF model,
+:mod:`~fretwear.figures.export` writes figures (PNG, SVG, HTML) and tables (CSV),
+:mod:`~fretwear.figures.record` stamps them with their parameters and reads and
+writes the settings files of the dashboard and the CLI,
 :mod:`~fretwear.figures.paper` computes and writes the paper's figure set.
 """
 
-from .export import FIGURE_FORMATS, csv_text, figure_bytes, save_csv, save_figure
+from .export import (
+    FIGURE_FORMATS,
+    ExportOptions,
+    csv_text,
+    figure_bytes,
+    render_figure,
+    save_csv,
+    save_figure,
+    save_figures,
+)
 from .paper import paper_figures
 from .plots import (
     holoviews,
@@ -19,11 +31,24 @@ from .plots import (
     wear_curve,
     wear_map_figure,
 )
+from .record import caption, csv_header, parameter_record, parse_settings, read_settings, settings_json
+from .sketch import model_sketch, sketch_scale
 
 __all__ = [
     "FIGURE_FORMATS",
+    "ExportOptions",
+    "caption",
+    "csv_header",
     "csv_text",
     "figure_bytes",
+    "model_sketch",
+    "parameter_record",
+    "parse_settings",
+    "read_settings",
+    "render_figure",
+    "save_figures",
+    "settings_json",
+    "sketch_scale",
     "holoviews",
     "line_figure",
     "load_backend",

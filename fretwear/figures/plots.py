@@ -97,7 +97,18 @@ def marker_line(hv, x: float | None, vertical: bool = True):
     )
 
 
-def overlay_options(overlay, title: str, xlabel: str, ylabel: str, logx: bool, logy: bool, legend: bool):
+def overlay_options(
+    overlay,
+    title: str,
+    xlabel: str,
+    ylabel: str,
+    logx: bool,
+    logy: bool,
+    legend: bool,
+    padding: float | tuple[float, float] = 0.0,
+):
+    """Title, axis labels and scales of ``overlay``, its legend beside the axes; ``padding``: room
+    around the data (fraction of its range; or ``(x, y)``) so that no curve runs along the frame."""
     return styled(
         overlay,
         {
@@ -107,8 +118,10 @@ def overlay_options(overlay, title: str, xlabel: str, ylabel: str, logx: bool, l
             "logx": logx,
             "logy": logy,
             "show_legend": legend,
+            "padding": padding,
         },
-        {"legend_position": "top_right", "responsive": True, "height": 340, "toolbar": "right"},
+        # legends beside the axes, never over the curves
+        {"legend_position": "right", "responsive": True, "height": 340, "toolbar": "right"},
         {"legend_position": "right", **_MPL_SIZE},
     )
 
@@ -124,6 +137,9 @@ def line_figure(
     dashed: Sequence[str] = (),
     vline: float | None = None,
     point: tuple[float, float] | None = None,
+    padding: float = 0.0,
+    legend_labels: Mapping[str, str] | None = None,
+    extra: Sequence = (),
 ) -> hv.Overlay:
     """Curves ``label -> (x, y)`` on common axes, one legend entry each.
 
@@ -131,9 +147,17 @@ def line_figure(
     at ``vline`` and a marker ``point`` when these are given (``nan`` hides
     them): figures built with the same arguments have the same structure, as
     a ``DynamicMap`` needs. Non-positive values are hidden on a logarithmic axis.
+    ``padding`` leaves room around the data (e.g. a loop whose sides would sit
+    on the frame). ``legend_labels`` shows other text for some labels: the
+    labels stay the keys of the layers, which a ``DynamicMap`` keeps from frame
+    to frame. ``extra`` layers (e.g. a cursor) come last. A curve label may not
+    be an axis label: HoloViews would read it as that axis's values.
     """
     hv = holoviews()
     ensure_backend()
+    clash = sorted(set(curves) & {xlabel, ylabel})
+    if clash:
+        raise ValueError(f"curve labels must differ from the axis labels, got {clash}")
     xd, yd = hv.Dimension("x", label=xlabel), hv.Dimension("y", label=ylabel)
     layers = []
     for label, (x, y) in curves.items():
@@ -157,7 +181,9 @@ def line_figure(
                 pts, {"color": "red"}, {"size": 10, "marker": "x", "line_width": 3}, {"s": 80, "marker": "X"}
             )
         )
-    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, logx, logy, len(curves) > 1)
+    layers += list(extra)
+    overlay = overlay_options(hv.Overlay(layers), title, xlabel, ylabel, logx, logy, len(curves) > 1, padding)
+    return styled(overlay, {"legend_labels": dict(legend_labels)}) if legend_labels else overlay
 
 
 def map_figure(
@@ -239,16 +265,19 @@ def wear_map_figure(
 ) -> hv.Overlay:
     """Wear map ``w / u0`` over frequency (Hz) x log10 cycles (paper Fig. 7, 12), contours at 0.1/0.5/0.9.
 
+    The colour scale runs from 0 to 1, or to the largest value when a method
+    overshoots ``u0`` (never clipped: values above 1 stay visible).
     ``cycles`` starts at 0 (left out: the log axis starts at the next count);
     ``wear_fraction`` has shape ``(len(frequency), len(cycles))``; ``point`` is
     ``(f, N)`` in Hz and cycles.
     """
     logn = np.log10(np.asarray(cycles, dtype=float)[1:])
     z = np.asarray(wear_fraction, dtype=float)[:, 1:].T
+    top = float(np.nanmax(z)) if np.isfinite(z).any() else 1.0
     return map_figure(
         frequency, logn, z,
-        xlabel="frequency (Hz)", ylabel="log10 cycles N", zlabel="w / u0",
-        clim=(0, 1), levels=(0.1, 0.5, 0.9), title=title,
+        xlabel="frequency f (Hz)", ylabel="log₁₀ N (cycles)", zlabel="w / u₀",
+        clim=(0, max(1.0, top)), levels=(0.1, 0.5, 0.9), title=title,
         point=None if point is None else (point[0], np.log10(point[1])),
     )  # fmt: skip
 
@@ -262,11 +291,14 @@ def signals_figure(
     xlabel: str,
     ylabel: str,
     title: str = "",
+    extra: Sequence = (),
 ) -> hv.Overlay:
     """Signals over one period with shaded intervals ``spans`` (e.g. where the contact slips).
 
     The shading comes first, then one curve per signal, then dotted horizontal
-    lines at ``hlines`` (e.g. the slip limits ``+-mu F_N``).
+    lines at ``hlines`` (e.g. the slip limits ``+-mu F_N``), then the ``extra``
+    layers (e.g. a cursor). The vertical axis leaves 6 % of room above and below,
+    so that a signal at its limit does not run along the frame.
     """
     hv = holoviews()
     ensure_backend()
@@ -287,7 +319,9 @@ def signals_figure(
             styled(curve, {"framewise": True}, {"line_width": 2, "tools": ["hover"]}, {"linewidth": 1.5})
         )
     layers += [marker_line(hv, h, vertical=False) for h in hlines]
-    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, len(signals) > 1)
+    layers += list(extra)
+    legend = len(signals) > 1
+    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, legend, (0.0, 0.06))
 
 
 def wear_curve(history, cycles) -> tuple[np.ndarray, np.ndarray]:

@@ -78,8 +78,8 @@ CURVE_JS = """
     if (!v || seen.has(v)) continue;
     seen.add(v);
     const m = v.model;
-    if (m && m.title && typeof m.title.text === "string" && m.title.text.startsWith(prefix) && m.center) {
-      for (const legend of m.center) {
+    if (m && m.title && typeof m.title.text === "string" && m.title.text.startsWith(prefix)) {
+      for (const legend of [...(m.center ?? []), ...(m.right ?? [])]) {  // legends beside the axes too
         for (const item of legend.items ?? []) {
           if ((item.label?.value ?? item.label) === label) {
             const d = item.renderers[0].data_source.data;
@@ -126,7 +126,7 @@ class Sampler(threading.Thread):
 def titles_for(fex: float, mu: float) -> list[str]:
     """The plot titles of the Regimes scene for ``F_ex`` and ``mu`` (see ``app.scenes.RegimesScene``)."""
     r = fex / (mu * NORMAL_LOAD)
-    return [f"FRF of mass 1, F_ex = {fex:g} N", f"Stick/slip regimes (current r = {r:.3g})"]
+    return [f"FRF of mass 1, Fₑₓ = {fex:g} N", f"Stick/slip regimes (current r = {r:.3g})"]
 
 
 class Driver:
@@ -190,8 +190,9 @@ class Driver:
         self.snapshots.append({"fex": values[0], "mu": values[1], "f": curve["x"], "x1": curve["y"]})
 
     async def run(self, until: float) -> None:
-        """Move until the time ``until`` (``time.monotonic``)."""
-        while time.monotonic() < until:
+        """Move until the time ``until`` (``time.monotonic``), and at least twice (on a loaded machine a
+        move can take longer than the whole run)."""
+        while time.monotonic() < until or len(self.latencies) < 2:
             await self.move()
 
     async def check_clean(self) -> None:
@@ -212,7 +213,7 @@ async def run_sessions(url: str, seconds: float) -> tuple[list[Driver], float]:
             context = await browser.new_context(viewport={"width": 1280, "height": 900})
             pages.append(await context.new_page())
         start = time.monotonic()
-        await asyncio.gather(*(page.goto(url) for page in pages))
+        await asyncio.gather(*(page.goto(url, timeout=REDRAW_TIMEOUT * 1e3) for page in pages))
         await asyncio.gather(
             *(
                 page.wait_for_function(SHOWS_JS, arg=titles_for(10.0, 1.0), polling=100, timeout=120_000)

@@ -62,12 +62,15 @@ def test_paper_figures_write_the_tables(tmp_path):
         tmp_path, harmonics=3, frequencies=4, cycle_points=4, cycles=1e4, formats=("csv",), log=logs.append
     )
     assert [f.name for f in files] == [f"fig{n:02d}.csv" for n in range(5, 15)]
-    with open(tmp_path / "fig07.csv") as fh:
-        rows = list(csv.DictReader(fh))
+    text = (tmp_path / "fig07.csv").read_text()
+    header = [line for line in text.splitlines() if line.startswith("#")]  # the parameter record
+    assert header[0].startswith("# model: paper 2-DOF") and "F_ex = 6, 10 and 14 N" in header[0]
+    assert "# k_w = 1e-11 1/Pa" in header and "# Nh = 3" in header and header[-1].startswith("# fretwear ")
+    rows = list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
     assert {r["fex"] for r in rows} == {"6", "10", "14"} and len(rows) == 3 * 4 * 4
     assert max(float(r["w_over_u0"]) for r in rows) > 0.5
     with open(tmp_path / "fig11.csv") as fh:
-        methods = {r["method"] for r in csv.DictReader(fh)}
+        methods = {r["method"] for r in csv.DictReader(line for line in fh if not line.startswith("#"))}
     assert {"stepping", "polynomial"} <= methods
     assert any("wrote fig14" in line for line in logs)
     with pytest.raises(ValueError, match="formats must be among"):

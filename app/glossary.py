@@ -1,0 +1,115 @@
+"""The dashboard's glossary: each term's symbol (HTML) and a one-to-three-sentence definition.
+
+The same text appears in three places: the *Glossary* tab (:func:`glossary_markdown`),
+the help mark beside each control (:func:`help_mark`) and the terms of the
+scenes' explanations (:func:`term`, a hover note).
+"""
+
+from __future__ import annotations
+
+import html
+
+__all__ = ["TERMS", "term", "help_mark", "glossary_markdown"]
+
+#: term -> (symbol in HTML, definition); the keys are the names used in the code and the URL
+TERMS: dict[str, tuple[str, str]] = {
+    "F_ex": (
+        "F<sub>ex</sub>",
+        "Excitation amplitude (N): mass 1 is driven by F_ex cos(ωt). Larger F_ex makes the contact slip "
+        "over more of the period.",
+    ),
+    "mu": (
+        "μ",
+        "Coulomb friction coefficient (-): the contact sticks while the friction force stays below "
+        "μ F_N and slips at μ F_N.",
+    ),
+    "F_N": (
+        "F<sub>N</sub>",
+        "Normal load on the contact (N), F_N = k_n (u0 − w): the normal spring k_n is compressed by the "
+        "interference u0, less the worn depth w. Wear relaxes it.",
+    ),
+    "u0": (
+        "u<sub>0</sub>",
+        "Initial interference of the normal spring (m), u0 = F_N / k_n: the depth the contact can wear "
+        "before its normal load vanishes (w / u0 = 1: worn through).",
+    ),
+    "k_w": (
+        "k<sub>w</sub>",
+        "Archard wear coefficient (1/Pa): per cycle, the worn depth grows by k_w F_N s, with s the "
+        "distance slid. Only the product k_w N matters: doubling k_w halves the cycles to a given wear.",
+    ),
+    "N": (
+        "N",
+        "Number of vibration cycles (the slow time of wear). The cycle horizon is the largest N computed.",
+    ),
+    "Nh": (
+        "N<sub>h</sub>",
+        "Number of harmonics of the harmonic balance: the periodic response is a Fourier series up to "
+        "N_h ω. More harmonics sharpen the stick-slip transitions (error about 1/N_h) and cost more.",
+    ),
+    "DLFT": (
+        "DLFT",
+        "Dynamic Lagrangian Frequency-Time method: the contact law (stick, slip, separation) is applied "
+        "in the time domain, sample by sample, and the result is brought back to harmonics for the "
+        "harmonic balance (HBM + DLFT).",
+    ),
+    "pseudo-FRF": (
+        "pseudo-FRF",
+        "The response over frequency after N cycles of wear, each frequency worn by its own vibration: "
+        "not the response of one worn structure, since each frequency wears differently.",
+    ),
+    "wear map": (
+        "wear map",
+        "The worn depth w / u0 over frequency and number of cycles N: where and how fast the contact "
+        "wears. Click it to pick the point the other scenes show.",
+    ),
+    "r": (
+        "r",
+        "Load ratio r = F_ex / (μ F_N): the excitation over the friction limit. Below the stick "
+        "boundary the contact never slips (and never wears); far above it, it slips almost all the time.",
+    ),
+    "method": (
+        "slow-time method",
+        "How the wear is followed over N: exact (Archard's law along the exact load path, no slow-time "
+        "error), stepping (adaptive steps in N), polynomial (the paper's polynomial in N, one solve) or "
+        "time (time integration with cycle jumps, the reference).",
+    ),
+    "tolerance": (
+        "tolerance",
+        "Local error allowed per step in w / u0 by stepping and time integration; the exact and "
+        "polynomial methods do not take one.",
+    ),
+    "stick-slip": (
+        "stick / slip",
+        "In one period the contact sticks (both masses move together, the friction force is below μ F_N) "
+        "or slips (the masses slide, the friction force is ±μ F_N): only slipping wears.",
+    ),
+}
+
+
+#: inline styles (the page's widgets live in shadow DOM, out of reach of a page-wide style sheet)
+_TERM_STYLE = "text-decoration: underline dotted; cursor: help"
+_MARK_STYLE = (
+    "display: inline-block; width: 1.15em; height: 1.15em; line-height: 1.15em; border-radius: 50%; "
+    "background: #0d6efd; color: white; text-align: center; font-size: 0.75em; font-weight: bold; "
+    "cursor: help; margin-left: 0.35em; vertical-align: 0.1em"
+)
+
+
+def term(name: str, text: str | None = None) -> str:
+    """``text`` (default the term's symbol) in HTML with the definition of ``name`` as a hover note."""
+    symbol, definition = TERMS[name]
+    shown = symbol if text is None else text
+    return f'<abbr data-term="{name}" title="{html.escape(definition)}" style="{_TERM_STYLE}">{shown}</abbr>'
+
+
+def help_mark(name: str) -> str:
+    """A small ? mark whose hover note is the definition of ``name`` (beside a control's label)."""
+    _, definition = TERMS[name]
+    text = html.escape(definition)
+    return f'<span data-term="{name}" title="{text}" aria-label="{text}" style="{_MARK_STYLE}">?</span>'
+
+
+def glossary_markdown() -> str:
+    """The glossary as Markdown: one bold symbol and its definition per term."""
+    return "\n\n".join(f"**{symbol}** ({name}): {text}" for name, (symbol, text) in TERMS.items())

@@ -1,0 +1,240 @@
+"""Dashboard timings as a user sees them: first page, and F_ex slider release to redrawn FRF.
+
+Runs ``panel serve app/app.py --setup app/warmup.py`` (warmed up: Numba kernels
+loaded, the default scenes in the cache) on a free port of 127.0.0.1 and drives
+it with Debian's chromium through Playwright (``pip install playwright``; no
+browser download):
+
+* first page: a new browser context (empty browser cache) opens the app; the
+  time from the request to the first plot drawn (the FRF of the Regimes scene),
+  and to both plots of the scene;
+* F_ex slider: the slider's handle is dragged and released (a new value each
+  time: a new FRF is computed); the time from the release to the redrawn FRF
+  (its title shows the new value).
+
+Each figure is printed next to its target with the ratio (median / target),
+with the machine's load average: on a loaded machine every figure grows.
+
+    python benchmarks/bench_app.py            # 5 first pages, 10 slider moves
+    python benchmarks/bench_app.py --quick    # 3 and 5
+    python benchmarks/bench_app.py --quick --screenshots assets   # and a screenshot of every scene
+
+With ``--screenshots DIR``, every scene is also opened from its address (the
+settings of its screenshot in :data:`SCREENSHOTS`) and saved as
+``DIR/scene_KEY.png`` once computed: the README's screenshots.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
+#: targets (s)
+FIRST_PAGE, SLIDER = 3.0, 0.3
+#: scene -> (address query, a plot title the computed scene shows) of the README's screenshots
+SCREENSHOTS = {
+    "regimes": ("", "Stick/slip regimes"),
+    "wearmap": ("scene=wearmap&f=0.6&N=3000", "Wear history at 0.6 Hz"),
+    "evolution": ("scene=evolution&fex=6&f=0.95", "Pseudo-FRFs of mass 1"),
+    "cycle": ("scene=cycle&fex=8&f=0.75&N=0", "Hysteresis loop"),
+    "methods": ("scene=methods", "Slow-time methods"),
+    "accuracy": ("scene=accuracy", "vs wall time"),
+}
+#: the page's text, shadow DOM included (Panel renders into shadow roots)
+TEXT_JS = """
+() => {
+  const out = [];
+  function walk(node) {
+    if (node.shadowRoot) walk(node.shadowRoot);
+    for (const c of node.childNodes) {
+      if (c.nodeType === Node.TEXT_NODE) out.push(c.textContent);
+      else if (c.nodeType === Node.ELEMENT_NODE && c.tagName !== "SCRIPT" && c.tagName !== "STYLE") walk(c);
+    }
+  }
+  walk(document.body);
+  return out.join(" ");
+}
+"""
+#: the visible plot titles of a page, from BokehJS
+TITLES_JS = """
+() => {
+  const out = [], stack = window.Bokeh ? Object.values(Bokeh.index) : [], seen = new Set();
+  while (stack.length) {
+    const v = stack.pop();
+    if (!v || seen.has(v)) continue;
+    seen.add(v);
+    if (v.model && v.model.title && typeof v.model.title.text === "string" && v.frame
+        && v.canvas_view.el.getBoundingClientRect().width > 0) out.push(v.model.title.text);
+    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
+  }
+  return out;
+}
+"""
+
+
+def shows(prefixes: list[str]) -> str:
+    """JS predicate: every prefix starts a visible plot title."""
+    every = f"{prefixes!r}.every(p => t.some(s => s.startsWith(p)))"
+    return f"() => {{ const t = ({TITLES_JS})(); return {every}; }}"
+
+
+def serve(log: Path) -> tuple[subprocess.Popen, str]:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
+    }
+    command = [
+        sys.executable,
+        "-m",
+        "panel",
+        "serve",
+        "app/app.py",
+        "--address",
+        "127.0.0.1",
+        "--port",
+        str(port),
+        "--allow-websocket-origin",
+        f"127.0.0.1:{port}",
+        "--setup",
+        "app/warmup.py",
+    ]
+    with open(log, "w") as out:
+        proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=out, stderr=subprocess.STDOUT)
+    url, deadline = f"http://127.0.0.1:{port}/app", time.monotonic() + 300
+    while True:
+        try:
+            with urllib.request.urlopen(url, timeout=60):
+                return proc, url
+        except OSError:
+            if proc.poll() is not None or time.monotonic() > deadline:
+                proc.kill()
+                sys.exit(f"the server did not start:\n{log.read_text()}")
+            time.sleep(0.5)
+
+
+def first_pages(browser, url: str, repeats: int) -> tuple[list[float], list[float]]:
+    """Seconds to the first plot and to the whole first scene, for ``repeats`` new browser contexts."""
+    first, whole = [], []
+    for _ in range(repeats):
+        context = browser.new_context(viewport={"width": 1500, "height": 1200})
+        page = context.new_page()
+        start = time.perf_counter()
+        page.goto(url, wait_until="commit")
+        page.wait_for_function(shows(["FRF of mass 1"]), polling=20, timeout=120_000)
+        first.append(time.perf_counter() - start)
+        page.wait_for_function(shows(["FRF of mass 1", "Stick/slip regimes"]), polling=20, timeout=120_000)
+        whole.append(time.perf_counter() - start)
+        context.close()
+    return first, whole
+
+
+def slider_moves(browser, url: str, moves: int) -> list[float]:
+    """Seconds from releasing the F_ex slider to the FRF drawn for its new value, ``moves`` times."""
+    context = browser.new_context(viewport={"width": 1500, "height": 1200})
+    page = context.new_page()
+    page.goto(url)
+    page.wait_for_function(shows(["FRF of mass 1", "Stick/slip regimes"]), timeout=120_000)
+    handle = page.locator(".noUi-handle").first  # the F_ex slider
+    seconds = []
+    for k in range(moves):
+        title = next(t for t in page.evaluate(TITLES_JS) if t.startswith("FRF of mass 1"))
+        box = handle.bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + (7 if k % 2 == 0 else -4), y, steps=3)  # a new value at every move
+        start = time.perf_counter()
+        page.mouse.up()
+        page.wait_for_function(
+            f"() => {{ const t = ({TITLES_JS})().filter(s => s.startsWith('FRF of mass 1'));"
+            f" return t.length && t[0] !== {title!r}; }}",
+            polling=10,
+            timeout=120_000,
+        )
+        seconds.append(time.perf_counter() - start)
+        page.wait_for_function("() => !document.body.innerText.includes('Computing')", timeout=120_000)
+    context.close()
+    return seconds
+
+
+def screenshots(browser, url: str, folder: Path) -> list[Path]:
+    """Each scene of :data:`SCREENSHOTS` opened from its address, computed, saved as a PNG."""
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    for key, (query, title) in SCREENSHOTS.items():
+        context = browser.new_context(viewport={"width": 1500, "height": 1100})
+        page = context.new_page()
+        page.goto(url + (f"?{query}" if query else ""))
+        page.wait_for_function(
+            f"() => ({TITLES_JS})().some(s => s.includes({title!r}))", polling=200, timeout=300_000
+        )
+        page.wait_for_function(f"() => !({TEXT_JS})().includes('Computing')", polling=200, timeout=300_000)
+        time.sleep(1.0)  # the last redraw reaches the canvas
+        path = folder / f"scene_{key}.png"
+        page.screenshot(path=str(path), full_page=True)
+        written.append(path)
+        context.close()
+    return written
+
+
+def line(name: str, values: list[float], target: float) -> str:
+    median = statistics.median(values)
+    return (
+        f"{name:<42} median {median:6.2f} s  (min {min(values):.2f}, max {max(values):.2f}, "
+        f"n = {len(values)})"
+        f"  target <= {target:g} s  ratio {median / target:.2f}"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="3 first pages and 5 slider moves")
+    parser.add_argument("--screenshots", type=Path, metavar="DIR", help="save a screenshot of every scene")
+    args = parser.parse_args()
+    if not Path(CHROMIUM).exists():
+        sys.exit(f"{CHROMIUM} is missing (apt-get install chromium)")
+    from playwright.sync_api import sync_playwright
+
+    pages, moves = (3, 5) if args.quick else (5, 10)
+    with tempfile.TemporaryDirectory() as tmp:
+        start = time.perf_counter()
+        proc, url = serve(Path(tmp) / "panel.log")
+        warm = time.perf_counter() - start
+        try:
+            with sync_playwright() as p:
+                browser = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=ARGS)
+                first, whole = first_pages(browser, url, pages)
+                slider = slider_moves(browser, url, moves)
+                shots = screenshots(browser, url, args.screenshots) if args.screenshots else []
+                browser.close()
+        finally:
+            proc.terminate()
+            proc.wait(15)
+    load = os.getloadavg()
+    print(
+        f"fretwear dashboard, {os.cpu_count()} CPUs, load average {load[0]:.1f} {load[1]:.1f} {load[2]:.1f} "
+        f"(1, 5, 15 min); server start with warm-up {warm:.1f} s"
+    )
+    print(line("first page: first plot drawn", first, FIRST_PAGE))
+    print(line("first page: the whole first scene", whole, FIRST_PAGE))
+    print(line("F_ex slider release -> redrawn FRF", slider, SLIDER))
+    for path in shots:
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,197 @@
+"""The parameter record of an export, and the settings file shared by the dashboard and the CLI.
+
+A *settings record* is a flat mapping keyed like the command-line options
+(``fex``, ``mu``, ``fn``, ``kw``, ``cycles``, ``harmonics``, ``method``, ``tol``,
+``degree``, ``fmin``, ``fmax``, ``nf``, ``ncycles``, ``f``), plus what only the
+dashboard has (``N``: the selected cycle count, ``scene``, and the accuracy
+scene's ``quantity``, ``target``, ``ladder`` and ``rungs``). The dashboard
+writes it to its address (URL query) and to a small JSON file; ``fretwear
+COMMAND --settings FILE`` reads the same file, so that a figure of the
+dashboard can be computed again without it.
+
+Every exported figure carries :func:`caption` and every exported table
+:func:`csv_header`: the model, ``F_ex``, ``mu``, ``F_N``, ``k_w``, ``Nh``, the
+slow-time method, its tolerance and the fretwear version.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "SETTINGS_KEYS",
+    "MODEL",
+    "version",
+    "settings_json",
+    "parse_settings",
+    "read_settings",
+    "parameter_record",
+    "caption",
+    "csv_header",
+]
+
+#: the model every dashboard figure is drawn for
+MODEL = "paper 2-DOF (Salles et al., section 2.1), kn = 1e7 N/m"
+
+#: keys of a settings record: (type, meaning with its unit)
+SETTINGS_KEYS: dict[str, tuple[type, str]] = {
+    "fex": (float, "excitation amplitude F_ex on mass 1 (N)"),
+    "mu": (float, "friction coefficient mu (-)"),
+    "fn": (float, "initial normal load F_N (N)"),
+    "kw": (float, "Archard coefficient k_w (1/Pa)"),
+    "cycles": (float, "cycle horizon of the wear studies (cycles)"),
+    "harmonics": (int, "harmonics Nh (-)"),
+    "method": (str, "slow-time method"),
+    "degree": (int, "degree of the polynomial method (-)"),
+    "tol": (float, "tolerance of stepping and time integration (fraction of u0)"),
+    "fmin": (float, "lowest frequency (Hz)"),
+    "fmax": (float, "highest frequency (Hz)"),
+    "nf": (int, "frequencies of the maps (-)"),
+    "ncycles": (int, "cycle counts of the wear map (-)"),
+    "f": (float, "selected frequency (Hz)"),
+    "N": (float, "selected cycle count (cycles)"),
+    "scene": (str, "dashboard scene"),
+    "quantity": (str, "error measure of the accuracy scene"),
+    "target": (float, "target relative error of the accuracy scene (-)"),
+    "ladder": (str, "ladder of the accuracy scene"),
+    "rungs": (bool, "wear rungs of the accuracy scene"),
+}
+
+#: (key, name, unit) of the parameter record, in its order; names and units in ASCII, marked up by
+#: :data:`MARKUP` in captions
+_RECORD = (
+    ("fex", "F_ex", "N"),
+    ("mu", "mu", ""),
+    ("fn", "F_N", "N"),
+    ("kw", "k_w", "1/Pa"),
+    ("harmonics", "Nh", ""),
+    ("method", "method", ""),
+    ("tol", "tolerance", "u0"),
+    ("degree", "degree", ""),
+    ("cycles", "horizon", "cycles"),
+    ("f", "f", "Hz"),
+    ("N", "N", "cycles"),
+)
+#: the symbols of the record in each markup: Unicode text, Matplotlib's mathtext, HTML
+MARKUP = {
+    "unicode": {"F_ex": "Fₑₓ", "mu": "μ", "F_N": "Fₙ", "k_w": "k_w", "Nh": "Nₕ", "u0": "u₀"},
+    "mathtext": {
+        "F_ex": r"$F_\mathrm{ex}$",
+        "mu": r"$\mu$",
+        "F_N": r"$F_\mathrm{N}$",
+        "k_w": r"$k_\mathrm{w}$",
+        "Nh": r"$N_\mathrm{h}$",
+        "u0": r"$u_0$",
+    },  # fmt: skip
+    "html": {
+        "F_ex": "F<sub>ex</sub>",
+        "mu": "μ",
+        "F_N": "F<sub>N</sub>",
+        "k_w": "k<sub>w</sub>",
+        "Nh": "N<sub>h</sub>",
+        "u0": "u<sub>0</sub>",
+    },  # fmt: skip
+}
+
+
+def version() -> str:
+    """The installed fretwear version."""
+    from .. import __version__
+
+    return __version__
+
+
+def settings_json(values: Mapping[str, Any]) -> str:
+    """``values`` (a settings record) as the text of a settings file, with the fretwear version."""
+    record = parse_settings(json.dumps(dict(values)))
+    return json.dumps({"fretwear": version(), **record}, indent=1) + "\n"
+
+
+def _check(key: str, value: Any, source: str) -> Any:
+    kind, meaning = SETTINGS_KEYS[key]
+    if kind is bool:
+        ok = isinstance(value, bool)
+    elif kind is str:
+        ok = isinstance(value, str)
+    else:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        ok = ok and (kind is float or float(value).is_integer())
+    if not ok:
+        what = {bool: "true or false", str: "a string", int: "a whole number", float: "a finite number"}[kind]
+        raise ValueError(f"{source}: {key!r} ({meaning}) must be {what}, got {value!r}")
+    return int(value) if kind is int else value
+
+
+def parse_settings(text: str, source: str = "settings") -> dict[str, Any]:
+    """The settings record in the JSON ``text`` (``ValueError`` naming the key and what it must be).
+
+    The object may hold any of :data:`SETTINGS_KEYS` and the ``"fretwear"``
+    version that wrote it; ranges are checked by whoever applies the values
+    (the dashboard's controls, the CLI's options).
+    """
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{source}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{source}: must be a JSON object of settings, got {type(data).__name__}")
+    data.pop("fretwear", None)
+    unknown = sorted(set(data) - set(SETTINGS_KEYS))
+    if unknown:
+        raise ValueError(f"{source}: unknown keys {unknown}; known: {', '.join(SETTINGS_KEYS)}")
+    return {k: _check(k, data[k], source) for k in SETTINGS_KEYS if k in data}
+
+
+def read_settings(path: str | Path) -> dict[str, Any]:
+    """The settings record of the JSON file ``path`` (see :func:`parse_settings`)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ValueError(f"settings file {str(path)!r}: {exc.strerror or exc}") from None
+    return parse_settings(text, f"settings file {path.name!r}")
+
+
+def _items(values: Mapping[str, Any], markup: str | None) -> list[str]:
+    symbols = MARKUP[markup] if markup else {}
+    out = []
+    for key, name, unit in _RECORD:
+        if values.get(key) is None:
+            continue
+        value = values[key]
+        text = f"{value:.4g}" if isinstance(value, float) else str(value)
+        unit = symbols.get(unit, unit)
+        out.append(f"{symbols.get(name, name)} = {text}{' ' + unit if unit else ''}")
+    return out
+
+
+def parameter_record(values: Mapping[str, Any], model: str = MODEL) -> list[str]:
+    """Lines of the record of an export: the model, each parameter of ``values`` given, the version.
+
+    ``values`` is a settings record; parameters it lacks (``None`` or absent)
+    are left out, e.g. the tolerance of a method that takes none.
+    """
+    return [f"model: {model}", *_items(values, None), f"fretwear {version()}"]
+
+
+def caption(values: Mapping[str, Any], model: str = MODEL, markup: str = "unicode") -> str:
+    """One-paragraph caption of a figure: :func:`parameter_record` with symbols (μ, subscripts).
+
+    ``markup``: ``"unicode"`` (plain text), ``"mathtext"`` (Matplotlib) or ``"html"``.
+    """
+    if markup not in MARKUP:
+        raise ValueError(f"markup must be one of {sorted(MARKUP)}, got {markup!r}")
+    text = ", ".join(_items(values, markup))
+    if markup == "html":
+        model = html.escape(model)
+    return "; ".join([model, text, f"fretwear {version()}"])
+
+
+def csv_header(values: Mapping[str, Any], model: str = MODEL) -> str:
+    """The record as a block of ``#`` comment lines (pandas: ``read_csv(..., comment="#")``)."""
+    return "".join(f"# {line}\n" for line in parameter_record(values, model))
