@@ -64,8 +64,9 @@ class Method:
 METHODS: Mapping[str, Method] = {
     m.name: m
     for m in (
-        Method("exact", wear_exact, ("harmonics", "samples", "dynamics"), "exact load path",
-               exact_path_applies),  # fmt: skip
+        Method(
+            "exact", wear_exact, ("harmonics", "samples", "dynamics"), "exact load path", exact_path_applies
+        ),
         Method(
             "stepping",
             wear_stepping,
