@@ -25,7 +25,7 @@ from fretwear.studies.accuracy import QUANTITIES, CostStudy, Rung
 
 from .backend import Failure
 from .glossary import term
-from .state import CONVERGENCE_HARMONICS, LADDERS, METHODS, Controls, Settings, Task, Tasks
+from .state import CONVERGENCE_HARMONICS, EXACT, LADDERS, METHODS, Controls, Settings, Task, Tasks
 
 if TYPE_CHECKING:
     import holoviews as hv
@@ -79,6 +79,29 @@ def _history_notes(histories: list, limit: int = 4) -> list[str]:
     if len(notes) > limit:
         notes = [*notes[:limit], f"and {len(notes) - limit} more notes (the CSV export has every history)"]
     return notes
+
+
+def _approximation(s: Settings, method: str) -> str:
+    """What ``method`` computes with the sidebar's settings, in words (for the error notes)."""
+    if method == "time":
+        return "time integration"
+    if method == "polynomial":
+        return f"polynomial (DLFT, Nₕ = {s.harmonics}, degree {s.degree})"
+    return f"{method} (DLFT, Nₕ = {s.harmonics})"
+
+
+def _error_note(h, reference, label: str) -> str | None:
+    """How far ``h`` (an approximation named ``label``) is from the exact ``reference``, in words."""
+    if h is None or reference is None or not (h.converged and reference.converged):
+        return None
+    e = h.error_against(reference)
+    parts = []
+    for f in (0.5, 0.9):
+        c = e[f"cycles_to_{f:g}"]
+        if np.isfinite(c):
+            parts.append(f"cycles to {f:.0%} of u₀ are {abs(c):.2%} {'early' if c < 0 else 'late'}")
+    parts.append(f"w(N) is off by up to {e['wear']:.2%} of u₀")
+    return f"{label} at {h.frequency:.4g} Hz against the exact dynamics: {', '.join(parts)}."
 
 
 class Scene(param.Parameterized):
@@ -311,14 +334,17 @@ class WearMapScene(Scene):
 **What you see.** The {term("wear map")}: the worn depth w / {term("u0")} over frequency and the number
 of cycles {term("N")} (log scale), by the selected {term("method", "slow-time method")} (exact: no
 slow-time error), with contours at 10, 50 and 90 %. Hover for values. **Click a point**: beside and
-below, the wear history w(N) at that frequency and the {term("pseudo-FRF")} of mass 1 at that cycle
-count, next to the response without wear.
+below, the wear history w(N) at that frequency, with the exact answer dashed (Archard's law on the
+exact event-driven dynamics: no harmonic truncation) and the selected method's error against it in the
+notes, and the {term("pseudo-FRF")} of mass 1 at that cycle count, next to the response without wear.
 
 **Try.** Click inside the worn band, then near its edges: wear starts where the contact slips and
-spreads as the normal load relaxes. Raise {term("k_w")} to wear faster (only N k<sub>w</sub> matters)."""
+spreads as the normal load relaxes. Raise {term("k_w")} to wear faster (only N k<sub>w</sub> matters).
+Change {term("Nh")} and watch the error note: what more harmonics buy, and what they cost."""
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
-        return [self.tasks.frf(s), self.tasks.wear_map(s)]
+        near = float(s.frequencies[np.argmin(np.abs(s.frequencies - sel.frequency))])  # a row of the map
+        return [self.tasks.frf(s), self.tasks.wear_map(s), self.tasks.exact_history(s, near)]
 
     def _map(self):
         return _ok(self.results.get("wear_map"))
@@ -330,7 +356,18 @@ spreads as the normal load relaxes. Raise {term("k_w")} to wear faster (only N k
 
     def _notes(self) -> list[str]:
         wm = self._map()
-        return [] if wm is None else _history_notes(wm.histories)
+        if wm is None:
+            return []
+        s = self.settings
+        error = _error_note(self._history(), self._exact(), _approximation(s, s.method))
+        return _history_notes(wm.histories) + ([error] if error else [])
+
+    def _exact(self):
+        """The exact wear history at the selected row of the map (None while it computes, or failed)."""
+        h, wm = _ok(self.results.get(EXACT)), self._map()
+        if h is None or wm is None or not np.isclose(h.frequency, wm.frequency[self._index()], rtol=1e-9):
+            return None
+        return h
 
     def _figure_wear_map(self):
         s, wm, sel = self.settings, self._map(), self.selection
@@ -344,20 +381,22 @@ spreads as the normal load relaxes. Raise {term("k_w")} to wear faster (only N k
         return None if wm is None else wm.histories[self._index()]
 
     def _figure_history(self):
-        h, sel = self._history(), self.selection
+        h, sel, exact = self._history(), self.selection, self._exact()
         curve, point = EMPTY, (np.nan, np.nan)
         if h is not None:
             curve = figures.wear_curve(h, self.settings.dense_cycles)
             point = (sel.cycles, float(h.at([sel.cycles])["wear"][0, 0] / h.u0[0]))
+        reference = EMPTY if exact is None else figures.wear_curve(exact, self.settings.dense_cycles)
         f = np.nan if h is None else h.frequency
         title = f"Wear history at {f:.4g} Hz"
         if h is not None and not np.isclose(f, sel.frequency, rtol=1e-9):
             title += f" (the map's frequency nearest to f = {sel.frequency:.4g} Hz)"
         return figures.line_figure(
-            {"wear history": curve},
+            {"wear history": curve, EXACT: reference},
             xlabel=CYCLES,
             ylabel=WEAR,
             logx=True,
+            dashed=(EXACT,),
             point=point,
             padding=0.05,
             title=title,
@@ -393,6 +432,11 @@ spreads as the normal load relaxes. Raise {term("k_w")} to wear faster (only N k
                 "rate": h.rate[:, 0],
                 "x1_h1": h.amplitude[:, 0],
                 "xr_half_p2p": h.relative_half_peak_to_peak[:, 0],
+                "w_exact_over_u0": (
+                    np.full(len(h.cycles), np.nan)
+                    if (exact := self._exact()) is None
+                    else exact.at(h.cycles)["wear"][:, 0] / exact.u0[0]
+                ),
             },
             "pseudo_frf": {
                 "f_hz": wm.frequency,
@@ -662,7 +706,9 @@ class MethodsScene(Scene):
 {term("method", "slow-time methods")}: the exact load path (Archard's law integrated along the exact
 piecewise-linear path of the periodic response as the load relaxes: no slow-time error), stepping
 (HBM + {term("DLFT")}, adaptive steps in N), the paper's polynomial method (one nonlinear solve for
-the whole evolution) and direct time integration with cycle jumps (paper Fig. 11). Right: the exact
+the whole evolution) and direct time integration with cycle jumps (paper Fig. 11), with the reference
+dashed: the exact method on the exact (event-driven) dynamics, no harmonic truncation; the notes say how
+far each method is from it. Right: the exact
 load path with 1, 3, 7, 15 and 21 harmonics, so that only the harmonic truncation differs (paper
 Fig. 10).
 
@@ -672,7 +718,7 @@ drift."""
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         t, f = self.tasks, sel.frequency
-        methods = [t.history(s, f, m, name=m) for m in METHODS]
+        methods = [t.history(s, f, m, name=m) for m in METHODS] + [t.exact_history(s, f)]
         convergence = [t.history(s, f, "exact", nh, name=f"Nh = {nh}") for nh in CONVERGENCE_HARMONICS]
         return sorted(methods + convergence, key=lambda task: task.weight)
 
@@ -681,7 +727,11 @@ drift."""
         return {k: v for k, v in super().record().items() if k not in ("method",)}
 
     def _notes(self) -> list[str]:
-        return _history_notes([h for name in METHODS if (h := _ok(self.results.get(name))) is not None])
+        exact = _ok(self.results.get(EXACT))
+        s = self.settings
+        errors = [_error_note(_ok(self.results.get(m)), exact, _approximation(s, m)) for m in METHODS]
+        notes = _history_notes([h for name in METHODS if (h := _ok(self.results.get(name))) is not None])
+        return notes + [e for e in errors if e]
 
     def _curves(self, names) -> dict[str, tuple]:
         out = {}
@@ -693,10 +743,11 @@ drift."""
     def _figure_methods(self):
         sel = self.selection
         return figures.line_figure(
-            self._curves(METHODS),
+            self._curves((*METHODS, EXACT)),
             xlabel=CYCLES,
             ylabel=WEAR,
             logx=True,
+            dashed=(EXACT,),
             padding=0.05,
             title=f"Slow-time methods at {sel.frequency:.4g} Hz",
         )
@@ -726,7 +777,7 @@ drift."""
 
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
         tables = {
-            "methods": self._long(METHODS, "method"),
+            "methods": self._long((*METHODS, EXACT), "method"),
             "harmonics": self._long([f"Nh = {nh}" for nh in CONVERGENCE_HARMONICS], "harmonics"),
         }
         return {k: v for k, v in tables.items() if v}

@@ -53,6 +53,8 @@ log = logging.getLogger(__name__)
 METHODS = tuple(fretwear.METHODS)
 #: harmonic counts of the convergence study (paper Fig. 10)
 CONVERGENCE_HARMONICS = (1, 3, 7, 15, 21)
+#: result name and legend label of the exact wear reference (exact method on the exact dynamics)
+EXACT = "exact dynamics (reference)"
 #: load ratios r = F_ex / (mu F_N) of the regime map
 RATIOS = (0.08, 2.0, 25)
 #: ladders of the accuracy scene: keyword arguments of :func:`fretwear.cost_ladder`; ``quick``
@@ -558,6 +560,22 @@ class Tasks:
         label = f"wear history ({method}{'' if harmonics is None else f', Nh = {harmonics}'})"
         weight = 5.0 if method == "time" else 1.0
         return Task(name, self.history_key(s, f_hz, method, harmonics), run, label, weight)
+
+    def exact_history(self, s: Settings, f_hz: float, name: str = EXACT) -> Task:
+        """The reference wear evolution at ``f_hz``: the exact method on the exact (event-driven) dynamics.
+
+        Archard's law integrated on the sliding distance of shooting solutions
+        (:func:`fretwear.wear.wear_history` with ``dynamics="shooting"``): no
+        harmonic truncation, no slow-time error; what every approximation the
+        sidebar selects is measured against.
+        """
+        options = {"dynamics": "shooting"}
+
+        def run(job: Job):
+            return _guard(lambda: self.backend.history(s.model, f_hz, "exact", s.kw, s.horizon, options))
+
+        key = ("history", s.model, _digits(f_hz), "exact", s.kw, s.horizon, tuple(options.items()))
+        return Task(name, key, run, "exact wear (event-driven dynamics)", 2.0)
 
     def point(self, s: Settings, f_hz: float, cycles: float, history: Task | None) -> Task:
         """Periodic response at ``f_hz`` after ``cycles`` (the wear of ``history`` there; none at 0)."""

@@ -31,7 +31,7 @@ from app.backend import Backend, Failure, ResultCache  # noqa: E402
 from app.glossary import TERMS  # noqa: E402
 from app.scenes import ANIMATION_FRAMES, TARGETS, sidebar_equivalent  # noqa: E402
 from app.session import Session  # noqa: E402
-from app.state import CUSTOM, LADDERS, PRESETS, Controls  # noqa: E402
+from app.state import CUSTOM, EXACT, LADDERS, PRESETS, Controls  # noqa: E402
 from fretwear.figures.record import parse_settings, settings_json  # noqa: E402
 from fretwear.hbm.harmonics import default_samples  # noqa: E402
 from fretwear.studies import CostStudy, Rung  # noqa: E402
@@ -112,8 +112,11 @@ def test_parameter_changes_invalidate_only_dependent_results(session):
 
 
 def test_wear_results_are_shared_by_scenes_and_sessions(session):
-    session.scene = "wearmap"  # the FRF without wear is the regimes scene's
-    assert calls(session) == {"linear_frf": 2, "sweep": 1, "regime_map": 3, "wear_map": 3}
+    session.scene = "wearmap"  # the FRF without wear is the regimes scene's; one exact reference history
+    assert calls(session) == {"linear_frf": 2, "sweep": 1, "regime_map": 3, "wear_map": 3, "wear_history": 1}
+    exact = session.current.results[EXACT]
+    assert exact.method == "exact" and exact.info["dynamics"] == "shooting"
+    assert any("against the exact dynamics" in note for note in session.current.notes)
     wm = session.current.results["wear_map"]
     assert wm.wear.shape == (9, 12, 1) and wm.cycles[0] == 0 and wm.cycles[-1] == 1e5
     session.scene = "evolution"  # the same wear map, the cached linear FRFs
@@ -123,6 +126,7 @@ def test_wear_results_are_shared_by_scenes_and_sessions(session):
         "sweep": 1,
         "regime_map": 3,
         "wear_map": 3,
+        "wear_history": 1,
         "solve_periodic": 1,
     }
     sol = session.current.results["point"]
@@ -149,7 +153,9 @@ def test_selection_snaps_to_the_map_and_redraws_without_solving(session):
     before, version = calls(session), session.current.version
     session.select(1.02, 3.0)
     assert session.frequency == pytest.approx(1.0) and session.cycles == pytest.approx(1e3)
-    assert calls(session) == before and session.current.version == version + 1
+    # the map is not recomputed: only the exact reference history at the new frequency is
+    assert calls(session) == {**before, "wear_history": before["wear_history"] + 1}
+    assert session.current.version > version
     assert "1 Hz" in session.current.figure("history").opts.get().kwargs["title"]
     session.select(0.5, 9.0)  # beyond the horizon: held at the horizon
     assert session.cycles == pytest.approx(1e5)
@@ -270,7 +276,7 @@ def test_a_failing_method_is_a_message_not_a_traceback():
     assert isinstance(scene.results["time"], Failure)
     assert any("time integration is not available" in n for n in scene.notes)
     assert scene.results["stepping"].wear_fraction[-1, 0] > 0
-    assert set(scene.datasets()["methods"]["method"]) == {"exact", "stepping", "polynomial"}
+    assert set(scene.datasets()["methods"]["method"]) == {"exact", "stepping", "polynomial", EXACT}
     scene.figure("methods")
 
 
