@@ -373,7 +373,7 @@ def _sidebar(session: Session) -> list:
         number("harmonics", "N<sub>h</sub>: harmonics", "Nh", 1, 64, 1, integer=True),
         _label("Slow-time method", "method"),
         method,
-        number("degree", "Degree of the polynomial method", None, 0, 12, 1, integer=True),
+        number("degree", "Degree of the polynomial method", None, 1, 12, 1, integer=True),
         advanced,
         _label("<b>Selected point</b> (click the wear map)", None, margin=(12, 10, 0, 10)),
         pn.Row(selected("frequency", "f (Hz)", None), selected("cycles", "N (cycles)", "N"), margin=0),

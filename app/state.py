@@ -172,7 +172,7 @@ _RANGES = {
     "normal_load": ("F_N", 0.0, 1e4, False, "N"),
     "kw": ("k_w", 0.0, 1e-4, False, "1/Pa"),
     "harmonics": ("Nh", 1, 64, True, ""),
-    "degree": ("polynomial degree", 0, 12, True, ""),
+    "degree": ("polynomial degree", 1, 12, True, ""),
     "fmin": ("f min", 0.0, 20.0, False, "Hz"),
     "fmax": ("f max", 0.0, 20.0, False, "Hz"),
     "horizon": ("cycle horizon", 10, 1e9, True, "cycles"),
@@ -237,7 +237,7 @@ class Controls(param.Parameterized):
     )
     kw = param.Number(1e-11, allow_None=True, doc="Archard wear coefficient k_w (1/Pa)")
     harmonics = param.Number(7, allow_None=True, softbounds=(1, 64), doc="Harmonics Nh")
-    degree = param.Number(4, allow_None=True, softbounds=(0, 12), doc="Degree of the polynomial method")
+    degree = param.Number(4, allow_None=True, softbounds=(1, 12), doc="Degree of the polynomial method")
     fmin = param.Number(0.3, allow_None=True, softbounds=(0.05, 3.0), doc="Lowest frequency (Hz)")
     fmax = param.Number(1.3, allow_None=True, softbounds=(0.05, 3.0), doc="Highest frequency (Hz)")
     horizon = param.Number(1e5, allow_None=True, doc="Cycle horizon of the wear studies")

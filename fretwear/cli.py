@@ -69,6 +69,7 @@ from .studies import wear_map
 from .studies.accuracy import QUANTITIES, cost_ladder
 from .time import ShootingSolution, shooting, shooting_sweep
 from .wear import METHODS, cycle_grid, method_options, resolve_method, wear_history
+from .wear.polynomial import BASES
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USAGE", "EXIT_NOT_CONVERGED"]
 
@@ -471,10 +472,10 @@ def _add_wear_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--dynamics", choices=("dlft", "shooting"),
                         help="periodic solver of stepping: HBM + DLFT (default) or shooting")  # fmt: skip
     _add_solver_options(parser)
-    parser.add_argument("--degree", type=_number(0, integer=True),
-                        help="degree m of the polynomial method (-), in [0, 12]; default 4")  # fmt: skip
-    parser.add_argument("--basis", choices=("legendre", "monomial"),
-                        help="slow-time basis of the polynomial method; default legendre")  # fmt: skip
+    parser.add_argument("--degree", type=_number(1, integer=True),
+                        help="degree m of the polynomial method (-), in [1, 12]; default 4")  # fmt: skip
+    parser.add_argument("--basis", choices=BASES,
+                        help="slow-time basis of the polynomial method; default saturating")  # fmt: skip
     parser.add_argument("--tol", type=_number(0.0, strict=True),
                         help="local error tolerance on w/u0 of stepping and of the cycle jumps of time "
                         "integration (-), in (0, 1); default 1e-3")  # fmt: skip
@@ -666,7 +667,7 @@ _METHOD_OPTIONS = ("dynamics", "degree", "basis", "tol", "fixed_step")
 def _wear_options(args: argparse.Namespace, model: Model) -> tuple[str, dict]:
     """The slow-time method that will run and its options; a given option it does not take is an error."""
     if args.degree is not None and args.degree > 12:
-        raise UsageError(f"argument --degree: must be an integer in [0, 12], got {args.degree}")
+        raise UsageError(f"argument --degree: must be an integer in [1, 12], got {args.degree}")
     if args.tol is not None and not 0 < args.tol < 1:
         raise UsageError(f"argument --tol: must be in (0, 1), got {args.tol:g}")
     method = resolve_method(model, args.method, args.dynamics or "dlft", args.fixed_step)

@@ -346,6 +346,8 @@ def test_cost_command(tmp_path, capsys):
         (["wear", "--f", "0.7", "--kw", "-1", "--out", "x.csv"], "--kw"),
         (["wear", "--f", "0.7", "--cycles", "0", "--out", "x.csv"], "--cycles"),
         (["wear", "--f", "0.7", "--method", "polynomial", "--degree", "13", "--out", "x.csv"], "--degree"),
+        (["wear", "--f", "0.7", "--method", "polynomial", "--degree", "0", "--out", "x.csv"], "--degree"),
+        (["wear", "--f", "0.7", "--method", "polynomial", "--basis", "cubic", "--out", "x.csv"], "--basis"),
         (["wear", "--f", "0.7", "--tol", "2", "--out", "x.csv"], "--tol"),
         (["map", "--fmin", "1", "--fmax", "0.5", "--out", "x.csv"], "--fmax"),
         (["cost", "--f", "0.7", "--kw", "1e-11", "--out", "x.csv"], "--kw and --cycles"),
@@ -390,6 +392,20 @@ def test_wear_reports_the_method_it_ran(tmp_path, capsys):
     code, _, err = run(capsys, "wear", "--f", "0.7", "--cycles", "1e3", "--harmonics", "3", "--out",
                        str(tmp_path / "w.csv"))  # fmt: skip
     assert code == 0 and err.startswith("fretwear wear: exact, ") and "auto" not in err
+
+
+def test_polynomial_bases_from_the_command_line(tmp_path, capsys):
+    """``--basis`` offers the saturating basis, the library's default for one contact."""
+    runs = {}
+    for basis in ("saturating", "legendre", None):
+        out = tmp_path / f"{basis}.csv"
+        extra = [] if basis is None else ["--basis", basis]
+        code, _, _ = run(capsys, "wear", "--f", "0.7", "--method", "polynomial", "--harmonics", "3",
+                         "--cycles", "2e4", *extra, "--out", str(out))  # fmt: skip
+        assert code == 0
+        runs[basis] = column(read_csv(out)[1], "w")
+    np.testing.assert_array_equal(runs[None], runs["saturating"])
+    assert not np.array_equal(runs["legendre"], runs["saturating"])
 
 
 @pytest.mark.parametrize(

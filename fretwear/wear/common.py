@@ -214,8 +214,8 @@ def check_wear_inputs(model: Model, kw: float, cycles: float, degree: int | None
             raise ValueError(f"friction[{j}].u0 must be > 0 m for a wearing contact, got {c.u0!r}")
         if c.kn <= 0:
             raise ValueError(f"friction[{j}].kn must be > 0 N/m, got {c.kn!r}")
-    if degree is not None and not (isinstance(degree, (int, np.integer)) and 0 <= degree <= 12):
-        raise ValueError(f"degree must be an integer in [0, 12], got {degree!r}")
+    if degree is not None and not (isinstance(degree, (int, np.integer)) and 1 <= degree <= 12):
+        raise ValueError(f"degree must be an integer in [1, 12], got {degree!r}")
 
 
 # -- periodic dynamics at a wear state ---------------------------------------------

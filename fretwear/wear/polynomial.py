@@ -93,7 +93,7 @@ def wear_polynomial(
     harmonics: int = 3,
     samples: int | None = None,
     degree: int = 4,
-    basis: Literal["saturating", "legendre", "monomial"] = "saturating",
+    basis: Literal["saturating", "legendre", "monomial"] | None = None,
     tol: float = 1e-10,
     max_iter: int = 40,
     outputs: int = 101,
@@ -142,8 +142,9 @@ def wear_polynomial(
         Harmonic balance settings (``Nh``, samples per period); the paper uses ``Nh = 3``.
     degree : int
         Polynomial degree ``m`` in [1, 12] (the paper uses 4); ``2 m + 2`` nodes.
-    basis : {"saturating", "legendre", "monomial"}
-        Slow-time basis (see the module docstring); default ``"saturating"``.
+    basis : {"saturating", "legendre", "monomial"}, optional
+        Slow-time basis (see the module docstring); default ``"saturating"`` for one
+        friction contact, ``"legendre"`` for several.
     tol : float
         Newton tolerance on the Galerkin residual (legendre, monomial), in (0, 1).
     max_iter : int
@@ -164,6 +165,8 @@ def wear_polynomial(
     check_wear_inputs(model, kw, cycles, degree)
     if degree < 1:
         raise ValueError(f"degree must be >= 1 for the polynomial method (w(0) = 0 takes one), got {degree}")
+    if basis is None:
+        basis = "saturating" if len(model.friction) == 1 else "legendre"
     if basis not in BASES:
         raise ValueError(f"basis must be one of {', '.join(map(repr, BASES))}, got {basis!r}")
     if basis == "saturating" and len(model.friction) != 1:

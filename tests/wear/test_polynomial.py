@@ -181,8 +181,10 @@ def test_legendre_basis_with_two_contacts_agrees_with_stepping():
     np.testing.assert_allclose(
         hist.wear, ref.at(hist.cycles)["wear"], atol=1e-3 * ref.u0.max()
     )  # measured 6e-5
+    default = wear_polynomial(model, omega, kw=KW, cycles=horizon, degree=6)  # several contacts: legendre
+    np.testing.assert_array_equal(default.wear, hist.wear)
     with pytest.raises(ValueError, match="one friction contact"):
-        wear_polynomial(model, omega, kw=KW, cycles=horizon)
+        wear_polynomial(model, omega, kw=KW, cycles=horizon, basis="saturating")
 
 
 @pytest.mark.parametrize(
