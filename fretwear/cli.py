@@ -46,17 +46,17 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import math
 import os
 import sys
 import warnings
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from . import compile as compiled
+from .arguments import number
 from .hbm.continuation import continuation, sweep
 from .hbm.linear import linear_frf
 from .hbm.periodic import solve_periodic
@@ -91,26 +91,6 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
-def _number(
-    low: float | None = None, strict: bool = False, unit: str = "", integer: bool = False
-) -> Callable:
-    """Argument type: a finite number (an integer if ``integer``) ``>= low`` (``> low`` if ``strict``)."""
-    kind = "an integer" if integer else "a number"
-    valid = kind if low is None else f"{kind} {'>' if strict else '>='} {low:g}"
-    valid += f" {unit}" if unit else ""
-
-    def convert(text: str) -> float | int:
-        try:
-            value = int(text) if integer else float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"must be {valid}, got {text!r}") from None
-        if not math.isfinite(value) or (low is not None and (value <= low if strict else value < low)):
-            raise argparse.ArgumentTypeError(f"must be {valid}, got {text!r}")
-        return value
-
-    return convert
-
-
 def _add_model_options(parser: argparse.ArgumentParser) -> None:
     """``--model`` or the paper-model options ``--fex --mu --fn/--u0 --kn``."""
     group = parser.add_argument_group(
@@ -123,18 +103,18 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
         + ", ".join(example_names())
         + "; excludes the paper-model options",
     )
-    group.add_argument("--fex", type=_number(unit="N"), help="excitation amplitude on mass 1 (N); default 10")
-    group.add_argument("--mu", type=_number(0.0), help="friction coefficient (-), >= 0; default 1")
+    group.add_argument("--fex", type=number(unit="N"), help="excitation amplitude on mass 1 (N); default 10")
+    group.add_argument("--mu", type=number(0.0), help="friction coefficient (-), >= 0; default 1")
     load = group.add_mutually_exclusive_group()
-    load.add_argument("--fn", type=_number(0.0, unit="N"), help="normal load F_N (N), >= 0; default 10")
+    load.add_argument("--fn", type=number(0.0, unit="N"), help="normal load F_N (N), >= 0; default 10")
     load.add_argument(
         "--u0",
-        type=_number(0.0, unit="m"),
+        type=number(0.0, unit="m"),
         help="normal interference u0 (m), >= 0, instead of --fn: F_N = kn u0",
     )
     group.add_argument(
         "--kn",
-        type=_number(0.0, strict=True, unit="N/m"),
+        type=number(0.0, strict=True, unit="N/m"),
         help="normal contact stiffness (N/m), > 0; default 1e7",
     )
 
@@ -143,14 +123,14 @@ def _add_solver_options(parser: argparse.ArgumentParser) -> None:
     """``--harmonics`` and ``--samples``."""
     parser.add_argument(
         "--harmonics",
-        type=_number(1, integer=True),
+        type=number(1, integer=True),
         default=7,
         metavar="NH",
         help="highest harmonic Nh (-), >= 1; default 7",
     )
     parser.add_argument(
         "--samples",
-        type=_number(1, integer=True),
+        type=number(1, integer=True),
         metavar="N",
         help="time samples per period N (-), >= 2 Nh + 1; default: next power of 2 >= 16 Nh",
     )
@@ -159,17 +139,17 @@ def _add_solver_options(parser: argparse.ArgumentParser) -> None:
 def _add_band_options(parser: argparse.ArgumentParser) -> None:
     """``--fmin --fmax --n --out``."""
     parser.add_argument(
-        "--fmin", type=_number(0.0, strict=True, unit="Hz"), required=True, help="lowest frequency (Hz), > 0"
+        "--fmin", type=number(0.0, strict=True, unit="Hz"), required=True, help="lowest frequency (Hz), > 0"
     )
     parser.add_argument(
         "--fmax",
-        type=_number(0.0, strict=True, unit="Hz"),
+        type=number(0.0, strict=True, unit="Hz"),
         required=True,
         help="highest frequency (Hz), >= --fmin",
     )
     parser.add_argument(
         "--n",
-        type=_number(1, integer=True),
+        type=number(1, integer=True),
         default=101,
         help="number of equally spaced frequencies (-), >= 1; default 101",
     )
@@ -225,7 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     point.add_argument(
         "--f",
-        type=_number(0.0, strict=True, unit="Hz"),
+        type=number(0.0, strict=True, unit="Hz"),
         required=True,
         metavar="HZ",
         help="excitation frequency (Hz), > 0",
@@ -240,7 +220,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Fretting wear w(N) over the cycle count N at one frequency, by slow-time stepping, "
         "the polynomial slow-time DLFT or direct time integration, written as CSV.",
     )
-    wear.add_argument("--f", type=_number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
+    wear.add_argument("--f", type=number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
                       help="excitation frequency (Hz), > 0")  # fmt: skip
     _add_model_options(wear)
     _add_wear_options(wear)
@@ -260,13 +240,13 @@ def build_parser() -> argparse.ArgumentParser:
         ".npz, or the figure when it ends in .png, .svg or .html (with its parameters as caption).",
     )
     _add_model_options(wmap)
-    wmap.add_argument("--fmin", type=_number(0.0, strict=True, unit="Hz"), required=True,
+    wmap.add_argument("--fmin", type=number(0.0, strict=True, unit="Hz"), required=True,
                       help="lowest frequency (Hz), > 0")  # fmt: skip
-    wmap.add_argument("--fmax", type=_number(0.0, strict=True, unit="Hz"), required=True,
+    wmap.add_argument("--fmax", type=number(0.0, strict=True, unit="Hz"), required=True,
                       help="highest frequency (Hz), >= --fmin")  # fmt: skip
-    wmap.add_argument("--nf", type=_number(1, integer=True), default=41,
+    wmap.add_argument("--nf", type=number(1, integer=True), default=41,
                       help="number of frequencies (-), >= 1; default 41")  # fmt: skip
-    wmap.add_argument("--ncycles", type=_number(2, integer=True), default=60,
+    wmap.add_argument("--ncycles", type=number(2, integer=True), default=60,
                       help="number of log-spaced cycle counts (-), >= 2; default 60")  # fmt: skip
     _add_wear_options(wmap)
     wmap.add_argument("--out", required=True, metavar="FILE",
@@ -278,14 +258,14 @@ def build_parser() -> argparse.ArgumentParser:
         "methods) at one frequency against a converged reference (shooting; with --kw and --cycles also "
         "w(N) against stepping with shooting dynamics) and writes error vs wall time per rung.",
     )
-    cost.add_argument("--f", type=_number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
+    cost.add_argument("--f", type=number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
                       help="excitation frequency (Hz), > 0")  # fmt: skip
     _add_model_options(cost)
     cost.add_argument(
-        "--kw", type=_number(0.0, unit="1/Pa"), help="Archard coefficient (1/Pa): adds wear rungs"
+        "--kw", type=number(0.0, unit="1/Pa"), help="Archard coefficient (1/Pa): adds wear rungs"
     )
-    cost.add_argument("--cycles", type=_number(0.0, strict=True), help="wear horizon (cycles), with --kw")
-    cost.add_argument("--target", type=_number(0.0, strict=True), default=1e-2,
+    cost.add_argument("--cycles", type=number(0.0, strict=True), help="wear horizon (cycles), with --kw")
+    cost.add_argument("--target", type=number(0.0, strict=True), default=1e-2,
                       help="target relative error for the recommendation (-), > 0; default 1e-2")  # fmt: skip
     cost.add_argument("--quick", action="store_true", help="a shorter ladder")
     cost.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
@@ -297,23 +277,23 @@ def build_parser() -> argparse.ArgumentParser:
         "(and .html with --formats) to --out. Needs matplotlib and holoviews (installed with fretwear).",
     )
     figures.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
-    figures.add_argument("--harmonics", type=_number(1, integer=True), default=21, metavar="NH",
+    figures.add_argument("--harmonics", type=number(1, integer=True), default=21, metavar="NH",
                          help="highest harmonic Nh (-), >= 1; default 21")  # fmt: skip
-    figures.add_argument("--kw", type=_number(0.0, unit="1/Pa"), default=1e-11,
+    figures.add_argument("--kw", type=number(0.0, unit="1/Pa"), default=1e-11,
                          help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
-    figures.add_argument("--cycles", type=_number(0.0, strict=True), default=1e5,
+    figures.add_argument("--cycles", type=number(0.0, strict=True), default=1e5,
                          help="wear horizon (cycles), > 0; default 1e5")  # fmt: skip
-    figures.add_argument("--nf", type=_number(2, integer=True), default=41,
+    figures.add_argument("--nf", type=number(2, integer=True), default=41,
                          help="frequencies of the maps (-), >= 2; default 41")  # fmt: skip
-    figures.add_argument("--ncycles", type=_number(3, integer=True), default=60,
+    figures.add_argument("--ncycles", type=number(3, integer=True), default=60,
                          help="cycle counts of the maps (-), >= 3; default 60")  # fmt: skip
-    figures.add_argument("--fmin", type=_number(0.0, strict=True, unit="Hz"), default=0.3,
+    figures.add_argument("--fmin", type=number(0.0, strict=True, unit="Hz"), default=0.3,
                          help="lowest frequency (Hz), > 0; default 0.3")  # fmt: skip
-    figures.add_argument("--fmax", type=_number(0.0, strict=True, unit="Hz"), default=1.3,
+    figures.add_argument("--fmax", type=number(0.0, strict=True, unit="Hz"), default=1.3,
                          help="highest frequency (Hz), > --fmin; default 1.3")  # fmt: skip
     figures.add_argument(
         "--f",
-        type=_number(0.0, strict=True, unit="Hz"),
+        type=number(0.0, strict=True, unit="Hz"),
         default=0.7,
         metavar="HZ",
         help="frequency of the wear histories of Fig. 10 and 11 (Hz), > 0; default 0.7",
@@ -322,31 +302,31 @@ def build_parser() -> argparse.ArgumentParser:
                          help="slow-time method of the wear maps; default auto (exact)")  # fmt: skip
     figures.add_argument(
         "--tol",
-        type=_number(0.0, strict=True),
+        type=number(0.0, strict=True),
         default=1e-3,
         help="tolerance of stepping and time integration (fraction of u0); default 1e-3",
     )
     figures.add_argument(
         "--degree",
-        type=_number(0, integer=True),
+        type=number(0, integer=True),
         default=4,
         help="degree of the polynomial method (Fig. 11, 12, 14), in [1, 12]; default 4",
     )
     figures.add_argument("--formats", default="png,svg,csv",
                          help="formats, comma-separated: png, svg, html, csv")  # fmt: skip
-    figures.add_argument("--width", type=_number(0.0, strict=True, unit="in"),
+    figures.add_argument("--width", type=number(0.0, strict=True, unit="in"),
                          help="figure width (in), in [2, 30]; default: each figure's own")  # fmt: skip
-    figures.add_argument("--height", type=_number(0.0, strict=True, unit="in"),
+    figures.add_argument("--height", type=number(0.0, strict=True, unit="in"),
                          help="figure height (in), in [2, 30]; default: each figure's own")  # fmt: skip
     figures.add_argument(
         "--dpi",
-        type=_number(1, integer=True),
+        type=number(1, integer=True),
         default=120,
         help="resolution of the PNG files (dots per inch), in [50, 600]; default 120",
     )
     figures.add_argument(
         "--fontsize",
-        type=_number(0.0, strict=True, unit="pt"),
+        type=number(0.0, strict=True, unit="pt"),
         help="font size of the axis labels (pt), in [4, 40]; default Matplotlib's",
     )
 
@@ -461,9 +441,9 @@ def _add_method_option(parser: argparse.ArgumentParser) -> None:
 
 def _add_wear_options(parser: argparse.ArgumentParser) -> None:
     """Slow-time options of ``wear`` and ``map``."""
-    parser.add_argument("--kw", type=_number(0.0, unit="1/Pa"), default=1e-11,
+    parser.add_argument("--kw", type=number(0.0, unit="1/Pa"), default=1e-11,
                         help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
-    parser.add_argument("--cycles", type=_number(0.0, strict=True), default=1e5,
+    parser.add_argument("--cycles", type=number(0.0, strict=True), default=1e5,
                         help="horizon: number of vibration cycles N (-), > 0; default 1e5")  # fmt: skip
     parser.add_argument("--method", choices=("auto", *METHODS), default="auto",
                         help="slow-time method: "
@@ -472,14 +452,14 @@ def _add_wear_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--dynamics", choices=("dlft", "shooting"),
                         help="periodic solver of stepping: HBM + DLFT (default) or shooting")  # fmt: skip
     _add_solver_options(parser)
-    parser.add_argument("--degree", type=_number(1, integer=True),
+    parser.add_argument("--degree", type=number(1, integer=True),
                         help="degree m of the polynomial method (-), in [1, 12]; default 4")  # fmt: skip
     parser.add_argument("--basis", choices=BASES,
                         help="slow-time basis of the polynomial method; default saturating")  # fmt: skip
-    parser.add_argument("--tol", type=_number(0.0, strict=True),
+    parser.add_argument("--tol", type=number(0.0, strict=True),
                         help="local error tolerance on w/u0 of stepping and of the cycle jumps of time "
                         "integration (-), in (0, 1); default 1e-3")  # fmt: skip
-    parser.add_argument("--fixed-step", type=_number(0.0, strict=True), metavar="DN",
+    parser.add_argument("--fixed-step", type=number(0.0, strict=True), metavar="DN",
                         help="stepping with a fixed step of DN cycles (explicit Euler; 1 = the paper's "
                         "per-period update, eq. 24) instead of the adaptive pair")  # fmt: skip
 

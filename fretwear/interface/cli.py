@@ -27,27 +27,14 @@ from typing import TextIO
 
 import numpy as np
 
+from ..arguments import number
+
 __all__ = ["add_arguments", "run", "COLUMNS"]
 
 EXIT_OK, EXIT_USAGE, EXIT_NOT_CONVERGED = 0, 2, 3
 
 #: CSV columns of the per-pair output
 COLUMNS = ("cycles", "x", "w", "pressure", "slip", "state_fraction_stick")
-
-
-def _number(low: float, strict: bool = False, integer: bool = False, unit: str = ""):
-    def parse(text: str):
-        try:
-            value = int(text) if integer else float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(  # noqa: B904 - the message names the value
-                f"must be {'an integer' if integer else 'a number'}, got {text!r}"
-            )
-        if not np.isfinite(value) or (value <= low if strict else value < low):
-            raise argparse.ArgumentTypeError(f"must be {'>' if strict else '>='} {low:g}{unit}, got {text}")
-        return value
-
-    return parse
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -64,82 +51,82 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--q-ratio",
-        type=_number(0.0),
+        type=number(0.0),
         default=0.5,
         metavar="Q",
         help="benchmark tangential load Q0 / (mu P) (-), >= 0; default 0.5",
     )
     parser.add_argument(
         "--contact-nodes",
-        type=_number(3, integer=True),
+        type=number(3, integer=True),
         default=32,
         metavar="NC",
         help="benchmark pairs across the contact window (-), >= 3; default 32",
     )
     parser.add_argument(
         "--window",
-        type=_number(1.0, strict=True),
+        type=number(1.0, strict=True),
         default=1.25,
         help="benchmark contact window half-width / Hertz a (-), > 1; default 1.25",
     )
     parser.add_argument(
         "--normal-load",
-        type=_number(0.0, strict=True, unit=" N/m"),
+        type=number(0.0, strict=True, unit="N/m"),
         default=2.0e5,
         metavar="P",
         help="benchmark normal load per unit length (N/m), > 0; default 2e5",
     )
     parser.add_argument(
-        "--mu", type=_number(0.0), default=0.6, help="benchmark friction coefficient; default 0.6"
+        "--mu", type=number(0.0), default=0.6, help="benchmark friction coefficient; default 0.6"
     )
     parser.add_argument(
         "--drive",
-        type=_number(0.0, strict=True, unit=" m"),
+        type=number(0.0, strict=True, unit="m"),
         metavar="DELTA",
         help="benchmark displacement control: amplitude of the loading arm's end (m), with "
         "--arm-stiffness (replaces --q-ratio)",
     )
     parser.add_argument(
         "--arm-stiffness",
-        type=_number(0.0, strict=True),
+        type=number(0.0, strict=True),
         default=2e10,
         metavar="KA",
         help="benchmark loading arm stiffness (N/m per m), > 0; default 2e10 (with --drive)",
     )
     parser.add_argument(
         "--f",
-        type=_number(0.0, strict=True, unit=" Hz"),
+        type=number(0.0, strict=True, unit="Hz"),
         default=50.0,
         metavar="HZ",
         help="excitation frequency (Hz), > 0; default 50",
     )
     parser.add_argument(
         "--harmonics",
-        type=_number(1, integer=True),
+        type=number(1, integer=True),
         default=7,
         metavar="NH",
         help="highest harmonic Nh (-), >= 1; default 7",
     )
     parser.add_argument(
         "--kw",
-        type=_number(0.0, strict=True, unit=" 1/Pa"),
+        type=number(0.0, strict=True, unit="1/Pa"),
         help="Archard coefficient K_w (1/Pa), > 0: runs a wear history",
     )
     parser.add_argument(
         "--cycles",
-        type=_number(0.0, strict=True),
+        type=number(0.0, strict=True),
         default=1e6,
         help="wear horizon (cycles), > 0; default 1e6",
     )
     parser.add_argument(
         "--converge",
-        type=_number(0.0, strict=True),
+        type=number(0.0, strict=True),
         metavar="TOL",
         help="stop the wear history once the profile has converged to TOL (-)",
     )
     parser.add_argument(
         "--rtol",
-        type=_number(0.0, strict=True),
+        type=number(0.0, strict=True),
         default=1e-2,
         help="slow-time step tolerance on the worn depth (-); default 1e-2",
     )
