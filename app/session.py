@@ -46,6 +46,7 @@ from .state import (
     number_text,
     parse_number,
     shown,
+    type_text,
 )
 
 __all__ = ["Session"]
@@ -273,12 +274,7 @@ class Session(param.Parameterized):
 
     def type_text(self, name: str, text: str) -> None:
         """Set the selected ``frequency`` or ``cycles`` from the text of its box (``Controls.type_text``)."""
-        value = parse_number(text)
-        typed = {k: v for k, v in self.typed.items() if k != name}
-        if value is None:
-            self.typed = {**typed, name: text}
-        else:
-            self.param.update(typed=typed, **{name: value})
+        type_text(self, name, text)
 
     def _selection_problems(self) -> list[str]:
         out = []

@@ -219,6 +219,17 @@ def parse_number(text: str) -> float | None:
     return float(f"{value:.12g}") if math.isfinite(value) else value
 
 
+def type_text(owner: param.Parameterized, name: str, text: str) -> None:
+    """Set number ``name`` of ``owner`` from the text of its box; text that is no number stays in
+    ``owner.typed`` (for the message naming it) until a number replaces it."""
+    value = parse_number(text)
+    typed = {k: v for k, v in owner.typed.items() if k != name}
+    if value is None:
+        owner.typed = {**typed, name: text}
+    else:
+        owner.param.update(typed=typed, **{name: value})
+
+
 class Controls(param.Parameterized):
     """What the sidebar edits, in the units shown; see :meth:`problems`.
 
@@ -280,12 +291,7 @@ class Controls(param.Parameterized):
 
     def type_text(self, name: str, text: str) -> None:
         """Set control ``name`` from the text of its number box (kept in :attr:`typed` if not a number)."""
-        value = parse_number(text)
-        typed = {k: v for k, v in self.typed.items() if k != name}
-        if value is None:
-            self.typed = {**typed, name: text}
-        else:
-            self.param.update(typed=typed, **{name: value})
+        type_text(self, name, text)
 
     def problems(self) -> list[str]:
         """One message per invalid control (empty when every value is valid)."""
