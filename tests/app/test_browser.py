@@ -232,6 +232,10 @@ class Page:
         assert info is not None, f"no visible plot titled {prefix!r}; titles: {self.titles()}"
         return info
 
+    def curve(self, prefix: str, label: str) -> dict:
+        """The legend entry ``label`` of the plot titled ``prefix...`` (its ``x`` and ``y`` data)."""
+        return next(item for item in self.plot(prefix)["legends"] if item["label"] == label)
+
     def wait_plot(self, prefix: str) -> dict:
         """Wait until a plot titled ``prefix...`` is visible; what it draws (see ``plot``)."""
         self.page.wait_for_function(f"(p) => ({PLOT_JS})(p) !== null", arg=prefix, timeout=TIMEOUT)
@@ -419,7 +423,11 @@ def test_an_overshoot_is_shown_and_the_no_wear_curve_is_the_methods_own(open_pag
     frf = page.plot("Pseudo-FRF of mass 1")  # the same curve in the regimes scene's FRF
     page.tab("Regimes")
     page.wait_plot("FRF of mass 1")
-    regimes = next(i for i in page.plot("FRF of mass 1")["legends"] if i["label"] == "nonlinear, no wear")
+    page.idle()
+    deadline = time.monotonic() + 60  # the curve's data reach the plot after its frame
+    while not (regimes := page.curve("FRF of mass 1", "nonlinear, no wear"))["y"]:
+        assert time.monotonic() < deadline, "the regimes scene's FRF without wear stays empty"
+        time.sleep(0.2)
     assert regimes["y"] == next(i for i in frf["legends"] if i["label"] == "no wear")["y"]
 
 
