@@ -592,13 +592,21 @@ def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
 
     scene.param.watch(show_notes, "notes")
     show_notes()
+    findings = pn.pane.Alert("", alert_type="info", visible=False, sizing_mode="stretch_width")
+
+    def show_findings(*_events):
+        findings.object = "\n".join(f"- {n}" for n in scene.findings)
+        findings.visible = bool(scene.findings)
+
+    scene.param.watch(show_findings, "findings")
+    show_findings()
     explanation = pn.pane.Markdown(scene.explanation.strip(), sizing_mode="stretch_width")
     controls = []
     if isinstance(scene, AccuracyScene):
         controls = [_accuracy_controls(scene, session)]
     elif isinstance(scene, CycleScene):
         controls = [_cycle_controls(scene)]
-    return [explanation, *controls, grid, notes, _export_card(scene, export)]
+    return [explanation, *controls, grid, notes, findings, _export_card(scene, export)]
 
 
 def _status(session: Session) -> pn.Column:

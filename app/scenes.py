@@ -120,6 +120,7 @@ class Scene(param.Parameterized):
 
     version = param.Integer(0, doc="Incremented at each publish: the figures redraw")
     notes = param.List([], doc="Messages about the published results (failures, warnings)")
+    findings = param.List([], doc="What the published results show (e.g. an error against the exact answer)")
 
     def __init__(self, tasks: Tasks, **params: Any) -> None:
         super().__init__(**params)
@@ -143,9 +144,13 @@ class Scene(param.Parameterized):
         self.notes = [
             n for name, value in self.results.items() for n in _failure_note(name, value)
         ] + self._notes()
+        self.findings = self._findings()
         self.version += 1
 
     def _notes(self) -> list[str]:
+        return []
+
+    def _findings(self) -> list[str]:
         return []
 
     # -- what to show ---------------------------------------------------------------------
@@ -336,11 +341,11 @@ of cycles {term("N")} (log scale), by the selected {term("method", "slow-time me
 slow-time error), with contours at 10, 50 and 90 %. Hover for values. **Click a point**: beside and
 below, the wear history w(N) at that frequency, with the exact answer dashed (Archard's law on the
 exact event-driven dynamics: no harmonic truncation) and the selected method's error against it in the
-notes, and the {term("pseudo-FRF")} of mass 1 at that cycle count, next to the response without wear.
+findings below, and the {term("pseudo-FRF")} of mass 1 at that cycle count, next to the response without wear.
 
 **Try.** Click inside the worn band, then near its edges: wear starts where the contact slips and
 spreads as the normal load relaxes. Raise {term("k_w")} to wear faster (only N k<sub>w</sub> matters).
-Change {term("Nh")} and watch the error note: what more harmonics buy, and what they cost."""
+Change {term("Nh")} and watch the finding below: what more harmonics buy, and what they cost."""
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         near = float(s.frequencies[np.argmin(np.abs(s.frequencies - sel.frequency))])  # a row of the map
@@ -356,11 +361,12 @@ Change {term("Nh")} and watch the error note: what more harmonics buy, and what 
 
     def _notes(self) -> list[str]:
         wm = self._map()
-        if wm is None:
-            return []
+        return [] if wm is None else _history_notes(wm.histories)
+
+    def _findings(self) -> list[str]:
         s = self.settings
         error = _error_note(self._history(), self._exact(), _approximation(s, s.method))
-        return _history_notes(wm.histories) + ([error] if error else [])
+        return [error] if error else []
 
     def _exact(self):
         """The exact wear history at the selected row of the map (None while it computes, or failed)."""
@@ -707,8 +713,8 @@ class MethodsScene(Scene):
 piecewise-linear path of the periodic response as the load relaxes: no slow-time error), stepping
 (HBM + {term("DLFT")}, adaptive steps in N), the paper's polynomial method (one nonlinear solve for
 the whole evolution) and direct time integration with cycle jumps (paper Fig. 11), with the reference
-dashed: the exact method on the exact (event-driven) dynamics, no harmonic truncation; the notes say how
-far each method is from it. Right: the exact
+dashed: the exact method on the exact (event-driven) dynamics, no harmonic truncation; the findings
+below say how far each method is from it. Right: the exact
 load path with 1, 3, 7, 15 and 21 harmonics, so that only the harmonic truncation differs (paper
 Fig. 10).
 
@@ -727,11 +733,12 @@ drift."""
         return {k: v for k, v in super().record().items() if k not in ("method",)}
 
     def _notes(self) -> list[str]:
-        exact = _ok(self.results.get(EXACT))
-        s = self.settings
+        return _history_notes([h for name in METHODS if (h := _ok(self.results.get(name))) is not None])
+
+    def _findings(self) -> list[str]:
+        exact, s = _ok(self.results.get(EXACT)), self.settings
         errors = [_error_note(_ok(self.results.get(m)), exact, _approximation(s, m)) for m in METHODS]
-        notes = _history_notes([h for name in METHODS if (h := _ok(self.results.get(name))) is not None])
-        return notes + [e for e in errors if e]
+        return [e for e in errors if e]
 
     def _curves(self, names) -> dict[str, tuple]:
         out = {}

@@ -431,6 +431,21 @@ def test_an_overshoot_is_shown_and_the_no_wear_curve_is_the_methods_own(open_pag
     assert regimes["y"] == next(i for i in frf["legends"] if i["label"] == "no wear")["y"]
 
 
+def test_the_wear_history_shows_the_exact_answer_and_the_methods_error(open_page):
+    """The exact wear (Archard's law on the exact event-driven dynamics) dashed beside the selected
+    method's history, and a finding that states the method's error against it."""
+    page = open_page("scene=wearmap&f=0.7&harmonics=7", first="Wear history at 0.7 Hz")
+    page.idle()
+    finding = page.alert("(DLFT, Nₕ = 7) at 0.7 Hz against the exact dynamics: cycles to 50% of u₀ are")
+    finding.wait_for()
+    assert "early" in finding.inner_text()  # DLFT at Nh = 7 over-estimates the sliding distance here
+    deadline = time.monotonic() + 60
+    while not (exact := page.curve("Wear history at 0.7 Hz", "exact dynamics (reference)"))["y"]:
+        assert time.monotonic() < deadline, "the exact wear history is not drawn"
+        time.sleep(0.2)
+    assert 0 < max(exact["y"]) <= 1
+
+
 def test_legends_beside_the_curves_numbers_in_labels_and_room_around_loops(open_page):
     """Defect: legends covered the curves; "N = H/1000" instead of numbers; the loop's sides on the
     frame; the accuracy scene's x-axis ran to 10 s for data ending at 0.3 s; a "current settings"

@@ -116,7 +116,7 @@ def test_wear_results_are_shared_by_scenes_and_sessions(session):
     assert calls(session) == {"linear_frf": 2, "sweep": 1, "regime_map": 3, "wear_map": 3, "wear_history": 1}
     exact = session.current.results[EXACT]
     assert exact.method == "exact" and exact.info["dynamics"] == "shooting"
-    assert any("against the exact dynamics" in note for note in session.current.notes)
+    assert any("against the exact dynamics" in note for note in session.current.findings)
     wm = session.current.results["wear_map"]
     assert wm.wear.shape == (9, 12, 1) and wm.cycles[0] == 0 and wm.cycles[-1] == 1e5
     session.scene = "evolution"  # the same wear map, the cached linear FRFs
