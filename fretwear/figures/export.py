@@ -11,6 +11,7 @@ import csv
 import html
 import io
 import math
+import threading
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -109,6 +110,10 @@ def figure_bytes(
     return render_figure(fig, (fmt,), title=title, options=options, caption=caption)[fmt]
 
 
+#: one render at a time (Matplotlib's figure manager and HoloViews' renderers are process-wide)
+_RENDERING = threading.Lock()
+
+
 def render_figure(
     fig: hv.core.Dimensioned,
     formats: tuple[str, ...],
@@ -124,10 +129,11 @@ def render_figure(
     options = options or ExportOptions()
     out = {}
     raster = tuple(f for f in formats if f in ("png", "svg"))
-    if raster:
-        out |= _matplotlib_bytes(fig, raster, options, caption)
-    if "html" in formats:
-        out["html"] = _html_bytes(fig, title, options, caption)
+    with _RENDERING:  # the renderers keep process-wide state: renders from a server's threads take turns
+        if raster:
+            out |= _matplotlib_bytes(fig, raster, options, caption)
+        if "html" in formats:
+            out["html"] = _html_bytes(fig, title, options, caption)
     return out
 
 
