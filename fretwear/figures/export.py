@@ -208,8 +208,10 @@ def _html_bytes(fig, title: str, options: ExportOptions, caption: Caption) -> by
     from bokeh.models import Div
 
     # Bokeh alone, in a new document: Panel's ``save`` (behind ``hv.save``) would draw into a served
-    # document and rewrite the stylesheet links it shares with it to CDN addresses
-    plot = hv.renderer("bokeh").get_plot(fig, doc=Document())
+    # document and rewrite the stylesheet links it shares with it to CDN addresses. The renderer keeps
+    # the document given only in "server" mode; otherwise it takes ``curdoc()``, which in a server's
+    # thread can be the document of a session that has just closed (and been destroyed).
+    plot = hv.renderer("bokeh").instance(mode="server").get_plot(fig, doc=Document())
     root = plot.state
     if caption:
         words = caption("html") if callable(caption) else html.escape(caption)
