@@ -420,6 +420,21 @@ def _penalty_map(Z, eps, H, Winv, M, piv):
 
 
 @njit(cache=True, nogil=True)
+def _march_buffers(n, nc, Ns):
+    """Work arrays of one DLFT march: unknowns, then forces and states per contact and sample."""
+    return (
+        np.empty(n),
+        np.empty((nc, Ns)),
+        np.empty((nc, Ns)),
+        np.empty((nc, Ns), dtype=np.int8),
+        np.empty((nc, Ns), dtype=np.int64),
+        np.ones((nc, Ns)),
+        np.zeros((nc, 2), dtype=np.int64),
+        np.empty((nc, Ns)),
+    )
+
+
+@njit(cache=True, nogil=True)
 def sweep_kernel(
     omegas,
     Zs,
@@ -482,26 +497,7 @@ def sweep_kernel(
     P, Q = block_sums(Phi, Psi, stride)
     PhiT, PsiT = np.ascontiguousarray(Phi.T), np.ascontiguousarray(Psi.T)
     law = (kinds, limits, Phi, Psi, half_wave, PhiT, PsiT, P, Q, stride)
-    cur = (
-        np.empty(n),
-        np.empty((nc, Ns)),
-        np.empty((nc, Ns)),
-        np.empty((nc, Ns), dtype=np.int8),
-        np.empty((nc, Ns), dtype=np.int64),
-        np.ones((nc, Ns)),
-        np.zeros((nc, 2), dtype=np.int64),
-        np.empty((nc, Ns)),
-    )
-    trial = (
-        np.empty(n),
-        np.empty((nc, Ns)),
-        np.empty((nc, Ns)),
-        np.empty((nc, Ns), dtype=np.int8),
-        np.empty((nc, Ns), dtype=np.int64),
-        np.ones((nc, Ns)),
-        np.zeros((nc, 2), dtype=np.int64),
-        np.empty((nc, Ns)),
-    )
+    cur, trial = _march_buffers(n, nc, Ns), _march_buffers(n, nc, Ns)
     work = (
         np.empty((n, n)),
         np.empty((H, H)),

@@ -2,8 +2,9 @@
 
 import numpy as np
 import pytest
+from test_dlft import two_contact_model  # the same 3-DOF model with two friction contacts and a stop
 
-from fretwear import FrictionContact, Model, NormalContact, jenkins_oscillator, paper_model, solve_periodic
+from fretwear import jenkins_oscillator, paper_model, solve_periodic
 from fretwear.hbm import compiled_sweep, dense, dlft
 from fretwear.hbm.condensation import condense, condense_sweep
 from fretwear.hbm.continuation import sweep, sweep_point_by_point
@@ -16,19 +17,6 @@ CASES = {
     "paper": (paper_model(fex=10.0), TWO_PI * np.linspace(0.3, 1.3, 101)),
     "jenkins": (jenkins_oscillator(), np.linspace(0.5, 2.5, 101)),
 }
-
-
-def three_contact_model() -> Model:
-    """3 DOFs, friction between 1-2 and 2-ground, a unilateral stop on DOF 3, a static load (full wave)."""
-    K = np.array([[3.0, -1.0, 0.0], [-1.0, 2.5, -1.0], [0.0, -1.0, 2.0]])
-    return Model(
-        M=np.diag([1.0, 0.5, 2.0]), C=0.02 * K, K=K, force_cos=[1.0, 0.0, 0.3], force_static=[0.0, 0.0, -0.1],
-        friction=(
-            FrictionContact.from_normal_load(0, 1, 0.5, 1.0),
-            FrictionContact.from_normal_load(1, None, 0.3, 1.0),
-        ),
-        normal=(NormalContact(2, None, 0.2),),
-    )  # fmt: skip
 
 
 def assert_same_solutions(a, b, rtol=1e-10):
@@ -79,7 +67,7 @@ def test_several_contacts_unilateral_and_full_wave():
     the sweep continues its neighbours, the point-by-point path may take another branch. Every answer
     must solve the equations (checked in ``x`` by the reference's own problem) and balance energy per
     cycle; outside that band the answers are the same."""
-    model = three_contact_model()
+    model = two_contact_model()
     omegas = np.linspace(0.4, 2.0, 33)
     fast, ref = sweep(model, omegas, 5), sweep_point_by_point(model, omegas, 5)
     assert not fast.solutions[0].half_wave and fast.converged.all() and ref.converged.all()
@@ -134,7 +122,7 @@ def test_no_active_contact_is_the_linear_open_response():
 
 
 def test_compiled_condensation_is_the_condensation():
-    for model, nh in ((paper_model(), 7), (jenkins_oscillator(), 5), (three_contact_model(), 4)):
+    for model, nh in ((paper_model(), 7), (jenkins_oscillator(), 5), (two_contact_model(), 4)):
         p = Problem(model, 1.0, nh)
         omegas = np.linspace(0.3, 3.0, 7)
         a, b = condense(model, p.B, omegas, p.basis), condense_sweep(model, p.B, omegas, p.basis)
@@ -161,7 +149,7 @@ ROWS = {
     "half-wave": (Problem(paper_model(), TWO_PI * 0.7, 5), {-1, 0}),
     "full": (Problem(paper_model(), TWO_PI * 0.7, 5, half_wave=False), {-1, 0}),
     "full-stick": (Problem(paper_model(normal_load=40.0), TWO_PI * 0.3, 5, half_wave=False), {-2}),
-    "three-contacts": (Problem(three_contact_model(), 1.1, 4), {-4, -1, 0}),
+    "three-contacts": (Problem(two_contact_model(), 1.1, 4), {-4, -1, 0}),
 }
 
 
