@@ -363,7 +363,8 @@ def test_a_killed_worker_is_replaced_and_the_result_is_identical(scheduler, spec
     pids = sorted(scheduler.run(os.getpid).values())
     args = [str(spec_path), "--out", str(out), "--scheduler", scheduler.scheduler.address, "--quiet"]
     statuses = []
-    more = ["--points-per-task", "1", "--samples", "36"]  # the first 12 draws are those of the reference
+    # enough tasks to be disturbed mid-run however fast the machine; the first 12 draws are the reference's
+    more = ["--points-per-task", "1", "--samples", "150"]
     thread = threading.Thread(target=lambda: statuses.append(study.main([*args, *more])))
     thread.start()
     done = _wait_for_tasks(thread.is_alive, out, 1)
@@ -409,7 +410,8 @@ def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
     scheduler, spec_path, local_run, tmp_path, capsys
 ):
     out = tmp_path / "resume.zarr"
-    args = [str(spec_path), "--out", str(out), "--points-per-task", "1", "--samples", "36", "--quiet"]
+    # enough tasks to be interrupted mid-run however fast the machine
+    args = [str(spec_path), "--out", str(out), "--points-per-task", "1", "--samples", "150", "--quiet"]
     address = ["--scheduler", scheduler.scheduler.address]
     proc = subprocess.Popen([*STUDY_MODULE, *args, *address], stderr=subprocess.PIPE, text=True)
     _wait_for_tasks(lambda: proc.poll() is None, out, 2)
