@@ -459,12 +459,17 @@ def augmented_boundary(U, dv, eps, kinds, limits, PhiT, half_wave, tau_max, dU, 
         _synthesise(dv, PhiT, dU)
     tau = tau_max
     for c in range(kinds.shape[0]):
-        u, du = U[c], dU[c]
-        if kinds[c] == FRICTION:
-            tau = _friction_boundary(u, du, limits[c], eps[c], half_wave, tau)
-        else:
-            for s in range(u.shape[0]):
-                tau = _crossing(u[s] - eps[c] * limits[c], du[s], 0.0, tau)
+        tau = _contact_boundary(kinds[c], U[c], dU[c], limits[c], eps[c], half_wave, tau)
+    return tau
+
+
+@njit(cache=True, nogil=True)
+def _contact_boundary(kind, u, du, limit, eps, half_wave, tau):
+    """First pattern change of one contact along ``u + t du`` before ``tau`` (its samples ``u``, ``du``)."""
+    if kind == FRICTION:
+        return _friction_boundary(u, du, limit, eps, half_wave, tau)
+    for s in range(u.shape[0]):
+        tau = _crossing(u[s] - eps * limit, du[s], 0.0, tau)
     return tau
 
 
@@ -598,11 +603,7 @@ def boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max):
     for c in range(nc):
         u = Phi @ lu[c * H : (c + 1) * H]
         du = Phi @ dlu[c * H : (c + 1) * H]
-        if kinds[c] == FRICTION:
-            tau = _friction_boundary(u, du, limits[c], eps[c], half_wave, tau)
-        else:
-            for s in range(u.shape[0]):
-                tau = _crossing(u[s] - eps[c] * limits[c], du[s], 0.0, tau)
+        tau = _contact_boundary(kinds[c], u, du, limits[c], eps[c], half_wave, tau)
     return tau
 
 
