@@ -133,13 +133,6 @@ class SlidingTable:
         return self._r, self._s
 
 
-def _piece_integral(r1, r2, s1, s2) -> np.ndarray:
-    """``integral_r1^r2 dr / (r s(r))`` with ``s`` linear from ``s1`` to ``s2`` (closed form, vectorised)."""
-    r1, r2, s1, s2 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (r1, r2, s1, s2)))
-    out = np.array([_segment(*v) for v in zip(r1.ravel(), r2.ravel(), s1.ravel(), s2.ravel(), strict=True)])
-    return out.reshape(r1.shape)
-
-
 @njit(cache=True, nogil=True)
 def _segment(x1: float, x2: float, s1: float, s2: float) -> float:
     """``integral_x1^x2 dr / (r s(r))`` for ``s`` linear with ``s(x1) = s1``, ``s(x2) = s2``.

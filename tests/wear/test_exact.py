@@ -5,7 +5,7 @@ import pytest
 from scipy.integrate import quad
 
 import fretwear as fw
-from fretwear.wear.sliding import SlidingTable, _piece_integral, cached_solves, sliding_table
+from fretwear.wear.sliding import SlidingTable, _segment, cached_solves, sliding_table
 
 OMEGA = 2 * np.pi * 0.7
 
@@ -18,7 +18,7 @@ def test_piece_integral_is_the_closed_form_of_the_quadrature(s1, s2):
         r1, r2, s = 0.3, 0.6, lambda r: r  # noqa: E731
         s1, s2 = 0.3, 0.6
     ref = quad(lambda r: 1 / (r * s(r)), r1, r2, epsabs=0, epsrel=1e-13)[0]
-    assert _piece_integral(r1, r2, s1, s2) == pytest.approx(ref, rel=1e-12)
+    assert _segment(r1, r2, s1, s2) == pytest.approx(ref, rel=1e-12)
 
 
 def test_table_interpolates_the_exact_sliding_distance_and_is_reused():
