@@ -13,7 +13,9 @@ Archard's law ``dw/dN = K_w F_N s`` becomes (eq. 30c-d)
 a one-dimensional quadrature for any ``F_ex``, ``mu``, ``K_w``, ``u0`` and
 ``k_n``. :func:`sliding_table` samples ``s_hat`` by shooting on the exact
 event-driven dynamics (:func:`fretwear.time.shooting`), adaptively in ``rho``
-until piecewise-linear interpolation is accurate to ``tol``, and keeps the
+until a monotone cubic in ``q = s_hat / (rho_stick - rho)^2`` (smooth up to
+the stick threshold, where ``s_hat`` vanishes quadratically) is accurate to
+``tol``, and keeps the
 table in a process-wide cache, extended when a lower ``rho`` is asked for.
 The table also holds the response amplitudes per unit forcing, so that the
 records of a wear history are exact as well.
@@ -27,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
+from scipy.interpolate import PchipInterpolator
 
 from ..hbm.problem import Problem
 from ..model import Model
@@ -34,8 +37,10 @@ from ..time import shooting
 
 __all__ = ["SlidingTable", "sliding_table", "cached_solves", "unit_forcing"]
 
-#: relative gap below the stick threshold where the table starts
-_STICK_MARGIN = 1e-9
+#: the last sample sits this far below the stick threshold (relative): closer, s_hat ~ 1e-8 loses digits
+_TOP = 1e-4
+#: samples of a first table, evenly spaced in log(rho / (rho_stick - rho))
+_FIRST = 8
 #: a first table reaches this factor below the load ratio asked for (F_ex up to this factor larger)
 _REACH = 4.0
 
@@ -48,6 +53,14 @@ def unit_forcing(model: Model) -> float:
 @dataclass
 class SlidingTable:
     """``s_hat(rho)`` and the response per unit forcing at one frequency.
+
+    Near the stick threshold the stick force grazes the slip limit at a
+    quadratic maximum: the slip phase lasts ``~ sqrt(rho_stick - rho)`` and
+    slides ``~ (rho_stick - rho)^2``. The table therefore interpolates
+    ``q = s_hat / (rho_stick - rho)^2``, smooth and positive up to the
+    threshold, by a monotone cubic (PCHIP) through the samples and a last knot
+    at ``rho_stick`` (the end slope extrapolated over the last ``1e-4`` of
+    ``rho_stick``).
 
     Attributes
     ----------
@@ -87,155 +100,213 @@ class SlidingTable:
     failures: list[float] = field(default_factory=list)
     verified: set = field(default_factory=set, repr=False)
     checked: tuple[float, float] = (np.inf, -np.inf)
-    _r: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
-    _s: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    _built: tuple = field(default=(), repr=False)
 
     def interpolate(self, rho) -> dict[str, np.ndarray]:
-        """Every tabulated quantity at ``rho``, linearly interpolated (stuck values from ``rho_stick`` on)."""
+        """Every tabulated quantity at ``rho`` (stuck values from ``rho_stick`` on).
+
+        ``s_hat`` from the cubic in ``q``; the response amplitudes by a monotone
+        cubic through the samples and the stuck response at ``rho_stick``.
+        """
         rho = np.atleast_1d(np.asarray(rho, dtype=float))
-        r = np.append(self.rho, self.rho_stick)
-        out = {"s_hat": np.interp(rho, r, np.append(self.s_hat, 0.0), right=0.0)}
-        for name in ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
-            v = np.vstack([getattr(self, name), self.stuck[name][None]])
-            out[name] = np.stack([np.interp(rho, r, col, right=col[-1]) for col in v.T], axis=-1)
+        x, c, response = self._interpolants()
+        d = np.clip(self.rho_stick - rho, 0.0, None)
+        inside = np.clip(rho, x[0], x[-1])
+        out = {"s_hat": d**2 * _q_at(x, c, inside)}
+        for name, fn in response.items():
+            out[name] = fn(np.clip(rho, x[0], x[-1]))
         return out
 
-    def cycles(self, rho_from: float, rho) -> np.ndarray:
-        """``integral_rho^rho_from dr / (r s_hat(r))`` (1/m), exact for piecewise-linear ``s_hat``.
+    def q(self, rho) -> np.ndarray:
+        """The interpolated ``q = s_hat / (rho_stick - rho)^2`` at ``rho`` (m/N), inside the table."""
+        x, c, _ = self._interpolants()
+        return _q_at(x, c, np.atleast_1d(np.asarray(rho, dtype=float)))
 
-        Multiply by ``1 / (K_w k_n F_ex)`` for the number of cycles from ``rho_from`` down to ``rho``.
-        ``inf`` where the integral diverges (a start at or above the stick threshold).
+    def cycles(self, rho_from: float, rho) -> np.ndarray:
+        """``integral_rho^rho_from dr / (r s_hat(r))`` (1/m) on the table's interpolant.
+
+        Each piece is integrated in ``t = 1 / (rho_stick - r)``, where the
+        integrand ``1 / (r q(r))`` is smooth and bounded, by 12-point
+        Gauss-Legendre on geometric sub-intervals (1e-11 of scipy's adaptive
+        quadrature in the tests). Multiply by
+        ``1 / (K_w k_n F_ex)`` for the number of cycles from ``rho_from`` down to
+        ``rho``. ``inf`` where the integral diverges (a start at or above the
+        stick threshold).
         """
-        r, s = self._knots()
+        x, c, _ = self._interpolants()
         rho = np.atleast_1d(np.asarray(rho, dtype=float))
-        return _integrals(r, s, float(rho_from), rho.ravel()).reshape(rho.shape)
+        return _integrals(x, c, float(rho_from), rho.ravel(), _GAUSS_T, _GAUSS_W).reshape(rho.shape)
 
     def load_ratio(self, rho_from: float, integral, rho_floor: float) -> np.ndarray:
         """The load ratio reached from ``rho_from`` when :meth:`cycles` equals ``integral`` (1/m).
 
-        The inverse of :meth:`cycles` (Newton on the closed form, to round-off),
-        held at ``rho_floor`` once the wear reaches it; ``integral`` ascending,
-        ``>= 0``. With ``integral = K_w k_n F_ex N`` it gives ``rho(N)``, hence
-        ``w(N) = u0 - rho F_ex / (mu k_n)``.
+        The inverse of :meth:`cycles` (Newton on the piece integrals, to
+        round-off), held at ``rho_floor`` once the wear reaches it; ``integral``
+        ascending, ``>= 0``. With ``integral = K_w k_n F_ex N`` it gives
+        ``rho(N)``, hence ``w(N) = u0 - rho F_ex / (mu k_n)``.
         """
-        r, s = self._knots()
-        x = np.asarray(integral, dtype=float)
-        if x.ndim != 1 or np.any(np.diff(x) < 0) or (x.size and x[0] < 0):
+        x, c, _ = self._interpolants()
+        v = np.asarray(integral, dtype=float)
+        if v.ndim != 1 or np.any(np.diff(v) < 0) or (v.size and v[0] < 0):
             raise ValueError("integral must be an ascending 1-D array of values >= 0")
-        if not (r[0] <= rho_floor <= rho_from):
-            raise ValueError(f"rho_floor must lie in [{r[0]:.6g}, {rho_from:.6g}], got {rho_floor!r}")
-        return _invert(r, s, float(rho_from), x, float(rho_floor))
+        if not (x[0] <= rho_floor <= rho_from):
+            raise ValueError(f"rho_floor must lie in [{x[0]:.6g}, {rho_from:.6g}], got {rho_floor!r}")
+        return _invert(x, c, float(rho_from), v, float(rho_floor), _GAUSS_T, _GAUSS_W)
 
-    def _knots(self) -> tuple[np.ndarray, np.ndarray]:
-        """Samples of ``s_hat`` with the stick threshold (where ``s_hat = 0``) appended."""
-        if len(self._r) != len(self.rho) + 1:  # the table grew
-            self._r, self._s = np.append(self.rho, self.rho_stick), np.append(self.s_hat, 0.0)
-        return self._r, self._s
+    def _interpolants(self) -> tuple[np.ndarray, np.ndarray, dict]:
+        """Knots (the samples and ``rho_stick``), the cubic coefficients of ``q``, the response cubics."""
+        if not self._built or len(self._built[0]) != len(self.rho) + 1:  # the table grew
+            x, c = q_cubic(self.rho, self.s_hat, self.rho_stick)
+            response = {
+                name: PchipInterpolator(x, np.vstack([getattr(self, name), self.stuck[name][None]]), axis=0)
+                for name in ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak")
+            }
+            self._built = (x, c, response)
+        return self._built
 
 
-@njit(cache=True, nogil=True)
-def _segment(x1: float, x2: float, s1: float, s2: float) -> float:
-    """``integral_x1^x2 dr / (r s(r))`` for ``s`` linear with ``s(x1) = s1``, ``s(x2) = s2``.
+def q_cubic(rho: np.ndarray, s_hat: np.ndarray, rho_stick: float) -> tuple[np.ndarray, np.ndarray]:
+    """Knots and PCHIP coefficients of ``q = s_hat / (rho_stick - rho)^2``, with a knot at ``rho_stick``.
 
-    With ``s = a + b r``: ``ln(x2 s1 / (x1 s2)) / a`` and ``x2 s1 - x1 s2 =
-    a (x2 - x1)``, so the integral is ``log1p(a u) / a`` with ``u = (x2 - x1) /
-    (x1 s2)``: no case split and no cancellation, also for ``a -> 0`` (``s``
-    proportional to ``r``) and ``b = 0``.
+    Returns ``x`` (K + 1,) and ``c`` (4, K): on ``[x[j], x[j + 1]]``,
+    ``q = ((c[0, j] h + c[1, j]) h + c[2, j]) h + c[3, j]`` with ``h = r - x[j]``.
+    ``q(rho_stick)`` continues the cubic's end slope (at least 2 samples).
     """
-    if x2 <= x1:
+    q = s_hat / (rho_stick - rho) ** 2
+    if len(rho) == 1:
+        q_end = q[0]
+    else:
+        q_end = q[-1] + PchipInterpolator(rho, q)(rho[-1], 1) * (rho_stick - rho[-1])
+    x = np.append(rho, rho_stick)
+    cubic = PchipInterpolator(x, np.append(q, max(q_end, 0.5 * q[-1])))  # q > 0: s_hat > 0 below rho_stick
+    return x, np.ascontiguousarray(cubic.c)
+
+
+#: Gauss-Legendre rule of the pieces of the Archard quadrature
+_GAUSS_T, _GAUSS_W = np.polynomial.legendre.leggauss(12)
+
+
+@njit(cache=True, nogil=True)
+def _piece_of(x: np.ndarray, v: float) -> int:
+    """Index ``j`` of the piece ``x[j] <= v < x[j + 1]`` (clamped to the table's pieces)."""
+    j = np.searchsorted(x, v, side="right") - 1
+    return min(max(j, 0), len(x) - 2)
+
+
+@njit(cache=True, nogil=True)
+def _q(x: np.ndarray, c: np.ndarray, j: int, v: float) -> float:
+    """``q`` at ``v`` on piece ``j``."""
+    h = v - x[j]
+    return ((c[0, j] * h + c[1, j]) * h + c[2, j]) * h + c[3, j]
+
+
+@njit(cache=True, nogil=True)
+def _q_at(x: np.ndarray, c: np.ndarray, vs: np.ndarray) -> np.ndarray:
+    out = np.empty(len(vs))
+    for i in range(len(vs)):
+        out[i] = _q(x, c, _piece_of(x, vs[i]), vs[i])
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _piece(x: np.ndarray, c: np.ndarray, j: int, a: float, b: float, gt: np.ndarray, gw: np.ndarray) -> float:
+    """``integral_a^b dr / (r s_hat(r))`` on piece ``j``, ``0 < a <= b < rho_stick = x[-1]``.
+
+    With ``t = 1 / (rho_stick - r)``, ``dr / (rho_stick - r)^2 = dt`` and the
+    integral is ``integral dt / (r q(r))``: smooth and bounded up to the
+    threshold. Gauss-Legendre on sub-intervals of ``t`` in geometric
+    progression, at most a factor 2 in ``t`` and in ``r`` each (the ends of a
+    piece near the threshold or near ``rho = 0`` vary on their own scale).
+    """
+    if b <= a:
         return 0.0
-    if s1 <= 0.0 or s2 <= 0.0:
-        return math.inf
-    a = (x2 * s1 - x1 * s2) / (x2 - x1)
-    u = (x2 - x1) / (x1 * s2)
-    z = a * u
-    return u if abs(z) < 1e-300 else u * math.log1p(z) / z
+    top = x[-1]
+    ta, tb = 1.0 / (top - a), 1.0 / (top - b)
+    n = int(math.ceil(math.log2(tb / ta) + math.log2(b / a))) + 1
+    grow = (tb / ta) ** (1.0 / n)
+    total, lo = 0.0, ta
+    for i in range(n):
+        hi = tb if i == n - 1 else lo * grow
+        half, mid = 0.5 * (hi - lo), 0.5 * (hi + lo)
+        part = 0.0
+        for k in range(len(gt)):
+            r = top - 1.0 / (mid + half * gt[k])
+            part += gw[k] / (r * _q(x, c, j, r))
+        total += half * part
+        lo = hi
+    return total
 
 
 @njit(cache=True, nogil=True)
-def _line(r: np.ndarray, s: np.ndarray, j: int, x: float) -> float:
-    """``s`` at ``x`` on piece ``j`` of the table (linear between ``r[j]`` and ``r[j + 1]``)."""
-    return s[j] + (s[j + 1] - s[j]) * (x - r[j]) / (r[j + 1] - r[j])
-
-
-@njit(cache=True, nogil=True)
-def _piece_of(r: np.ndarray, x: float) -> int:
-    """Index ``j`` of the piece ``r[j] <= x < r[j + 1]`` (clamped to the table's pieces)."""
-    j = np.searchsorted(r, x, side="right") - 1
-    return min(max(j, 0), len(r) - 2)
-
-
-@njit(cache=True, nogil=True)
-def _integrals(r: np.ndarray, s: np.ndarray, top: float, xs: np.ndarray) -> np.ndarray:
-    """``integral_x^top dr / (r s(r))`` for each ``x`` in ``xs`` (negative for ``x > top``)."""
+def _integrals(x, c, top: float, xs: np.ndarray, gt: np.ndarray, gw: np.ndarray) -> np.ndarray:
+    """``integral_v^top dr / (r s_hat(r))`` for each ``v`` in ``xs`` (negative for ``v > top``)."""
     out = np.empty(len(xs))
     for i in range(len(xs)):
         lo, hi, sign = xs[i], top, 1.0
         if lo > hi:
             lo, hi, sign = hi, lo, -1.0
-        if hi >= r[-1]:  # at or above the stick threshold: nothing slides, the integral diverges
+        if hi >= x[-1]:  # at or above the stick threshold: nothing slides, the integral diverges
             out[i] = sign * math.inf
             continue
-        j, total = _piece_of(r, lo), 0.0
-        x = lo
-        while x < hi:
-            end = min(r[j + 1], hi)
-            total += _segment(x, end, _line(r, s, j, x), _line(r, s, j, end))
-            x, j = end, j + 1
+        j, total, v = _piece_of(x, lo), 0.0, lo
+        while v < hi:
+            end = min(x[j + 1], hi)
+            total += _piece(x, c, j, v, end, gt, gw)
+            v, j = end, j + 1
         out[i] = sign * total
     return out
 
 
 @njit(cache=True, nogil=True)
-def _invert(r: np.ndarray, s: np.ndarray, top: float, targets: np.ndarray, floor: float) -> np.ndarray:
-    """``x`` with ``integral_x^top dr / (r s(r)) = target`` for ascending ``targets`` (``floor`` past it).
+def _invert(x, c, top: float, targets: np.ndarray, floor: float, gt, gw) -> np.ndarray:
+    """``v`` with ``integral_v^top dr / (r s_hat(r)) = target`` for ascending ``targets`` (``floor`` past it).
 
     The pieces are walked down from ``top`` once for all targets; inside a piece
-    the closed form is solved by Newton's method (``d/dx = -1 / (x s(x))``) kept
-    inside its bracket by bisection.
+    the integral is solved by Newton's method (``d/dv = -1 / (v s_hat(v))``)
+    kept inside its bracket by bisection.
     """
     out = np.full(len(targets), floor)
-    if top >= r[-1]:  # stuck: no wear
+    if top >= x[-1]:  # stuck: no wear
         out[:] = top
         return out
-    j = _piece_of(r, top)
-    upper, s_upper, done = top, _line(r, s, j, top), 0.0  # the walk has integrated from upper to top
+    rc = x[-1]
+    j = _piece_of(x, top)
+    upper, done = top, 0.0  # the walk has integrated from upper to top
     for i in range(len(targets)):
         want = targets[i]
         while True:
-            lower = max(r[j], floor)
-            s_lower = _line(r, s, j, lower)
-            piece = _segment(lower, upper, s_lower, s_upper)
+            lower = max(x[j], floor)
+            piece = _piece(x, c, j, lower, upper, gt, gw)
             if done + piece >= want:
                 break
             if lower <= floor:  # worn to the floor before this target: it and the rest stay there
                 return out
-            done, upper, s_upper, j = done + piece, lower, s_lower, j - 1
-        rest = want - done  # solve integral_x^upper = rest on [lower, upper]
+            done, upper, j = done + piece, lower, j - 1
+        rest = want - done  # solve integral_v^upper = rest on [lower, upper]
         a, b = lower, upper
-        x = upper - rest * upper * s_upper  # Newton's first step from the upper end
+        v = upper - rest * upper * (rc - upper) ** 2 * _q(x, c, j, upper)  # Newton's first step
         for _ in range(100):
-            if not (a < x < b):
-                x = 0.5 * (a + b)
-            sx = _line(r, s, j, x)
-            g = _segment(x, upper, sx, s_upper) - rest  # falls as x grows
+            if not (a < v < b):
+                v = 0.5 * (a + b)
+            g = _piece(x, c, j, v, upper, gt, gw) - rest  # falls as v grows
             if g > 0.0:
-                a = x
+                a = v
             else:
-                b = x
-            step = g * x * sx  # g / (-dg/dx)
-            x_new = x + step
-            if abs(step) <= 1e-15 * x or b - a <= 1e-15 * b:
-                x = x_new if a <= x_new <= b else x
+                b = v
+            step = g * v * (rc - v) ** 2 * _q(x, c, j, v)  # g / (-dg/dv)
+            v_new = v + step
+            if abs(step) <= 1e-15 * v or b - a <= 1e-15 * b:
+                v = v_new if a <= v_new <= b else v
                 break
-            x = x_new
-        out[i] = x
+            v = v_new
+        out[i] = v
     return out
 
 
 # -- the table and its cache ------------------------------------------------------------------------
 _cache: dict[tuple, SlidingTable] = {}
-_lock = threading.Lock()
+_lock = threading.Lock()  # guards the two dicts; each table is built under its own lock
+_locks: dict[tuple, threading.Lock] = {}
 
 
 def cached_solves(model: Model, omega: float) -> int:
@@ -314,40 +385,56 @@ def _complete(table: SlidingTable, lo: float, hi: float) -> bool:
     return all(p in table.verified for p in pairs)
 
 
+def _spacing(rho_stick: float):
+    """``rho -> log(rho / (rho_stick - rho))`` and its inverse: geometric at both ends of the table."""
+    return (lambda r: np.log(r / (rho_stick - r))), (lambda u: rho_stick / (1.0 + np.exp(-u)))
+
+
 def _adapt(table: SlidingTable, sampler: _Sampler, lo: float, hi: float, tol: float, max_solves: int) -> None:
-    """Add samples to ``table`` down to ``lo`` until linear interpolation is within ``tol`` (relative) on
-    every interval that meets ``[lo, hi]``."""
+    """Add samples to ``table`` down to ``lo`` until the cubic in ``q`` predicts the two new samples at the
+    thirds of every interval that meets ``[lo, hi]`` within ``tol`` (relative).
+
+    Two checks per interval, not one: a single midpoint can sit where the
+    cubic's error changes sign and pass by chance (seen: 2.5 % off between two
+    samples whose midpoint agreed to 1e-3).
+    """
     t = table
     rows = zip(t.s_hat, t.amplitude, t.half_peak_to_peak, t.relative_half_peak_to_peak, strict=True)
     points = dict(zip(t.rho.tolist(), rows, strict=True))
+    to_u, from_u = _spacing(t.rho_stick)
+    top = t.rho_stick * (1.0 - _TOP)
     if not len(t.rho):
-        starts = np.geomspace(lo, table.rho_stick * (1 - _STICK_MARGIN), 25)
+        starts = from_u(np.linspace(to_u(lo), to_u(top), _FIRST))
     elif t.rho[0] > lo:
-        starts = np.geomspace(lo, t.rho[0], 12)[:-1]
+        starts = from_u(np.linspace(to_u(lo), to_u(t.rho[0]), 4))[:-1]
     else:
         starts = []
     for r in starts:
         if (got := sampler(float(r))) is not None:
             points[float(r)] = got
     verified = table.verified
-    while sampler.solves < max_solves:
+    while sampler.solves < max_solves and len(points) >= 2:
         r = np.array(sorted(points))
         pairs = [(a, b) for a, b in zip(r[:-1], r[1:], strict=True) if a < hi and b > lo]
         todo = [(a, b) for a, b in pairs if (a, b) not in verified and b > a * (1 + 1e-9)]
         if not todo:
             break
+        x, c = q_cubic(r, np.array([points[k][0] for k in r]), t.rho_stick)
         for a, b in todo:
-            mid = float(np.sqrt(a * b))
-            got = sampler(mid)
-            if got is None:
-                table.failures.append(mid)
-                verified.add((a, b))
-                continue
-            sa, sb, sm = points[a][0], points[b][0], got[0]
-            linear = sa + (sb - sa) * (mid - a) / (b - a)
-            points[mid] = got
-            if abs(sm - linear) <= tol * max(sm, 1e-3 * max(sa, sb)):
-                verified |= {(a, mid), (mid, b)}
+            ua, ub = to_u(a), to_u(b)
+            thirds = [float(from_u(ua + k * (ub - ua) / 3)) for k in (1, 2)]
+            good = True
+            for mid in thirds:
+                got = sampler(mid)
+                if got is None:
+                    table.failures.append(mid)
+                    continue
+                points[mid] = got
+                q_mid = got[0] / (t.rho_stick - mid) ** 2
+                good &= bool(abs(q_mid - _q_at(x, c, np.array([mid]))[0]) <= tol * q_mid)
+            if good:  # both checks passed (a failed sample counts as passed: it cannot be refined)
+                edges = [a, *[m for m in thirds if m in points], b]
+                verified |= set(zip(edges[:-1], edges[1:], strict=True))
             if sampler.solves >= max_solves:
                 break
     r = np.array(sorted(points))
@@ -365,7 +452,7 @@ def sliding_table(
     rho_min: float,
     rho_max: float | None = None,
     *,
-    tol: float = 1e-3,
+    tol: float = 1e-2,
     max_solves: int = 2000,
 ) -> SlidingTable:
     """The exact ``s_hat(rho)`` of ``model`` at ``omega`` (rad/s), sampled down to ``rho_min`` (N/N).
@@ -383,9 +470,11 @@ def sliding_table(
         Range of load ratios ``mu F_N / F_ex`` where the table must meet ``tol``,
         ``0 < rho_min``; default ``rho_max``: the stick threshold.
     tol : float
-        Relative error of the linear interpolation of ``s_hat`` between samples, checked at
-        every interval's geometric midpoint (the relative error of the number of cycles
-        it gives is of the same order or smaller).
+        Relative error of the cubic in ``q = s_hat / (rho_stick - rho)^2``, checked
+        at the thirds of every interval (in ``log(rho / (rho_stick - rho))``)
+        before those samples join the table. The number of cycles it gives is
+        more accurate: within 1e-3 of direct time integration with wear at 0.55,
+        0.7, 0.9 and 1.1 Hz on the paper model (10 N; tests and benchmark).
     max_solves : int
         Budget of shooting solves.
     """
@@ -395,6 +484,8 @@ def sliding_table(
         raise ValueError(f"rho_min must be a finite load ratio > 0, got {rho_min!r}")
     key = _key(model, omega)
     with _lock:
+        lock = _locks.setdefault(key, threading.Lock())
+    with lock:  # tables of other frequencies are built at the same time in other threads
         table = _cache.get(key)
         if table is None:
             rho_stick = _stick_threshold(model, omega)
@@ -403,7 +494,7 @@ def sliding_table(
                                  np.zeros((0, model.n_dofs)), np.zeros((0, len(model.contacts))), stuck,
                                  failures=[])  # fmt: skip
             _cache[key] = table
-        lo = min(rho_min, table.rho_stick * (1 - 1e-3))
+        lo = min(rho_min, table.rho_stick * (1 - 1e-2))
         hi = table.rho_stick if rho_max is None else min(rho_max, table.rho_stick)
         if table.rho_stick > 0 and lo < hi and not _complete(table, lo, hi):
             if not len(table.rho):  # a first build also covers F_ex up to _REACH times larger

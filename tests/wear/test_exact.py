@@ -5,20 +5,26 @@ import pytest
 from scipy.integrate import quad
 
 import fretwear as fw
-from fretwear.wear.sliding import SlidingTable, _segment, cached_solves, sliding_table
+from fretwear.wear.sliding import SlidingTable, cached_solves, sliding_table
 
 OMEGA = 2 * np.pi * 0.7
 
 
-@pytest.mark.parametrize(("s1", "s2"), [(1.0, 1.0), (1.0, 3.0), (2.0, 0.5), (0.3, 0.6)])
-def test_piece_integral_is_the_closed_form_of_the_quadrature(s1, s2):
-    r1, r2 = 0.2, 0.6
-    s = lambda r: s1 + (s2 - s1) * (r - r1) / (r2 - r1)  # noqa: E731
-    if s1 == 0.3:  # s proportional to r: the a = 0 branch
-        r1, r2, s = 0.3, 0.6, lambda r: r  # noqa: E731
-        s1, s2 = 0.3, 0.6
-    ref = quad(lambda r: 1 / (r * s(r)), r1, r2, epsabs=0, epsrel=1e-13)[0]
-    assert _segment(r1, r2, s1, s2) == pytest.approx(ref, rel=1e-12)
+def test_piece_integral_matches_adaptive_quadrature_up_to_the_stick_threshold():
+    # a table with q = s_hat / (rho_stick - rho)^2 rising then falling: its cubic pieces integrated
+    # in t = 1 / (rho_stick - r) against scipy's adaptive quadrature of the same interpolant
+    rho = np.array([0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 0.999])
+    q = np.array([2.0, 2.6, 3.1, 2.2, 1.4, 1.1, 1.05])
+    table = _synthetic_table(rho, q * (1.0 - rho) ** 2, 1.0)
+    s = lambda r: table.interpolate(r)["s_hat"][0]  # noqa: E731
+    for lo, hi in ((0.05, 0.2), (0.1, 0.9), (0.5, 0.999), (0.99, 0.99999)):
+        ref = quad(lambda r: 1 / (r * s(r)), lo, hi, points=rho, epsabs=0, epsrel=1e-13, limit=400)[0]
+        assert table.cycles(hi, np.array([lo]))[0] == pytest.approx(ref, rel=1e-11)
+    # q is the monotone cubic through the samples, and s_hat vanishes quadratically at the threshold
+    np.testing.assert_allclose(table.q(rho), q, rtol=1e-14)
+    d = np.array([1e-3, 1e-4])
+    ratio = table.interpolate(1.0 - d)["s_hat"] / d**2
+    assert ratio[1] == pytest.approx(ratio[0], rel=1e-3)
 
 
 def test_table_interpolates_the_exact_sliding_distance_and_is_reused():
@@ -46,7 +52,8 @@ def _synthetic_table(rho, s_hat, rho_stick):
     """A sliding table with given samples (no shooting): for the quadrature and its inverse."""
     n = len(rho)
     zeros = np.zeros((n, 2))
-    return SlidingTable(1.0, rho_stick, np.asarray(rho), np.asarray(s_hat), zeros, zeros, zeros[:, :1], {})
+    stuck = dict(amplitude=np.zeros(2), half_peak_to_peak=np.zeros(2), relative_half_peak_to_peak=np.zeros(1))
+    return SlidingTable(1.0, rho_stick, np.asarray(rho), np.asarray(s_hat), zeros, zeros, zeros[:, :1], stuck)
 
 
 def test_load_ratio_inverts_the_archard_quadrature():
@@ -54,7 +61,7 @@ def test_load_ratio_inverts_the_archard_quadrature():
     rho = np.array([0.01, 0.05, 0.2, 0.4, 0.6, 0.8, 0.95])
     s_hat = np.array([1.0, 1.2, 1.5, 1.1, 0.6, 0.25, 0.05])
     table = _synthetic_table(rho, s_hat, 1.0)
-    s = lambda r: np.interp(r, np.append(rho, 1.0), np.append(s_hat, 0.0))  # noqa: E731
+    s = lambda r: table.interpolate(r)["s_hat"][0]  # noqa: E731
     rho0 = 0.9
     x = np.array([0.85, 0.6, 0.3, 0.05, 0.02])
     ref = [
@@ -106,3 +113,29 @@ def test_error_against_the_exact_history_measures_the_dlft_bias():
     with pytest.raises(ValueError, match="u0"):
         other = fw.wear_history(fw.paper_model(fex=10, normal_load=12), OMEGA, kw=1e-11, cycles=10)
         dlft.error_against(other)
+
+
+@pytest.mark.parametrize("f", [0.55, 0.9])
+def test_exact_table_wear_agrees_with_direct_time_integration(f):
+    """The issue's target: cycles to 0.5 and 0.9 u0 within 2e-3 of the exact quasi-static answer."""
+    from fretwear.wear.time_integration import integrate_wear
+
+    model, omega = fw.paper_model(fex=10), 2 * np.pi * f
+    table = fw.wear_history(model, omega, "exact", dynamics="shooting", kw=1e-11, cycles=1e6)
+    direct = integrate_wear(model, omega, 1e6, kw=1e-11, tol=1e-4)
+    for fraction in (0.5, 0.9):
+        assert table.cycles_to(fraction) == pytest.approx(direct.cycles_to(fraction), rel=2e-3)
+
+
+def test_sliding_distance_vanishes_quadratically_at_the_stick_threshold():
+    # the table's premise: q = s_hat / (rho_stick - rho)^2 has a finite positive limit
+    model = fw.paper_model(fex=10)
+    table = sliding_table(model, OMEGA, 1.0)
+    d = table.rho_stick * np.array([1e-2, 1e-3, 1e-4])
+    q = []
+    for rho in table.rho_stick - d:
+        sol = fw.shooting(model.scaled(1.0 / rho), OMEGA)  # mu F_N = 10 N, F_ex = 10 / rho
+        q.append(sol.sliding_distance[0] / (10.0 / rho) / (table.rho_stick - rho) ** 2)
+    # q approaches its limit linearly in d (differences shrink 10x with d); s ~ d^p, p != 2, would not
+    assert 0.05 < abs(q[2] - q[1]) / abs(q[1] - q[0]) < 0.2 and abs(q[1] - q[0]) < 0.1 * q[1]
+    np.testing.assert_allclose(table.q(table.rho_stick - d), q, rtol=1e-3)
