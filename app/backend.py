@@ -68,6 +68,7 @@ class Library:
     wear_map = staticmethod(fretwear.wear_map)
     wear_history = staticmethod(fretwear.wear_history)
     solve_periodic = staticmethod(fretwear.solve_periodic)
+    shooting = staticmethod(fretwear.shooting)
     cost_ladder = staticmethod(fretwear.cost_ladder)
 
     def __init__(self, **replacements: Callable) -> None:
@@ -398,6 +399,12 @@ class Backend:
         model = self.model(spec)
         self._tally("solve_periodic")
         return self.library.solve_periodic(model, 2 * np.pi * f_hz, harmonics, wear=wear)
+
+    def exact_point(self, spec: ModelSpec, f_hz: float, wear: np.ndarray | None) -> fretwear.ShootingSolution:
+        """Exact periodic orbit at one frequency and wear (:func:`fretwear.shooting`, event-driven)."""
+        model = self.model(spec)
+        self._tally("shooting")
+        return self.library.shooting(model, 2 * np.pi * f_hz, wear=wear)
 
     def cost(
         self,

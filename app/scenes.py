@@ -10,6 +10,7 @@ their parameter record (:meth:`Scene.record`).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -25,7 +26,18 @@ from fretwear.studies.accuracy import QUANTITIES, CostStudy, Rung
 
 from .backend import Failure
 from .glossary import term
-from .state import CONVERGENCE_HARMONICS, EXACT, LADDERS, METHODS, Controls, Settings, Task, Tasks
+from .state import (
+    CONVERGENCE_HARMONICS,
+    EXACT,
+    EXACT_MAP,
+    EXACT_POINT,
+    LADDERS,
+    METHODS,
+    Controls,
+    Settings,
+    Task,
+    Tasks,
+)
 
 if TYPE_CHECKING:
     import holoviews as hv
@@ -102,6 +114,41 @@ def _error_note(h, reference, label: str) -> str | None:
             parts.append(f"cycles to {f:.0%} of u₀ are {abs(c):.2%} {'early' if c < 0 else 'late'}")
     parts.append(f"w(N) is off by up to {e['wear']:.2%} of u₀")
     return f"{label} at {h.frequency:.4g} Hz against the exact dynamics: {', '.join(parts)}."
+
+
+def _relative(value: float, reference: float) -> str:
+    """``value`` against ``reference`` as a signed percentage (in words when the reference is 0)."""
+    if reference == 0:
+        return "0 (exact 0)" if value == 0 else f"{value:.3g} (exact 0)"
+    return f"{value / reference - 1:+.1%}"
+
+
+def _exact_map(scene: Scene, wm) -> Any:
+    """The published exact wear map when it has the grids of ``wm`` (None while it computes, or failed)."""
+    exact = _ok(scene.results.get(EXACT_MAP))
+    if exact is None or wm is None or exact.wear.shape != wm.wear.shape:
+        return None
+    return exact if np.allclose(exact.frequency, wm.frequency, rtol=1e-9) else None
+
+
+def _band_error(wm, exact, label: str, fraction: float = 0.5) -> str | None:
+    """How far the cycles to ``fraction`` of ``u0`` of map ``wm`` are from the exact map's, over the band."""
+    if wm is None or exact is None:
+        return None
+    ours = np.array([h.cycles_to(fraction) if h.converged else np.nan for h in wm.histories])
+    ref = np.array([h.cycles_to(fraction) for h in exact.histories])
+    err = ours / ref - 1
+    both = np.isfinite(err)
+    if not both.any():
+        return None
+    k = int(np.nanargmax(np.abs(err)))
+    worst = f"{abs(err[k]):.1%} {'early' if err[k] < 0 else 'late'} at {wm.frequency[k]:.4g} Hz"
+    reached = int(np.isfinite(ref).sum())
+    return (
+        f"{label} over the band: cycles to {fraction:.0%} of u₀ up to {worst} against the exact dynamics "
+        f"(median |error| {np.nanmedian(np.abs(err)):.1%} over the {int(both.sum())} frequencies where both "
+        f"reach it; the exact answer reaches it at {reached} of {len(ref)}). Exact contours dashed."
+    )
 
 
 class Scene(param.Parameterized):
@@ -349,7 +396,8 @@ Change {term("Nh")} and watch the finding below: what more harmonics buy, and wh
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         near = float(s.frequencies[np.argmin(np.abs(s.frequencies - sel.frequency))])  # a row of the map
-        return [self.tasks.frf(s), self.tasks.wear_map(s), self.tasks.exact_history(s, near)]
+        t = self.tasks
+        return [t.frf(s), t.wear_map(s), t.exact_history(s, near), t.exact_wear_map(s)]
 
     def _map(self):
         return _ok(self.results.get("wear_map"))
@@ -365,8 +413,15 @@ Change {term("Nh")} and watch the finding below: what more harmonics buy, and wh
 
     def _findings(self) -> list[str]:
         s = self.settings
-        error = _error_note(self._history(), self._exact(), _approximation(s, s.method))
-        return [error] if error else []
+        label = _approximation(s, s.method)
+        error = _error_note(self._history(), self._exact(), label)
+        wm = self._map()
+        exact = _exact_map(self, wm)
+        if not (self._band[0] is wm and self._band[1] is exact):  # needs every history: once per map
+            self._band = (wm, exact, _band_error(wm, exact, label))
+        return [text for text in (error, self._band[2]) if text]
+
+    _band: tuple = (None, None, None)
 
     def _exact(self):
         """The exact wear history at the selected row of the map (None while it computes, or failed)."""
@@ -379,8 +434,12 @@ Change {term("Nh")} and watch the finding below: what more harmonics buy, and wh
         s, wm, sel = self.settings, self._map(), self.selection
         f, cycles = (s.frequencies, s.cycles) if wm is None else (wm.frequency, wm.cycles)
         z = np.zeros((len(f), len(cycles))) if wm is None else wm.wear_fraction[:, :, 0]
+        exact = _exact_map(self, wm)
+        reference = None if exact is None else exact.wear_fraction[:, :, 0]
         title = f"Wear map ({s.method}, wear coefficient {s.kw:.3g} 1/Pa)"
-        return figures.wear_map_figure(f, cycles, z, title=title, point=(sel.frequency, sel.cycles))
+        return figures.wear_map_figure(
+            f, cycles, z, title=title, point=(sel.frequency, sel.cycles), reference=reference
+        )
 
     def _history(self):
         wm = self._map()
@@ -428,8 +487,12 @@ Change {term("Nh")} and watch the finding below: what more harmonics buy, and wh
         wm, h, p = self._map(), self._history(), self._pseudo()
         if wm is None:
             return {}
+        table = wm.long_table()
+        exact = _exact_map(self, wm)
+        if exact is not None:  # same grids, same row order
+            table["w_exact_over_u0"] = exact.long_table()["w_over_u0"]
         out = {
-            "wear_map": wm.long_table(),
+            "wear_map": table,
             "history": {
                 "cycles": h.cycles,
                 "w": h.wear[:, 0],
@@ -462,56 +525,94 @@ class EvolutionScene(Scene):
 **What you see.** {term("pseudo-FRF", "Pseudo-FRFs")} of mass 1 (the response after {term("N")} cycles
 of wear at each frequency) without wear and at four cycle counts up to the horizon, over the linear
 FRFs with the contact stuck and open (paper Fig. 8-9). As the contact wears, the normal load relaxes
-and the response moves from the stuck resonance (1 Hz) towards the free one (0.5 Hz).
+and the response moves from the stuck resonance (1 Hz) towards the free one (0.5 Hz). Dashed, in the
+same colours: the exact answer (Archard's law on the event-driven dynamics, no harmonic truncation);
+the findings below say how far the selected method is from it.
 
 **Try.** The paper presets at 6, 10 and 14 N; the wear map of the same settings is shared with the
-*Wear map* scene, so switching between them costs nothing."""
+*Wear map* scene, so switching between them costs nothing. Lower {term("Nh")} and watch the solid
+curves leave the dashed ones."""
 
     #: keys of the snapshot curves (their legend shows the cycle counts)
     _keys = ("no wear", "snapshot 1", "snapshot 2", "snapshot 3", "snapshot 4")
+    #: colours of the snapshot curves, shared by their exact counterparts
+    _colors = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd")
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
         t = self.tasks
-        return [t.linear(s, "stuck"), t.linear(s, "open"), t.frf(s), t.wear_map(s)]
+        return [t.linear(s, "stuck"), t.linear(s, "open"), t.frf(s), t.wear_map(s), t.exact_wear_map(s)]
 
     def _snapshots(self) -> np.ndarray:
         """Cycle counts of the worn curves (the first snapshot, ``N = 0``, is drawn from the FRF)."""
         return self.settings.snapshots[1:]
 
-    def _pseudo(self):
+    def _pseudo(self, exact: bool = False):
+        """``x1`` (m) of the selected method's map (or the exact one) at the snapshots, shape (4, nf)."""
         wm = _ok(self.results.get("wear_map"))
+        if exact:
+            wm = _exact_map(self, wm)
         return None if wm is None else wm.pseudo_frf(self._snapshots())[:, :, 0]
 
     def _notes(self) -> list[str]:
         wm = _ok(self.results.get("wear_map"))
         return [] if wm is None else _history_notes(wm.histories)
 
+    def _findings(self) -> list[str]:
+        p, ref = self._pseudo(), self._pseudo(exact=True)
+        if p is None or ref is None:
+            return []
+        err = np.abs(p / ref - 1)
+        if not np.isfinite(err).any():
+            return []
+        i, k = np.unravel_index(int(np.nanargmax(err)), err.shape)
+        f = _ok(self.results.get("wear_map")).frequency
+        s = self.settings
+        worst = f"{err[i, k]:.1%} off" if err[i, k] < 1 else f"{p[i, k] / ref[i, k]:.3g} times"
+        share = np.mean(err[np.isfinite(err)] > 0.1)
+        return [
+            f"{_approximation(s, s.method)}: pseudo-FRFs of mass 1 up to {worst} the exact dynamics "
+            f"(at N = {self._snapshots()[i]:.3g}, {f[k]:.4g} Hz); more than 10 % off at {share:.0%} of the "
+            "frequencies and cycle counts shown."
+        ]
+
     def _figure_evolution(self):
         curves = _linear_curves(self)
-        wm, p = _ok(self.results.get("wear_map")), self._pseudo()
+        wm, p, ref = _ok(self.results.get("wear_map")), self._pseudo(), self._pseudo(exact=True)
         curves["no wear"] = _no_wear(self)
+        colors = {"stuck (linear)": "#555555", "open (linear)": "#aaaaaa", "no wear": self._colors[0]}
         for i, key in enumerate(self._keys[1:]):
             curves[key] = EMPTY if p is None else (wm.frequency, p[i])
+            colors[key] = colors[f"{key} exact"] = self._colors[i + 1]
+        for i, key in enumerate(self._keys[1:]):
+            curves[f"{key} exact"] = EMPTY if ref is None else (wm.frequency, ref[i])
         shown = {"no wear": "N = 0 (no wear)"} | {
             key: f"N = {n:.3g}" for key, n in zip(self._keys[1:], self._snapshots(), strict=True)
+        }
+        shown |= {
+            f"{key} exact": f"N = {n:.3g}, exact"
+            for key, n in zip(self._keys[1:], self._snapshots(), strict=True)
         }
         return figures.line_figure(
             curves,
             xlabel=HZ,
             ylabel=X1,
             logy=True,
-            dashed=list(curves)[:2],
+            dashed=[*list(curves)[:2], *(f"{key} exact" for key in self._keys[1:])],
             legend_labels=shown,
-            title=f"Pseudo-FRFs of mass 1, horizon {self.settings.horizon:.3g} cycles",
+            colors=colors,
+            title=f"Pseudo-FRFs of mass 1, horizon {self.settings.horizon:.3g} cycles (exact dashed)",
         )
 
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
         out = _linear_table(self)
-        wm, p = _ok(self.results.get("wear_map")), self._pseudo()
+        wm, p, ref = _ok(self.results.get("wear_map")), self._pseudo(), self._pseudo(exact=True)
         if p is not None:
             out["pseudo_frfs"] = {"f_hz": wm.frequency} | {
                 f"x1_h1_N{n:.6g}": p[i] for i, n in enumerate(self._snapshots())
             }
+            if ref is not None:
+                snaps = self._snapshots()
+                out["pseudo_frfs"] |= {f"x1_h1_N{n:.6g}_exact": ref[i] for i, n in enumerate(snaps)}
         return out
 
 
@@ -528,8 +629,9 @@ magnified), the interface is green while the contact sticks and red while it sli
 ({term("stick-slip", "stick / slip")}), the worn depth w is drawn on mass 1 to scale of {term("u0")}.
 Below: the displacements, the friction force and its limits ±{term("mu")} {term("F_N")}(w), with the
 slipping intervals shaded, and the hysteresis loop (friction force against relative displacement),
-whose area is the energy dissipated per cycle. **Play** runs the period; the black lines and the dot
-follow it on the plots.
+whose area is the energy dissipated per cycle. Dashed: the exact orbit (event-driven dynamics, worn as
+the exact wear history says at N); the findings below compare the two. **Play** runs the period; the
+black lines and the dot follow it on the plots.
 
 **Try.** Pick a point on the wear map, or type f and N in the sidebar: with wear the limits shrink,
 the contact slips longer and the loop flattens."""
@@ -538,8 +640,32 @@ the contact slips longer and the loop flattens."""
     live = True
 
     def needs(self, s: Settings, sel: Selection) -> list[Task]:
-        history = self.tasks.history(s, sel.frequency) if sel.cycles > 0 else None
-        return [*([history] if history else []), self.tasks.point(s, sel.frequency, sel.cycles, history)]
+        t, f, n = self.tasks, sel.frequency, sel.cycles
+        history, exact = (t.history(s, f), t.exact_history(s, f)) if n > 0 else (None, None)
+        return [
+            *([history, exact] if n > 0 else []),
+            t.point(s, f, n, history),
+            t.exact_point(s, f, n, exact),
+        ]
+
+    def _exact(self):
+        return _ok(self.results.get(EXACT_POINT))
+
+    def _findings(self) -> list[str]:
+        sol, ref = self._point(), self._exact()
+        if sol is None or ref is None or not (sol.converged and ref.converged):
+            return []
+        s, u0 = self.settings, sol.model.friction[0].u0
+        parts = [
+            f"x₁ amplitude {sol.amplitude[0] / ref.amplitude[0] - 1:+.1%}",
+            f"dissipated energy {_relative(sol.friction_energy[0], ref.friction_energy[0])}",
+            f"slipping {100 * np.mean(sol.state[0] == 1):.0f} % of the period (exact "
+            f"{100 * np.mean(ref.state[0] == 1):.0f} %)",
+        ]
+        if self.selection.cycles > 0:
+            parts.insert(0, f"worn depth w / u₀ {sol.wear[0] / u0:.3f} (exact {ref.wear[0] / u0:.3f})")
+        label = _approximation(s, s.method)
+        return [f"{label} against the exact orbit at {self._title()}: {', '.join(parts)}."]
 
     def _point(self):
         return _ok(self.results.get("point"))
@@ -636,6 +762,7 @@ the contact slips longer and the loop flattens."""
             )  # fmt: skip
         t = sol.time * sol.omega / (2 * np.pi)
         signals = dict(zip(names, (*sol.displacement, sol.relative_displacement[0]), strict=True))
+        signals[f"{names[2]}, exact"] = self._exact_signal(lambda ref: ref.relative_displacement[0])
         return figures.signals_figure(
             t,
             signals,
@@ -644,7 +771,13 @@ the contact slips longer and the loop flattens."""
             ylabel="displacement (m)",
             title=f"Displacements, {self._title()}",
             extra=cursor,
+            dashed=(f"{names[2]}, exact",),
         )
+
+    def _exact_signal(self, values: Callable) -> tuple:
+        """``(t / T, values(exact orbit))``, empty while the exact orbit computes (or failed)."""
+        ref = self._exact()
+        return EMPTY if ref is None else (ref.time * ref.omega / (2 * np.pi), values(ref))
 
     def _figure_force(self, live: bool = False):
         sol = self._point()
@@ -659,7 +792,8 @@ the contact slips longer and the loop flattens."""
             )
         return figures.signals_figure(
             t,
-            {"friction force": force},
+            {"friction force": force, EXACT: self._exact_signal(lambda ref: ref.contact_force[0])},
+            dashed=(EXACT,),
             spans=spans,
             hlines=(limit, -limit),
             xlabel="t / T",
@@ -669,18 +803,21 @@ the contact slips longer and the loop flattens."""
         )
 
     def _figure_loop(self, live: bool = False):
-        sol = self._point()
-        curve, energy = EMPTY, np.nan
-        if sol is not None:
-            close = np.r_[np.arange(sol.samples), 0]
-            curve = (sol.relative_displacement[0][close], sol.contact_force[0][close])
-            energy = sol.friction_energy[0]
+        curves, energy = {}, {}
+        for name, sol in (("hysteresis loop", self._point()), (EXACT, self._exact())):
+            curves[name], energy[name] = EMPTY, np.nan
+            if sol is not None:
+                close = np.r_[np.arange(sol.samples), 0]
+                curves[name] = (sol.relative_displacement[0][close], sol.contact_force[0][close])
+                energy[name] = sol.friction_energy[0]
         return figures.line_figure(
-            {"hysteresis loop": curve},
+            curves,
             xlabel="x₁ − x₂ (m)",
             ylabel="friction force (N)",
             padding=0.08,
-            title=f"Hysteresis loop: dissipated energy {energy:.4g} J per cycle",
+            dashed=(EXACT,),
+            title=f"Hysteresis loop: dissipated energy {energy['hysteresis loop']:.4g} J per cycle "
+            f"(exact {energy[EXACT]:.4g})",
             extra=self._cursor("loop", live),
         )
 

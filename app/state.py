@@ -55,6 +55,10 @@ METHODS = tuple(fretwear.METHODS)
 CONVERGENCE_HARMONICS = (1, 3, 7, 15, 21)
 #: result name and legend label of the exact wear reference (exact method on the exact dynamics)
 EXACT = "exact dynamics (reference)"
+#: result names of the exact wear map and of the exact periodic orbit after wear
+EXACT_MAP, EXACT_POINT = "exact wear map", "exact periodic response"
+#: the reference's options: the exact method on the event-driven dynamics
+_EXACT_OPTIONS = (("dynamics", "shooting"),)
 #: load ratios r = F_ex / (mu F_N) of the regime map
 RATIOS = (0.08, 2.0, 25)
 #: ladders of the accuracy scene: keyword arguments of :func:`fretwear.cost_ladder`; ``quick``
@@ -575,13 +579,50 @@ class Tasks:
         harmonic truncation, no slow-time error; what every approximation the
         sidebar selects is measured against.
         """
-        options = {"dynamics": "shooting"}
 
         def run(job: Job):
-            return _guard(lambda: self.backend.history(s.model, f_hz, "exact", s.kw, s.horizon, options))
+            return _guard(
+                lambda: self.backend.history(s.model, f_hz, "exact", s.kw, s.horizon, dict(_EXACT_OPTIONS))
+            )
 
-        key = ("history", s.model, _digits(f_hz), "exact", s.kw, s.horizon, tuple(options.items()))
+        key = ("history", s.model, _digits(f_hz), "exact", s.kw, s.horizon, _EXACT_OPTIONS)
         return Task(name, key, run, "exact wear (event-driven dynamics)", 2.0)
+
+    def exact_wear_map(self, s: Settings) -> Task:
+        """The reference wear map: the exact method on the exact dynamics, over the map's grids.
+
+        Built on the sliding tables of :mod:`fretwear.wear.sliding`, cached per
+        structure and frequency: a first map costs about 0.1 s per frequency,
+        later changes of ``F_ex``, ``mu``, ``k_w`` or ``u0`` milliseconds.
+        """
+
+        def run(job: Job):
+            return _guard(
+                lambda: self.backend.wear_map(
+                    s.model, s.frequencies, s.cycles, "exact", s.kw, dict(_EXACT_OPTIONS), job.progress,
+                    job.cancelled,
+                )
+            )  # fmt: skip
+
+        grid = _grid(s.fmin, s.fmax, s.n_frequencies)
+        key = ("wear_map", s.model, grid, s.horizon, s.n_cycles, "exact", s.kw, _EXACT_OPTIONS)
+        return Task(EXACT_MAP, key, run, "exact wear map (event-driven dynamics)", 5.0)
+
+    def exact_point(self, s: Settings, f_hz: float, cycles: float, history: Task | None) -> Task:
+        """The exact periodic orbit at ``f_hz`` after ``cycles``, worn as the exact ``history`` says."""
+
+        def run(job: Job):
+            wear = None
+            if history is not None:
+                h = job.results[history.name]
+                if isinstance(h, Failure):
+                    return Failure(f"no exact wear history: {h}")
+                wear = h.at([cycles])["wear"][0]
+            return _guard(lambda: self.backend.exact_point(s.model, f_hz, wear))
+
+        source = None if history is None else history.key
+        key = ("exact_point", s.model, _digits(f_hz), source, float(cycles))
+        return Task(EXACT_POINT, key, run, "exact periodic response", 0.3)
 
     def point(self, s: Settings, f_hz: float, cycles: float, history: Task | None) -> Task:
         """Periodic response at ``f_hz`` after ``cycles`` (the wear of ``history`` there; none at 0)."""

@@ -140,6 +140,7 @@ def line_figure(
     padding: float = 0.0,
     legend_labels: Mapping[str, str] | None = None,
     extra: Sequence = (),
+    colors: Mapping[str, str] | None = None,
 ) -> hv.Overlay:
     """Curves ``label -> (x, y)`` on common axes, one legend entry each.
 
@@ -152,6 +153,8 @@ def line_figure(
     labels stay the keys of the layers, which a ``DynamicMap`` keeps from frame
     to frame. ``extra`` layers (e.g. a cursor) come last. A curve label may not
     be an axis label: HoloViews would read it as that axis's values.
+    ``colors``: label -> colour for some curves (e.g. a dashed reference in the
+    colour of the curve it belongs to); the others take the default cycle.
     """
     hv = holoviews()
     ensure_backend()
@@ -167,7 +170,7 @@ def line_figure(
         dash = label in dashed
         curve = styled(
             curve,
-            {"framewise": True},
+            {"framewise": True} | ({"color": colors[label]} if colors and label in colors else {}),
             {"line_width": 2, "line_dash": "dashed" if dash else "solid", "tools": ["hover"]},
             {"linewidth": 1.5, "linestyle": "--" if dash else "-"},
         )
@@ -201,11 +204,15 @@ def map_figure(
     curves: Mapping[str, XY] | None = None,
     hline: float | None = None,
     point: tuple[float, float] | None = None,
+    reference: np.ndarray | None = None,
 ) -> hv.Overlay:
     """Image of ``z`` (shape ``(len(y), len(x))``) over uniform grids ``x`` and ``y``.
 
-    With contour lines at ``levels``, curves ``label -> (x, y)`` drawn on top
-    (e.g. a boundary), a horizontal marker at ``hline`` and a marker ``point``.
+    With contour lines at ``levels`` (solid white; those of ``reference``, an
+    array like ``z``, dashed red, e.g. an exact answer under an approximate
+    one: the layer is there, empty, without it), curves ``label -> (x, y)``
+    drawn on top (e.g. a boundary), a horizontal marker at ``hline`` and a
+    marker ``point``.
     """
     hv = holoviews()
     ensure_backend()
@@ -230,6 +237,21 @@ def map_figure(
                 {"color": "white", "show_legend": False},
                 {"line_width": 1.5, "tools": []},
                 {"linewidth": 1.2},
+            )
+        )
+        if reference is None:
+            dashed = hv.Contours([], [xd, yd], vdims=[zd])
+        else:
+            ref = hv.Image((x, y, np.asarray(reference, dtype=float)), [xd, yd], [zd], rtol=1e-6)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                dashed = hv.operation.contours(ref, levels=list(levels), overlaid=False)
+        layers.append(
+            styled(
+                dashed,
+                {"color": "red", "show_legend": False},
+                {"line_width": 2, "line_dash": "dashed", "tools": []},
+                {"linewidth": 1.5, "linestyle": "--"},
             )
         )
     for label, (cx, cy) in (curves or {}).items():
@@ -262,8 +284,11 @@ def wear_map_figure(
     *,
     title: str = "",
     point: tuple[float, float] | None = None,
+    reference=None,
 ) -> hv.Overlay:
     """Wear map ``w / u0`` over frequency (Hz) x log10 cycles (paper Fig. 7, 12), contours at 0.1/0.5/0.9.
+
+    ``reference``: another map on the same grids (e.g. the exact one) whose contours are drawn dashed.
 
     The colour scale runs from 0 to 1, or to the largest value when a method
     overshoots ``u0`` (never clipped: values above 1 stay visible).
@@ -279,6 +304,7 @@ def wear_map_figure(
         xlabel="frequency f (Hz)", ylabel="log₁₀ N (cycles)", zlabel="w / u₀",
         clim=(0, max(1.0, top)), levels=(0.1, 0.5, 0.9), title=title,
         point=None if point is None else (point[0], np.log10(point[1])),
+        reference=None if reference is None else np.asarray(reference, dtype=float)[:, 1:].T,
     )  # fmt: skip
 
 
@@ -292,9 +318,12 @@ def signals_figure(
     ylabel: str,
     title: str = "",
     extra: Sequence = (),
+    dashed: Sequence[str] = (),
 ) -> hv.Overlay:
     """Signals over one period with shaded intervals ``spans`` (e.g. where the contact slips).
 
+    A signal is its values at ``t``, or a pair ``(t, values)`` on its own
+    instants (e.g. an exact reference); those named in ``dashed`` are drawn dashed.
     The shading comes first, then one curve per signal, then dotted horizontal
     lines at ``hlines`` (e.g. the slip limits ``+-mu F_N``), then the ``extra``
     layers (e.g. a cursor). The vertical axis leaves 6 % of room above and below,
@@ -314,9 +343,16 @@ def signals_figure(
     ]
     t = np.asarray(t, dtype=float)
     for label, y in signals.items():
-        curve = hv.Curve((t, np.asarray(y, dtype=float)), xd, yd, label=label)
+        ty, y = (np.asarray(y[0], dtype=float), y[1]) if isinstance(y, tuple) else (t, y)
+        curve = hv.Curve((ty, np.asarray(y, dtype=float)), xd, yd, label=label)
+        dash = label in dashed
         layers.append(
-            styled(curve, {"framewise": True}, {"line_width": 2, "tools": ["hover"]}, {"linewidth": 1.5})
+            styled(
+                curve,
+                {"framewise": True},
+                {"line_width": 2, "line_dash": "dashed" if dash else "solid", "tools": ["hover"]},
+                {"linewidth": 1.5, "linestyle": "--" if dash else "-"},
+            )
         )
     layers += [marker_line(hv, h, vertical=False) for h in hlines]
     layers += list(extra)

@@ -31,12 +31,15 @@ from app.backend import Backend, Failure, ResultCache  # noqa: E402
 from app.glossary import TERMS  # noqa: E402
 from app.scenes import ANIMATION_FRAMES, TARGETS, sidebar_equivalent  # noqa: E402
 from app.session import Session  # noqa: E402
-from app.state import CUSTOM, EXACT, LADDERS, PRESETS, Controls  # noqa: E402
+from app.state import CUSTOM, EXACT, EXACT_MAP, EXACT_POINT, LADDERS, PRESETS, Controls  # noqa: E402
 from fretwear.figures.record import parse_settings, settings_json  # noqa: E402
 from fretwear.hbm.harmonics import default_samples  # noqa: E402
 from fretwear.studies import CostStudy, Rung  # noqa: E402
 
-SOLVERS = ("linear_frf", "sweep", "regime_map", "wear_map", "wear_history", "solve_periodic", "cost_ladder")
+SOLVERS = (
+    "linear_frf", "sweep", "regime_map", "wear_map", "wear_history", "solve_periodic", "shooting",
+    "cost_ladder",
+)  # fmt: skip
 SMALL = {"n_frequencies": 9, "n_cycles": 12, "harmonics": 3, "fmin": 0.4, "fmax": 1.2}
 
 
@@ -112,22 +115,24 @@ def test_parameter_changes_invalidate_only_dependent_results(session):
 
 
 def test_wear_results_are_shared_by_scenes_and_sessions(session):
-    session.scene = "wearmap"  # the FRF without wear is the regimes scene's; one exact reference history
-    assert calls(session) == {"linear_frf": 2, "sweep": 1, "regime_map": 3, "wear_map": 3, "wear_history": 1}
+    # the FRF without wear is the regimes scene's; the exact reference: one history and the map (3 chunks)
+    session.scene = "wearmap"
+    assert calls(session) == {"linear_frf": 2, "sweep": 1, "regime_map": 3, "wear_map": 6, "wear_history": 1}
     exact = session.current.results[EXACT]
     assert exact.method == "exact" and exact.info["dynamics"] == "shooting"
     assert any("against the exact dynamics" in note for note in session.current.findings)
     wm = session.current.results["wear_map"]
     assert wm.wear.shape == (9, 12, 1) and wm.cycles[0] == 0 and wm.cycles[-1] == 1e5
-    session.scene = "evolution"  # the same wear map, the cached linear FRFs
-    session.scene = "cycle"  # the selected frequency (0.7 Hz) is on the grid: its history comes with the map
+    session.scene = "evolution"  # the same wear maps, the cached linear FRFs
+    session.scene = "cycle"  # the selected frequency (0.7 Hz) is on the grid: its histories are cached
     assert calls(session) == {
         "linear_frf": 2,
         "sweep": 1,
         "regime_map": 3,
-        "wear_map": 3,
+        "wear_map": 6,
         "wear_history": 1,
         "solve_periodic": 1,
+        "shooting": 1,
     }
     sol = session.current.results["point"]
     assert sol.converged and sol.wear[0] > 0
@@ -136,16 +141,16 @@ def test_wear_results_are_shared_by_scenes_and_sessions(session):
         other.scene = key
     assert calls(other) == calls(session)  # a second session computes nothing
     session.controls.param.update(tol=1e-3, degree=6)  # options the exact load path does not use
-    assert calls(session)["wear_map"] == 3
+    assert calls(session)["wear_map"] == 6
     session.controls.kw = 2e-11
     session.scene = "regimes"
     assert calls(session)["sweep"] == 1  # k_w does not touch the FRF without wear
     session.scene = "wearmap"
-    assert calls(session)["wear_map"] == 6
+    assert calls(session)["wear_map"] == 12  # the selected method's map and the exact one
     session.controls.method = "stepping"
-    assert calls(session)["wear_map"] == 9
+    assert calls(session)["wear_map"] == 15  # the exact map is the same
     session.controls.degree = 4  # not a stepping option
-    assert calls(session)["wear_map"] == 9
+    assert calls(session)["wear_map"] == 15
 
 
 def test_selection_snaps_to_the_map_and_redraws_without_solving(session):
@@ -253,7 +258,7 @@ def test_presets_each_show_one_lesson(session):
     c = session.controls
     session.apply_preset("Paper, Fₑₓ = 14 N: the worn band")
     assert c.preset == "Paper, Fₑₓ = 14 N: the worn band" and c.fex == 14.0 and session.scene == "wearmap"
-    assert calls(session)["wear_map"] == 3 and session.frequency == 0.6  # one request for the whole preset
+    assert calls(session)["wear_map"] == 6 and session.frequency == 0.6  # one request (and its exact map)
     c.fex = 13.0
     assert c.preset == CUSTOM
     views, controls = set(), Controls()
@@ -797,3 +802,48 @@ def test_settings_off_the_ladder_are_said(ladder_session):
         "dlft Nh=3 N=64",
         "exact Nh=3",
     ]
+
+
+def test_every_wear_scene_shows_the_exact_answer_and_the_error_against_it(session):
+    """Issue 9: the exact answer next to the selected approximation, with the approximation's error stated."""
+    session.scene = "wearmap"
+    scene = session.current
+    wm, exact = scene.results["wear_map"], scene.results[EXACT_MAP]
+    assert exact.histories[0].info["dynamics"] == "shooting" and exact.wear.shape == wm.wear.shape
+    # the exact contours are drawn dashed over the approximate map
+    reference = scene.figure("wear_map").get(2)
+    style = reference.opts.get("style").kwargs  # bokeh's or matplotlib's, whichever is loaded
+    assert style.get("line_dash", style.get("linestyle")) in ("dashed", "--") and len(reference.data) > 0
+    assert "w_exact_over_u0" in scene.datasets()["wear_map"]
+    # the band's finding: the largest error of the cycles to 50 %, recomputed here from the histories
+    ours = np.array([h.cycles_to(0.5) for h in wm.histories])
+    ref = np.array([h.cycles_to(0.5) for h in exact.histories])
+    err = ours / ref - 1
+    k = int(np.nanargmax(np.abs(err)))
+    band = next(f for f in scene.findings if "over the band" in f)
+    assert f"{abs(err[k]):.1%} {'early' if err[k] < 0 else 'late'} at {wm.frequency[k]:.4g} Hz" in band
+
+    session.scene = "evolution"  # the same maps: nothing new to compute
+    scene = session.current
+    p, q = wm.pseudo_frf(scene._snapshots())[:, :, 0], exact.pseudo_frf(scene._snapshots())[:, :, 0]
+    fig = scene.figure("evolution")
+    exact_curves = [layer for layer in fig if layer.label.endswith(" exact")]
+    assert len(exact_curves) == 4
+    np.testing.assert_array_equal(exact_curves[-1].dimension_values(1), q[-1])
+    err = np.abs(p / q - 1)
+    i, k = np.unravel_index(int(np.nanargmax(err)), err.shape)
+    worst = f"{err[i, k]:.1%} off" if err[i, k] < 1 else f"{p[i, k] / q[i, k]:.3g} times"
+    assert f"up to {worst} the exact dynamics" in scene.findings[0]
+    assert any(name.endswith("_exact") for name in scene.datasets()["pseudo_frfs"])
+
+    session.scene = "cycle"  # the exact orbit, worn as the exact history says at N
+    scene = session.current
+    ref_sol, sol = scene.results[EXACT_POINT], scene.results["point"]
+    h = scene.results[EXACT]
+    assert ref_sol.converged and ref_sol.wear[0] == pytest.approx(h.at([session.cycles])["wear"][0, 0])
+    assert ref_sol.wear[0] != sol.wear[0]  # the approximation wears differently
+    energy = ref_sol.friction_energy[0]
+    assert f"(exact {energy:.4g})" in scene.figure("loop").opts.get().kwargs["title"]
+    assert f"dissipated energy {sol.friction_energy[0] / energy - 1:+.1%}" in scene.findings[0]
+    force = scene.figure("force").get(2)
+    assert force.label == EXACT and len(force) == ref_sol.samples
