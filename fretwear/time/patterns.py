@@ -178,6 +178,8 @@ class Table:
         self.B, self.Minv, self.C, self.K, self.forces = st.B, st.Minv, st.C, st.K, st.forces
         self.extrema_rows = st.extrema_rows
         self.count = 0
+        #: the linear stuck responses per set of loaded contacts (filled by the shooting solver)
+        self.rigid: dict[int, tuple] = {}
         self._slots: dict[int, int] = {}
         masks = [0] + [m for m in st.seen() if m]  # every contact slipping, then those seen before
         self._allocate(max(2, len(masks)))

@@ -252,30 +252,43 @@ def _rigid_states(table: Table, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     Returns their states at ``t = 0``, shape (W, 2 n), and whether each is
     the periodic orbit: every loaded contact's force ``lambda_s + Re(Lambda
     exp(i omega t))`` stays within its slip limit, ``|lambda_s| + |Lambda| <= g``
-    (``B^T lambda = F - Z(omega) U`` is solved exactly for ``lambda``).
+    (``B^T lambda = F - Z(omega) U`` is solved exactly for ``lambda``). What
+    does not depend on ``g`` is kept in ``table.rigid`` per set of loaded contacts.
     """
     active = [j for j in range(table.nf) if g[j] > 0]
+    mask = sum(1 << j for j in active)
+    if mask not in table.rigid:
+        table.rigid[mask] = _rigid_response(table, active)
+    states, static, amplitude = table.rigid[mask]
+    if static is None:  # no stuck motion (ok False) or no loaded contact (ok True)
+        return states, np.full(len(states), amplitude, dtype=np.bool_)
+    ok = np.all(static + amplitude <= g[active], axis=1) & np.all(np.isfinite(amplitude), axis=1)
+    return states, ok
+
+
+def _rigid_response(table: Table, active: list[int]) -> tuple:
+    """``(states, |lambda_s|, |Lambda|)`` of :func:`_rigid_states` for the loaded contacts ``active``."""
     N, Kr, Mr, Cr, f, u_static = table.structure.rigid_basis(sum(1 << j for j in active))
     model, w = table.model, table.omegas
     W = len(w)
     if N.shape[1] == 0:
-        return np.zeros((W, 2 * table.n)), np.zeros(W, dtype=np.bool_)
+        return np.zeros((W, 2 * table.n)), None, False
     Z = Kr - w[:, None, None] ** 2 * Mr + 1j * w[:, None, None] * Cr
     try:
         U = np.linalg.solve(Z, np.broadcast_to(f, (W, len(f)))[..., None])[..., 0]
     except np.linalg.LinAlgError:  # resonance of the stuck structure without damping
         U = np.array([np.linalg.lstsq(Zi, f, rcond=None)[0] for Zi in Z])
     U = U @ N.T
-    ok = np.ones(W, dtype=np.bool_)
-    if active:
-        Ba = table.B[active]
-        solve = np.linalg.solve(Ba @ Ba.T, Ba)  # B_a^T lambda = r  ->  lambda = (B_a B_a^T)^-1 B_a r
-        Zfull = model.K - w[:, None, None] ** 2 * model.M + 1j * w[:, None, None] * model.C
-        r = (model.force_cos - 1j * model.force_sin) - np.einsum("wij,wj->wi", Zfull, U)
-        amplitude = np.abs(r @ solve.T)
-        static = np.abs(solve @ (model.force_static - model.K @ u_static))
-        ok = np.all(static + amplitude <= g[active], axis=1) & np.all(np.isfinite(amplitude), axis=1)
-    return np.hstack([u_static + U.real, (1j * w[:, None] * U).real]), ok
+    states = np.hstack([u_static + U.real, (1j * w[:, None] * U).real])
+    if not active:
+        return states, None, True
+    Ba = table.B[active]
+    solve = np.linalg.solve(Ba @ Ba.T, Ba)  # B_a^T lambda = r  ->  lambda = (B_a B_a^T)^-1 B_a r
+    Zfull = model.K - w[:, None, None] ** 2 * model.M + 1j * w[:, None, None] * model.C
+    r = (model.force_cos - 1j * model.force_sin) - np.einsum("wij,wj->wi", Zfull, U)
+    amplitude = np.abs(r @ solve.T)
+    static = np.abs(solve @ (model.force_static - model.K @ u_static))
+    return states, static, amplitude
 
 
 def _message(kinds, codes, residuals, tol: float) -> str:
