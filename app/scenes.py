@@ -23,6 +23,7 @@ from fretwear.figures.record import caption, csv_header
 from fretwear.figures.sketch import STATE_NAMES, model_sketch, sketch_scale
 from fretwear.hbm.harmonics import default_samples
 from fretwear.studies.accuracy import QUANTITIES, CostStudy, Rung
+from fretwear.wear.polynomial import BASES
 
 from .backend import Failure
 from .glossary import term
@@ -841,8 +842,8 @@ the contact slips longer and the loop flattens."""
 class MethodsScene(Scene):
     key = "methods"
     title = "Methods"
-    figure_names = ("methods", "harmonics")
-    dataset_names = ("methods", "harmonics")
+    figure_names = ("methods", "harmonics", "bases")
+    dataset_names = ("methods", "harmonics", "bases")
     uses_selection = True
     explanation = f"""
 **What you see.** Left: the wear history at the selected frequency by the four
@@ -853,7 +854,9 @@ the whole evolution) and direct time integration with cycle jumps (paper Fig. 11
 dashed: the exact method on the exact (event-driven) dynamics, no harmonic truncation; the findings
 below say how far each method is from it. Right: the exact
 load path with 1, 3, 7, 15 and 21 harmonics, so that only the harmonic truncation differs (paper
-Fig. 10).
+Fig. 10). Below: the polynomial method at the selected degree in its three slow-time bases, the
+paper's monomials and Legendre polynomials and the saturating basis (the cycle count a polynomial of
+z = -ln(1 - w/u₀), so that w stays below u₀), against the same exact reference.
 
 **Try.** The paper's case: F<sub>ex</sub> = 10 N, f = 0.7 Hz, {term("Nh")} = 3, degree 4. Raise the
 degree when the polynomial curve misses the plateau; loosen the {term("tolerance")} to see stepping
@@ -863,7 +866,8 @@ drift."""
         t, f = self.tasks, sel.frequency
         methods = [t.history(s, f, m, name=m) for m in METHODS] + [t.exact_history(s, f)]
         convergence = [t.history(s, f, "exact", nh, name=f"Nh = {nh}") for nh in CONVERGENCE_HARMONICS]
-        return sorted(methods + convergence, key=lambda task: task.weight)
+        bases = [t.history(s, f, "polynomial", name=_basis_name(b), basis=b) for b in BASES]
+        return sorted(methods + convergence + bases, key=lambda task: task.weight)
 
     def record(self) -> dict[str, Any]:
         """The record of the comparison: every method runs, so the method is not one of the settings."""
@@ -875,6 +879,9 @@ drift."""
     def _findings(self) -> list[str]:
         exact, s = _ok(self.results.get(EXACT)), self.settings
         errors = [_error_note(_ok(self.results.get(m)), exact, _approximation(s, m)) for m in METHODS]
+        for b in BASES:
+            label = f"{_basis_name(b)} (Nₕ = {s.harmonics}, degree {s.degree})"
+            errors.append(_error_note(_ok(self.results.get(_basis_name(b))), exact, label))
         return [e for e in errors if e]
 
     def _curves(self, names) -> dict[str, tuple]:
@@ -908,6 +915,19 @@ drift."""
             title=f"Harmonic convergence (exact load path) at {self.selection.frequency:.4g} Hz",
         )
 
+    def _figure_bases(self):
+        names = [_basis_name(b) for b in BASES]
+        where = f"degree {self.settings.degree}, at {self.selection.frequency:.4g} Hz"
+        return figures.line_figure(
+            self._curves((*names, EXACT)),
+            xlabel=CYCLES,
+            ylabel=WEAR,
+            logx=True,
+            dashed=(EXACT,),
+            padding=0.05,
+            title=f"Polynomial method by basis, {where}",
+        )
+
     def _long(self, names, column: str) -> dict[str, np.ndarray]:
         rows = [(n, h) for n in names if (h := _ok(self.results.get(n))) is not None]
         if not rows:
@@ -923,8 +943,14 @@ drift."""
         tables = {
             "methods": self._long((*METHODS, EXACT), "method"),
             "harmonics": self._long([f"Nh = {nh}" for nh in CONVERGENCE_HARMONICS], "harmonics"),
+            "bases": self._long([*(_basis_name(b) for b in BASES), EXACT], "basis"),
         }
         return {k: v for k, v in tables.items() if v}
+
+
+def _basis_name(basis: str) -> str:
+    """Result name and legend label of the polynomial method in ``basis``."""
+    return f"polynomial, {basis} basis"
 
 
 #: error measure of the accuracy scene that takes, for each rung, the largest error it measures

@@ -559,17 +559,21 @@ class Tasks:
         method: str | None = None,
         harmonics: int | None = None,
         name: str = "history",
+        basis: str | None = None,
     ) -> Task:
-        """Wear evolution at ``f_hz`` by ``method`` (default the selected one)."""
+        """Wear evolution at ``f_hz`` by ``method`` (default the selected one); ``basis``: the polynomial
+        method's slow-time basis (default the library's)."""
         method = method or s.method
-        options = s.options(method, harmonics)
+        options = s.options(method, harmonics) | ({"basis": basis} if basis else {})
 
         def run(job: Job):
             return _guard(lambda: self.backend.history(s.model, f_hz, method, s.kw, s.horizon, options))
 
-        label = f"wear history ({method}{'' if harmonics is None else f', Nh = {harmonics}'})"
+        label = f"wear history ({method}{'' if harmonics is None else f', Nh = {harmonics}'}"
+        label += f"{'' if basis is None else f', {basis} basis'})"
         weight = 5.0 if method == "time" else 1.0
-        return Task(name, self.history_key(s, f_hz, method, harmonics), run, label, weight)
+        key = self.history_key(s, f_hz, method, harmonics) + ((("basis", basis),) if basis else ())
+        return Task(name, key, run, label, weight)
 
     def exact_history(self, s: Settings, f_hz: float, name: str = EXACT) -> Task:
         """The reference wear evolution at ``f_hz``: the exact method on the exact (event-driven) dynamics.

@@ -847,3 +847,18 @@ def test_every_wear_scene_shows_the_exact_answer_and_the_error_against_it(sessio
     assert f"dissipated energy {sol.friction_energy[0] / energy - 1:+.1%}" in scene.findings[0]
     force = scene.figure("force").get(2)
     assert force.label == EXACT and len(force) == ref_sol.samples
+
+
+def test_methods_scene_shows_the_three_polynomial_bases_against_the_exact_answer(session):
+    session.scene = "methods"
+    scene = session.current
+    names = [f"polynomial, {b} basis" for b in ("saturating", "legendre", "monomial")]
+    for name, basis in zip(names, ("saturating", "legendre", "monomial"), strict=True):
+        h = scene.results[name]
+        assert h.info["basis"] == basis and h.info["degree"] == session.controls.degree
+    # the library's default basis for one contact is the saturating one: the same history as "polynomial"
+    np.testing.assert_array_equal(scene.results[names[0]].wear, scene.results["polynomial"].wear)
+    fig = scene.figure("bases")
+    assert [layer.label for layer in fig][:4] == [*names, EXACT]
+    assert sum(f.startswith("polynomial, ") for f in scene.findings) == 3  # one error per basis
+    assert set(scene.datasets()["bases"]["basis"]) == {*names, EXACT}
