@@ -30,6 +30,7 @@ from urllib.parse import parse_qsl, urlencode
 import numpy as np
 import param
 
+from fretwear import compile as kernels
 from fretwear.figures.record import SETTINGS_KEYS
 
 from .backend import Backend, Cancelled, ResultCache, shared_backend, shared_cache
@@ -55,6 +56,21 @@ log = logging.getLogger(__name__)
 
 #: before a task at least this heavy (see ``Task.weight``), the results computed so far are shown
 PARTIAL_WEIGHT = 3.0
+#: set once every kernel group of :mod:`fretwear.compile` is compiled or in Numba's cache
+_compiled = threading.Event()
+
+
+def computing(label: str) -> str:
+    """The progress line of a run computing ``label``, saying so while the kernels still compile.
+
+    On a fresh install the first computations wait for Numba to compile the
+    kernels (the server's warm-up compiles them all, a few minutes, once).
+    """
+    if not _compiled.is_set():
+        if kernels.pending():
+            return f"Computing {label} (compiling numerical kernels, first run only: a few minutes, once)"
+        _compiled.set()
+    return f"Computing {label}"
 
 
 class Session(param.Parameterized):
@@ -375,7 +391,7 @@ class Session(param.Parameterized):
         if all(t.key in self.cache for t in tasks):
             self._publish(generation, scene, {t.name: self.cache.get(t.key) for t in tasks}, s, sel, shown)
             return
-        self.param.update(busy=True, progress=0, status=f"Computing {tasks[0].label}")
+        self.param.update(busy=True, progress=0, status=computing(tasks[0].label))
         run = partial(self._run, generation, scene, tasks, s, sel, shown)
         if self.executor is None:
             run()
@@ -435,7 +451,7 @@ class Session(param.Parameterized):
 
         def update():
             if not self._stale(generation):
-                self.param.update(progress=percent, status=f"Computing {label}")
+                self.param.update(progress=percent, status=computing(label))
 
         self.dispatch(update)
 

@@ -862,3 +862,27 @@ def test_methods_scene_shows_the_three_polynomial_bases_against_the_exact_answer
     assert [layer.label for layer in fig][:4] == [*names, EXACT]
     assert sum(f.startswith("polynomial, ") for f in scene.findings) == 3  # one error per basis
     assert set(scene.datasets()["bases"]["basis"]) == {*names, EXACT}
+
+
+def test_the_progress_line_says_when_kernels_compile(monkeypatch):
+    """Issue 10: a first run that talks, in the app's progress area too."""
+    import app.session as session_module
+
+    seen = []
+
+    def linear_frf(model, omegas, state):
+        seen.append(session.status)
+        return fretwear.linear_frf(model, omegas, state)
+
+    monkeypatch.setattr(session_module, "_compiled", threading.Event())
+    monkeypatch.setattr(session_module.kernels, "pending", lambda *names: ["sweep"])
+    session = Session(
+        controls=small_controls(), backend=Backend(linear_frf=linear_frf), cache=ResultCache(), start=False
+    )
+    session.start([])
+    assert seen and all("compiling numerical kernels, first run only" in text for text in seen)
+    monkeypatch.setattr(session_module.kernels, "pending", lambda *names: [])
+    seen.clear()
+    session.controls.fex = 7.0  # compiled now: the line names the computation only
+    assert seen and all(text.startswith("Computing ") and "compiling" not in text for text in seen)
+    assert session_module._compiled.is_set()
