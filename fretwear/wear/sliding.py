@@ -23,13 +23,13 @@ records of a wear history are exact as well.
 
 from __future__ import annotations
 
+import bisect
 import math
 import threading
 from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
-from scipy.interpolate import PchipInterpolator
 
 from ..hbm.problem import Problem
 from ..model import Model
@@ -156,6 +156,8 @@ class SlidingTable:
     def _interpolants(self) -> tuple[np.ndarray, np.ndarray, dict]:
         """Knots (the samples and ``rho_stick``), the cubic coefficients of ``q``, the response cubics."""
         if not self._built or len(self._built[0]) != len(self.rho) + 1:  # the table grew
+            from scipy.interpolate import PchipInterpolator  # 0.5 s to import: not at import fretwear
+
             x, c = q_cubic(self.rho, self.s_hat, self.rho_stick)
             response = {
                 name: PchipInterpolator(x, np.vstack([getattr(self, name), self.stuck[name][None]]), axis=0)
@@ -172,6 +174,8 @@ def q_cubic(rho: np.ndarray, s_hat: np.ndarray, rho_stick: float) -> tuple[np.nd
     ``q = ((c[0, j] h + c[1, j]) h + c[2, j]) h + c[3, j]`` with ``h = r - x[j]``.
     ``q(rho_stick)`` continues the cubic's end slope (at least 2 samples).
     """
+    from scipy.interpolate import PchipInterpolator  # 0.5 s to import: not at import fretwear
+
     q = s_hat / (rho_stick - rho) ** 2
     if len(rho) == 1:
         q_end = q[0]
@@ -343,17 +347,23 @@ class _Sampler:
         self.model = model.scaled(1.0 / f).with_friction(mu=1.0, kn=1.0, u0=rho_max)
         self.omega, self.rho_max = omega, rho_max
         self.solves = 0
+        self.solved: list[float] = []  # ascending load ratios of the converged solves
         self.guesses: dict[float, np.ndarray] = {}
 
     def __call__(self, rho: float):
         """``(s_hat, amplitude, half p2p, relative half p2p)`` at ``rho``, or ``None`` when shooting fails."""
-        near = min(self.guesses, key=lambda r: abs(r - rho), default=None)
-        guess = None if near is None else self.guesses[near]
+        guess = None
+        if self.solved:  # the orbit of the nearest load ratio solved so far
+            k = bisect.bisect(self.solved, rho)
+            near = min(self.solved[max(k - 1, 0) : k + 1], key=lambda r: abs(r - rho))
+            guess = self.guesses[near]
         sol = self._shoot(rho, guess)
         if (sol is None or not sol.converged) and guess is not None:
             sol = self._shoot(rho, None)
         if sol is None or not sol.converged:
             return None
+        if rho not in self.guesses:
+            bisect.insort(self.solved, rho)
         self.guesses[rho] = np.asarray(sol.unknowns)
         return _response(sol)
 
