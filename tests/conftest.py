@@ -8,6 +8,8 @@ Playwright or /usr/bin/chromium is missing (``.ci/run`` installs both).
 """
 
 import importlib.util
+import os
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -38,8 +40,11 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """Hypothesis profiles: a short default run, thousands of draws with --slow."""
+    """Hypothesis profiles: a short default run, thousands of draws with --slow; the sliding tables on
+    disk in a directory of this run (the tests start without them and leave the user's cache alone)."""
     from hypothesis import HealthCheck, settings
+
+    os.environ["FRETWEAR_CACHE_DIR"] = tempfile.mkdtemp(prefix="fretwear-test-cache-")
 
     common = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=False)
     settings.register_profile("quick", max_examples=12, **common)

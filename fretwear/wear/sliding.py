@@ -24,18 +24,29 @@ records of a wear history are exact as well.
 from __future__ import annotations
 
 import bisect
+import hashlib
+import logging
 import math
+import os
+import pickle
+import tempfile
 import threading
+import zipfile
 from dataclasses import dataclass, field
+from functools import partial
+from pathlib import Path
 
 import numpy as np
 from numba import njit
 
+from .._version import __version__
 from ..hbm.problem import Problem
 from ..model import Model
 from ..time import shooting
 
-__all__ = ["SlidingTable", "sliding_table", "cached_solves", "unit_forcing"]
+__all__ = ["SlidingTable", "sliding_table", "cached_solves", "cache_dir", "unit_forcing"]
+
+log = logging.getLogger(__name__)
 
 #: the last sample sits this far below the stick threshold (relative): closer, s_hat ~ 1e-8 loses digits
 _TOP = 1e-4
@@ -156,15 +167,55 @@ class SlidingTable:
     def _interpolants(self) -> tuple[np.ndarray, np.ndarray, dict]:
         """Knots (the samples and ``rho_stick``), the cubic coefficients of ``q``, the response cubics."""
         if not self._built or len(self._built[0]) != len(self.rho) + 1:  # the table grew
-            from scipy.interpolate import PchipInterpolator  # 0.5 s to import: not at import fretwear
-
             x, c = q_cubic(self.rho, self.s_hat, self.rho_stick)
-            response = {
-                name: PchipInterpolator(x, np.vstack([getattr(self, name), self.stuck[name][None]]), axis=0)
-                for name in ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak")
-            }
+            response = {}
+            for name in ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
+                y = np.vstack([getattr(self, name), self.stuck[name][None]])
+                response[name] = partial(_evaluate, x, pchip(x, y))
             self._built = (x, c, response)
         return self._built
+
+
+def pchip(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Coefficients of the monotone piecewise-cubic Hermite interpolant (Fritsch-Carlson) of ``y(x)``.
+
+    ``x`` (K,) ascending, ``y`` (K, ...); returns ``c`` (4, K - 1, ...): on
+    ``[x[j], x[j + 1]]`` the cubic is ``((c[0, j] h + c[1, j]) h + c[2, j]) h + c[3, j]``,
+    ``h = r - x[j]``. Slopes: the weighted harmonic mean of the neighbouring
+    secants inside (zero where they change sign, so that no extremum is made),
+    a shape-preserving three-point formula at the ends.
+    """
+    y = np.asarray(y, dtype=float)
+    h = np.diff(x).reshape((-1,) + (1,) * (y.ndim - 1))
+    m = np.diff(y, axis=0) / h  # secants
+    d = np.zeros_like(y)
+    if len(x) == 2:
+        d[:] = m[0]
+    else:
+        w1, w2 = 2 * h[1:] + h[:-1], h[1:] + 2 * h[:-1]
+        flat = (np.sign(m[1:]) != np.sign(m[:-1])) | (m[1:] == 0) | (m[:-1] == 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d[1:-1] = np.where(flat, 0.0, (w1 + w2) / (w1 / m[:-1] + w2 / m[1:]))
+        d[0], d[-1] = _end_slope(h[0], h[1], m[0], m[1]), _end_slope(h[-1], h[-2], m[-1], m[-2])
+    c2, c3 = d[:-1], y[:-1]
+    c1 = (3 * m - 2 * d[:-1] - d[1:]) / h
+    c0 = (d[:-1] + d[1:] - 2 * m) / h**2
+    return np.stack([c0, c1, c2, c3])
+
+
+def _end_slope(h0, h1, m0, m1) -> np.ndarray:
+    """Three-point slope at an end of a monotone cubic, kept to the end secant's sign and to 3x it."""
+    d = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
+    d = np.where(np.sign(d) != np.sign(m0), 0.0, d)
+    return np.where((np.sign(m0) != np.sign(m1)) & (np.abs(d) > 3 * np.abs(m0)), 3 * m0, d)
+
+
+def _evaluate(x: np.ndarray, c: np.ndarray, r) -> np.ndarray:
+    """The cubic pieces ``(x, c)`` of :func:`pchip` at ``r`` in ``[x[0], x[-1]]``, shape (len(r), ...)."""
+    r = np.atleast_1d(np.asarray(r, dtype=float))
+    j = np.clip(np.searchsorted(x, r, side="right") - 1, 0, len(x) - 2)
+    h = (r - x[j]).reshape((-1,) + (1,) * (c.ndim - 2))
+    return ((c[0, j] * h + c[1, j]) * h + c[2, j]) * h + c[3, j]
 
 
 def q_cubic(rho: np.ndarray, s_hat: np.ndarray, rho_stick: float) -> tuple[np.ndarray, np.ndarray]:
@@ -174,16 +225,15 @@ def q_cubic(rho: np.ndarray, s_hat: np.ndarray, rho_stick: float) -> tuple[np.nd
     ``q = ((c[0, j] h + c[1, j]) h + c[2, j]) h + c[3, j]`` with ``h = r - x[j]``.
     ``q(rho_stick)`` continues the cubic's end slope (at least 2 samples).
     """
-    from scipy.interpolate import PchipInterpolator  # 0.5 s to import: not at import fretwear
-
     q = s_hat / (rho_stick - rho) ** 2
     if len(rho) == 1:
         q_end = q[0]
     else:
-        q_end = q[-1] + PchipInterpolator(rho, q)(rho[-1], 1) * (rho_stick - rho[-1])
+        last = pchip(rho, q)[:, -1]  # the last piece: its slope at rho[-1]
+        h = rho[-1] - rho[-2]
+        q_end = q[-1] + (3 * last[0] * h**2 + 2 * last[1] * h + last[2]) * (rho_stick - rho[-1])
     x = np.append(rho, rho_stick)
-    cubic = PchipInterpolator(x, np.append(q, max(q_end, 0.5 * q[-1])))  # q > 0: s_hat > 0 below rho_stick
-    return x, np.ascontiguousarray(cubic.c)
+    return x, np.ascontiguousarray(pchip(x, np.append(q, max(q_end, 0.5 * q[-1]))))  # q > 0 below rho_stick
 
 
 #: Gauss-Legendre rule of the pieces of the Archard quadrature
@@ -314,9 +364,95 @@ _locks: dict[tuple, threading.Lock] = {}
 
 
 def cached_solves(model: Model, omega: float) -> int:
-    """Shooting solves already in the cached table of ``model`` at ``omega`` (0 without one)."""
-    table = _cache.get(_key(model, omega))
+    """Shooting solves already in the cached table of ``model`` at ``omega`` (0 without one).
+
+    A table on disk counts (it is loaded): a history built on it spent no solve.
+    """
+    key = _key(model, omega)
+    with _lock:
+        lock = _locks.setdefault(key, threading.Lock())
+    with lock:
+        table = _lookup(key)
     return 0 if table is None else table.solves
+
+
+# -- on disk: the tables outlive the process -----------------------------------------------------
+#: version of the file layout below (a new layout ignores the old files)
+_FORMAT = 1
+_ARRAYS = ("rho", "s_hat", "amplitude", "half_peak_to_peak", "relative_half_peak_to_peak")
+
+
+def cache_dir() -> Path | None:
+    """Directory of the tables on disk, or None when disabled.
+
+    ``FRETWEAR_CACHE_DIR`` if set (an empty value disables the disk cache),
+    else ``$XDG_CACHE_HOME/fretwear`` or ``~/.cache/fretwear``; a subdirectory
+    per fretwear version and file layout. Delete it to forget every table.
+    """
+    root = os.environ.get("FRETWEAR_CACHE_DIR")
+    if root is None:
+        root = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "fretwear")
+    elif not root:
+        return None
+    return Path(root) / f"sliding-v{_FORMAT}-{__version__}"
+
+
+def _file(key: tuple) -> Path | None:
+    folder = cache_dir()
+    return (
+        None
+        if folder is None
+        else folder / (hashlib.sha256(pickle.dumps(key, protocol=4)).hexdigest()[:32] + ".npz")
+    )
+
+
+def _lookup(key: tuple) -> SlidingTable | None:
+    """The table of ``key`` from memory, else from disk (then kept in memory); None without one."""
+    table = _cache.get(key)
+    if table is None and (table := _load(key)) is not None:
+        _cache[key] = table
+    return table
+
+
+def _load(key: tuple) -> SlidingTable | None:
+    """The table saved for ``key``; None when there is none or it cannot be read (it is then rebuilt)."""
+    path = _file(key)
+    if path is None or not path.exists():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if float(data["omega"]) != key[-1]:
+                return None
+            stuck = {name: data[f"stuck_{name}"] for name in _ARRAYS[2:]}
+            return SlidingTable(
+                float(data["omega"]), float(data["rho_stick"]), *(data[name] for name in _ARRAYS), stuck,
+                solves=int(data["solves"]), failures=data["failures"].tolist(),
+                verified={tuple(pair) for pair in data["verified"].tolist()}, checked=tuple(data["checked"]),
+            )  # fmt: skip
+    except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile):
+        log.warning("sliding table %s is unreadable: rebuilt", path)
+        return None
+
+
+def _save(key: tuple, table: SlidingTable) -> None:
+    """Write ``table`` for ``key`` (atomically: a reader sees the old file or the new one); a cache
+    directory that cannot be written only costs the next process the build."""
+    path = _file(key)
+    if path is None:
+        return
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path.parent, suffix=".npz", delete=False) as tmp:
+            np.savez(
+                tmp, omega=table.omega, rho_stick=table.rho_stick, solves=table.solves,
+                failures=np.array(table.failures, dtype=float), checked=np.array(table.checked, dtype=float),
+                verified=np.array(sorted(table.verified), dtype=float).reshape(-1, 2),
+                **{name: getattr(table, name) for name in _ARRAYS},
+                **{f"stuck_{name}": table.stuck[name] for name in _ARRAYS[2:]},
+            )  # fmt: skip
+        os.replace(tmp.name, path)
+    except OSError:
+        log.warning("sliding table not saved to %s", path, exc_info=True)
 
 
 def _key(model: Model, omega: float) -> tuple:
@@ -496,7 +632,8 @@ def sliding_table(
     with _lock:
         lock = _locks.setdefault(key, threading.Lock())
     with lock:  # tables of other frequencies are built at the same time in other threads
-        table = _cache.get(key)
+        table = _lookup(key)
+        solves = -1 if table is None else table.solves
         if table is None:
             rho_stick = _stick_threshold(model, omega)
             stuck = _stuck_response(model, omega, rho_stick)
@@ -514,6 +651,8 @@ def sliding_table(
             _adapt(table, sampler, lo, hi, tol, max_solves)
             if _complete(table, lo, hi):
                 table.checked = (min(lo, table.checked[0]), max(hi, table.checked[1]))
+        if table.solves != solves:  # new or grown
+            _save(key, table)
         return table
 
 

@@ -27,6 +27,21 @@ def test_piece_integral_matches_adaptive_quadrature_up_to_the_stick_threshold():
     assert ratio[1] == pytest.approx(ratio[0], rel=1e-3)
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_monotone_cubic_is_scipys_pchip(seed):
+    from scipy.interpolate import PchipInterpolator
+
+    from fretwear.wear.sliding import _evaluate, pchip
+
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.uniform(0.01, 1.0, 12))
+    y = np.column_stack([np.cumsum(rng.normal(size=12)), rng.normal(size=12), np.sign(rng.normal(size=12))])
+    r = np.linspace(x[0], x[-1], 301)
+    np.testing.assert_allclose(_evaluate(x, pchip(x, y), r), PchipInterpolator(x, y, axis=0)(r), atol=1e-12)
+    two = _evaluate(x[:2], pchip(x[:2], y[:2, 0]), r[:5])  # two points: the line
+    np.testing.assert_allclose(two, np.interp(r[:5], x[:2], y[:2, 0]))
+
+
 def test_table_interpolates_the_exact_sliding_distance_and_is_reused():
     model = fw.paper_model(fex=10)
     table = sliding_table(model, OMEGA, 0.5, 0.9, tol=1e-2)
@@ -139,3 +154,30 @@ def test_sliding_distance_vanishes_quadratically_at_the_stick_threshold():
     # q approaches its limit linearly in d (differences shrink 10x with d); s ~ d^p, p != 2, would not
     assert 0.05 < abs(q[2] - q[1]) / abs(q[1] - q[0]) < 0.2 and abs(q[1] - q[0]) < 0.1 * q[1]
     np.testing.assert_allclose(table.q(table.rho_stick - d), q, rtol=1e-3)
+
+
+def test_tables_are_kept_on_disk_for_the_next_process(tmp_path, monkeypatch):
+    from fretwear.wear import sliding
+
+    monkeypatch.setenv("FRETWEAR_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(sliding, "_cache", {})
+    model, omega = fw.paper_model(fex=10), 2 * np.pi * 0.8
+    built = sliding_table(model, omega, 0.5)
+    assert built.solves > 0 and len(list(tmp_path.rglob("*.npz"))) == 1
+    monkeypatch.setattr(sliding, "_cache", {})  # a new process: nothing in memory
+    monkeypatch.setattr(sliding, "shooting", lambda *a, **k: pytest.fail("a table on disk needs no solve"))
+    assert cached_solves(model, omega) == built.solves  # the history built on it spends none
+    loaded = sliding_table(model, omega, 0.5)
+    for name in ("rho", "s_hat", "amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
+        np.testing.assert_array_equal(getattr(loaded, name), getattr(built, name))
+    assert loaded.rho_stick == built.rho_stick and loaded.verified == built.verified
+    rho = np.linspace(0.55, 0.95 * built.rho_stick, 7)
+    np.testing.assert_array_equal(loaded.cycles(1.0, rho), built.cycles(1.0, rho))
+    # an unreadable file is rebuilt, not trusted; an empty FRETWEAR_CACHE_DIR keeps nothing on disk
+    monkeypatch.undo()
+    monkeypatch.setenv("FRETWEAR_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(sliding, "_cache", {})
+    next(tmp_path.rglob("*.npz")).write_bytes(b"not a table")
+    assert sliding_table(model, omega, 0.5).solves > 0
+    monkeypatch.setenv("FRETWEAR_CACHE_DIR", "")
+    assert sliding.cache_dir() is None
