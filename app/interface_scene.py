@@ -335,6 +335,7 @@ class InterfaceScene(param.Parameterized):
             curves,
             xlabel="x (mm)",
             ylabel="worn depth w (µm)",
+            legend_labels=self._legend(),
             title="Interface: wear profile w(x) at several N",
         )
 

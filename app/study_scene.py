@@ -225,12 +225,13 @@ class StudyScene(param.Parameterized):
         return getattr(self, f"_figure_{name}")()
 
     def _marks(self, hv, x, status, y_low, y_high, xd, yd) -> list:
-        """Markers of the points without a value: failed (red crosses, at ``y_low``) and stuck (grey)."""
+        """Markers of the points without a value: failed (red crosses, below ``y_low``) and stuck (grey
+        triangles, above ``y_high``)."""
         failed, stuck = np.isin(status, FAILED), status == "stuck"
         layers = []
         kinds = (
-            (failed, "failed (no value)", y_low, "red", ("x", "X")),
-            (stuck, "stuck (no wear)", y_high, "grey", ("triangle", "^")),
+            (failed, "failed (no value)", y_low / 1.2, "red", ("x", "X")),
+            (stuck, "stuck (no wear)", y_high * 1.2, "grey", ("triangle", "^")),
         )
         for mask, label, y, color, (bokeh, mpl) in kinds:
             pts = hv.Points((np.asarray(x, dtype=float)[mask], np.full(int(mask.sum()), y)), [xd, yd],
@@ -306,7 +307,7 @@ class StudyScene(param.Parameterized):
         where = self._where("sample")
         title = f"Study: wear life, {text}" + (f" ({where})" if where else "")
         return overlay_options(hv.Overlay([hist, *lines]), title, xlabel, "samples", True, False,
-                                             False)  # fmt: skip
+                               False, (0.05, 0.0))  # fmt: skip
 
     def _figure_scatter(self):
         hv = holoviews()
