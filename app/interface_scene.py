@@ -482,7 +482,7 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
     )
     model.link(scene, value="model")
     nodes = pn.widgets.Select(
-        name="pairs (benchmark)", options=[16, 32], value=scene.contact_nodes, width=130
+        label="pairs (benchmark)", options=[16, 32], value=scene.contact_nodes, width=130
     )
     nodes.link(scene, value="contact_nodes")
     boxes = []
@@ -493,7 +493,7 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         ("cycles", "N (cycles)"),
     ):
         kind = pn.widgets.IntInput if name == "harmonics" else pn.widgets.FloatInput
-        box = kind(name=label, value=getattr(scene, name), width=120)
+        box = kind(label=label, value=getattr(scene, name), width=120)
         box.link(scene, value=name)
         boxes.append(box)
     bar = pn.indicators.Progress(

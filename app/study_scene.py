@@ -110,8 +110,10 @@ class StudyScene(param.Parameterized):
         ds = self.ds
         self.dims: tuple[str, ...] = tuple(ds["status"].dims)
         self.grid_dims = tuple(d for d in self.dims if d != "sample")
-        # one sample is picked only to show its w(N); the other figures show all the samples
-        self.slider_dims = tuple(d for d in self.dims if d != "sample" or "wear_fraction" in ds)
+        # a sample is picked for its w(N) and for the slices over grid axes; histogram and scatter show all
+        self.slider_dims = tuple(
+            d for d in self.dims if d != "sample" or "wear_fraction" in ds or self.grid_dims
+        )
         self.inputs = tuple(c for c in ds.coords if c != "sample" and ds[c].dims == ("sample",))
         quantities = [q for q in QUANTITIES if q in ds]
         self.param.axis.objects = list(self.grid_dims)
@@ -430,7 +432,7 @@ def _selectors(scene: StudyScene) -> list:
     for d in scene.slider_dims:
         values = scene.values(d)
         options = {f"{_number(v)}": i for i, v in enumerate(values)}
-        slider = pn.widgets.DiscreteSlider(name=d, options=options, value=scene.point[d], width=260)
+        slider = pn.widgets.DiscreteSlider(label=d, options=options, value=scene.point[d], width=260)
         slider.param.watch(lambda e, d=d: scene.select(d, e.new), "value_throttled")
         widgets.append(slider)
     for name, label in (("quantity", "Quantity"), ("axis", "Along"), ("fraction", "Fraction of u₀"),
@@ -438,7 +440,7 @@ def _selectors(scene: StudyScene) -> list:
         objects = scene.param[name].objects
         if len(objects) > 1:
             select = pn.widgets.Select(
-                name=label, options=list(objects), value=getattr(scene, name), width=200
+                label=label, options=list(objects), value=getattr(scene, name), width=200
             )
             select.param.watch(lambda e, n=name: setattr(scene, n, e.new), "value")
             widgets.append(select)

@@ -190,7 +190,9 @@ def make_study(folder: Path) -> Path:
 
     out = folder / "wear_life.zarr"
     spec = read_spec(ROOT / "fretwear" / "data" / "wear_life.toml", samples=200)
-    with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
+    with Client(
+        processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
+    ) as client:
         run_study(spec, out, client=client, progress=False)
     return out
 

@@ -220,7 +220,9 @@ def study(tmp_path_factory) -> Path:
 
     root = tmp_path_factory.mktemp("study")
     (root / "spec.toml").write_text(STUDY_SPEC)
-    with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
+    with Client(
+        processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
+    ) as client:
         run_study(read_spec(root / "spec.toml"), root / "study.zarr", client=client, progress=False)
     return root / "study.zarr"
 

@@ -58,7 +58,9 @@ def stores(tmp_path_factory):
 
     root = tmp_path_factory.mktemp("studies")
     out = {}
-    with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as client:
+    with Client(
+        processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
+    ) as client:
         for name, text in (("grid", GRID), ("random", RANDOM)):
             spec_path = root / f"{name}.toml"
             spec_path.write_text(text)
@@ -176,3 +178,24 @@ def test_bad_paths_are_one_message_not_a_crash(tmp_path, stores):
     scene = StudyScene(stores["grid"])
     with pytest.raises(ValueError, match=r"index of mu must be in \[0, 1\]"):
         scene.select("mu", 2)
+
+
+def test_the_tab_has_a_slider_per_axis_and_says_how_to_open_a_study(stores, no_solver):
+    import panel as pn
+
+    from app.study_scene import study_tab
+
+    scene = StudyScene(stores["grid"])
+    objects = study_tab(scene, lambda _scene: pn.pane.Markdown("exports"))
+    sliders = [w for w in objects[1] if isinstance(w, pn.widgets.DiscreteSlider)]
+    assert [w.label for w in sliders] == ["mu", "frequency"]
+    assert list(sliders[1].options) == ["0.5", "0.7", "0.9"]
+    scene.select("mu", 1)
+    assert (
+        scene.point == {"mu": 1, "frequency": 0}
+        and "mu = 1" in scene.figure("slice").opts.get().kwargs["title"]
+    )
+    empty = study_tab(StudyScene(), lambda _scene: None)
+    assert "--study" in empty[0].object and "fretwear study" in empty[0].object
+    bad = study_tab(StudyScene(stores["grid"].parent / "missing.zarr"), lambda _scene: None)
+    assert bad[0].object.startswith("Cannot open the study: study ") and "no such file" in bad[0].object
