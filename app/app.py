@@ -7,6 +7,7 @@ keyed like the CLI options), and builds the page around it. The first
 execution starts the warm-up (:mod:`app.warmup`) in the background.
 """
 
+import argparse
 import sys
 import warnings
 from pathlib import Path
@@ -18,8 +19,10 @@ if str(ROOT) not in sys.path:  # Bokeh puts app/ first on the path; the package 
 import panel as pn  # noqa: E402
 
 from app.backend import shared_executor  # noqa: E402
+from app.interface_scene import InterfaceScene, interface_tab  # noqa: E402
 from app.page import build_page, document_dispatch  # noqa: E402
 from app.session import Session  # noqa: E402
+from app.study_scene import StudyScene, study_tab  # noqa: E402
 from app.warmup import warm_in_background  # noqa: E402
 
 pn.extension(notifications=False)
@@ -31,4 +34,17 @@ session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.stat
 problems = session.apply_query(pn.state.session_args or {})
 session.start(problems)
 pn.state.on_session_destroyed(lambda _context, s=session: s.close())
-build_page(session, pn.state.location).servable(title="fretwear dashboard")
+# ``panel serve app/app.py --args --study RESULT.zarr --interface-model FILE.toml``: the Study tab browses
+# that study, the Interface tab offers that model file
+parser = argparse.ArgumentParser(add_help=False)
+parser.add_argument("--study", default=None)
+parser.add_argument("--interface-model", default=None)
+options, _unknown = parser.parse_known_args(sys.argv[1:])
+study = StudyScene(options.study)
+interface = InterfaceScene(options.interface_model, executor=session.executor, dispatch=session.dispatch)
+pn.state.on_session_destroyed(lambda _context, s=interface: s.close())
+extra = (
+    ("Interface", lambda export_card: interface_tab(interface, export_card)),
+    ("Study", lambda export_card: study_tab(study, export_card)),
+)
+build_page(session, pn.state.location, extra).servable(title="fretwear dashboard")

@@ -647,11 +647,13 @@ def _address(session: Session, location) -> None:
         obj.param.watch(write, [n for n in names if n not in ("name", "typed", "preset")])
 
 
-def build_page(session: Session, location=None) -> pn.template.BootstrapTemplate:
+def build_page(session: Session, location=None, extra: tuple = ()) -> pn.template.BootstrapTemplate:
     """The page of ``session``: sidebar, status line and one tab per scene and the glossary.
 
     ``location`` (``pn.state.location`` when served) receives the view as the
-    address's query.
+    address's query. ``extra``: tabs of their own state, placed before the glossary, as
+    ``(title, build)`` pairs; ``build(export_card)`` makes the tab's content when first shown
+    (``export_card(scene)``: the export card of an object with the scenes' export methods).
 
     """
     figures.load_backend("bokeh")
@@ -660,6 +662,7 @@ def build_page(session: Session, location=None) -> pn.template.BootstrapTemplate
     glossary = pn.pane.Markdown(glossary_markdown(), sizing_mode="stretch_width", name="Glossary")
     tabs = pn.Tabs(
         *(pn.Column(name=session.scenes[k].title, sizing_mode="stretch_width") for k in keys),
+        *(pn.Column(name=title, sizing_mode="stretch_width") for title, _build in extra),
         glossary,
         dynamic=True,
         active=keys.index(session.scene),
@@ -670,6 +673,8 @@ def build_page(session: Session, location=None) -> pn.template.BootstrapTemplate
         """Build the tab ``index`` when first shown."""
         if index < len(keys) and not tabs[index].objects:
             tabs[index].objects = _scene_tab(session.scenes[keys[index]], session, export)
+        elif len(keys) <= index < len(keys) + len(extra) and not tabs[index].objects:
+            tabs[index].objects = extra[index - len(keys)][1](partial(_export_card, settings=export))
 
     def shown(event):
         fill(event.new)

@@ -10,7 +10,14 @@ browser download):
   and to both plots of the scene;
 * F_ex slider: the slider's handle is dragged and released (a new value each
   time: a new FRF is computed); the time from the release to the redrawn FRF
-  (its title shows the new value).
+  (its title shows the new value);
+* Study tab (the server opens a study, ``--args --study``: the shipped example
+  ``fretwear/data/wear_life.toml`` at 200 samples, run first, or ``--study PATH``):
+  the time from the tab's click to its histogram drawn, in new pages (nothing is
+  recomputed: the study is read once per server);
+* Interface tab: the time from the tab's click to the FRF before/after wear
+  drawn, in the first page (a run: reduction, wear history, FRFs of the
+  16-pair benchmark at Nh = 5) and in later pages (from the server's cache).
 
 Each figure is printed next to its target with the ratio (median / target),
 with the machine's load average: on a loaded machine every figure grows.
@@ -42,6 +49,8 @@ CHROMIUM = "/usr/bin/chromium"
 ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
 #: targets (s)
 FIRST_PAGE, SLIDER = 3.0, 0.3
+#: Study tab drawn (a stored study: "instantly"), Interface tab computed (first run) and from the cache
+STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
 #: scene -> (address query, a plot title the computed scene shows) of the README's screenshots
 SCREENSHOTS = {
     "regimes": ("", "Stick/slip regimes"),
@@ -89,7 +98,7 @@ def shows(prefixes: list[str]) -> str:
     return f"() => {{ const t = ({TITLES_JS})(); return {every}; }}"
 
 
-def serve(log: Path) -> tuple[subprocess.Popen, str]:
+def serve(log: Path, app_args: tuple[str, ...] = ()) -> tuple[subprocess.Popen, str]:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
@@ -111,6 +120,7 @@ def serve(log: Path) -> tuple[subprocess.Popen, str]:
         f"127.0.0.1:{port}",
         "--setup",
         "app/warmup.py",
+        *(["--args", *app_args] if app_args else []),
     ]
     with open(log, "w") as out:
         proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=out, stderr=subprocess.STDOUT)
@@ -171,6 +181,38 @@ def slider_moves(browser, url: str, moves: int) -> list[float]:
     return seconds
 
 
+def make_study(folder: Path) -> Path:
+    """The shipped wear-life example at 200 samples, run in this process (a few seconds to a minute)."""
+    from distributed import Client
+
+    from fretwear.studies.spec import read_spec
+    from fretwear.studies.study import run_study
+
+    out = folder / "wear_life.zarr"
+    spec = read_spec(ROOT / "fretwear" / "data" / "wear_life.toml", samples=200)
+    with Client(
+        processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
+    ) as client:
+        run_study(spec, out, client=client, progress=False)
+    return out
+
+
+def tab_times(browser, url: str, tab: str, title: str, repeats: int) -> list[float]:
+    """Seconds from a click on ``tab`` to a plot titled ``title...`` drawn, in ``repeats`` new pages."""
+    seconds = []
+    for _ in range(repeats):
+        context = browser.new_context(viewport={"width": 1500, "height": 1200})
+        page = context.new_page()
+        page.goto(url)
+        page.wait_for_function(shows(["FRF of mass 1"]), timeout=120_000)
+        start = time.perf_counter()
+        page.locator(".bk-tab", has_text=tab).click()
+        page.wait_for_function(shows([title]), polling=20, timeout=300_000)
+        seconds.append(time.perf_counter() - start)
+        context.close()
+    return seconds
+
+
 def screenshots(browser, url: str, folder: Path) -> list[Path]:
     """Each scene of :data:`SCREENSHOTS` opened from its address, computed, saved as a PNG."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -204,6 +246,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="3 first pages and 5 slider moves")
     parser.add_argument("--screenshots", type=Path, metavar="DIR", help="save a screenshot of every scene")
+    parser.add_argument("--study", type=Path, metavar="PATH", help="the study the Study tab opens")
     args = parser.parse_args()
     if not Path(CHROMIUM).exists():
         sys.exit(f"{CHROMIUM} is missing (apt-get install chromium)")
@@ -211,14 +254,17 @@ def main() -> None:
 
     pages, moves = (3, 5) if args.quick else (5, 10)
     with tempfile.TemporaryDirectory() as tmp:
+        study = args.study or make_study(Path(tmp))
         start = time.perf_counter()
-        proc, url = serve(Path(tmp) / "panel.log")
+        proc, url = serve(Path(tmp) / "panel.log", ("--study", str(study)))
         warm = time.perf_counter() - start
         try:
             with sync_playwright() as p:
                 browser = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=ARGS)
                 first, whole = first_pages(browser, url, pages)
                 slider = slider_moves(browser, url, moves)
+                study_tab = tab_times(browser, url, "Study", "Study: wear life", pages)
+                interface = tab_times(browser, url, "Interface", "Interface: FRF of pad_x", pages)
                 shots = screenshots(browser, url, args.screenshots) if args.screenshots else []
                 browser.close()
         finally:
@@ -232,6 +278,9 @@ def main() -> None:
     print(line("first page: first plot drawn", first, FIRST_PAGE))
     print(line("first page: the whole first scene", whole, FIRST_PAGE))
     print(line("F_ex slider release -> redrawn FRF", slider, SLIDER))
+    print(line(f"Study tab -> histogram ({study.name})", study_tab, STUDY_TAB))
+    print(line("Interface tab -> FRF, first run", interface[:1], INTERFACE_RUN))
+    print(line("Interface tab -> FRF, from the cache", interface[1:], INTERFACE_CACHED))
     for path in shots:
         print(f"wrote {path}")
 

@@ -85,6 +85,7 @@ __all__ = [
     "Layout",
     "add_arguments",
     "compute_block",
+    "open_study",
     "layout",
     "main",
     "run",
@@ -777,6 +778,40 @@ def _compute(spec, lay, group, pending, result, client, scheduler, workers, retr
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+# -- reading a result -----------------------------------------------------------------
+
+
+def open_study(path: str | Path):
+    """The study stored at ``path`` (a Zarr store written by ``fretwear study``), loaded into memory.
+
+    Equivalent to ``xarray.open_zarr(path).load()`` with checks: the store
+    exists, is readable, and was written by ``fretwear study`` (its
+    ``created_by`` attribute and its ``status`` variable). Points not computed
+    yet (status 0) are kept, NaN like failed ones.
+
+    Raises
+    ------
+    ValueError
+        One line naming ``path`` and what is wrong with it.
+    """
+    import xarray as xr
+
+    path = Path(path)
+    if not path.exists():
+        raise ValueError(f"study {str(path)!r}: no such file or folder")
+    try:
+        ds = xr.open_zarr(path)
+    except Exception as exc:  # noqa: BLE001 - anything that is not a readable Zarr store
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise ValueError(f"study {str(path)!r}: not a readable Zarr store ({first})") from None
+    if ds.attrs.get("created_by") != "fretwear study" or "status" not in ds:
+        raise ValueError(
+            f"study {str(path)!r}: a Zarr store but not a fretwear study (no 'created_by = fretwear study' "
+            "attribute or no 'status' variable)"
+        )
+    return ds.load()
 
 
 # -- wear life: summary and figure ---------------------------------------------------

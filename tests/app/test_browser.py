@@ -51,6 +51,23 @@ BENIGN = ("WebSocketClosedError", "StreamClosedError", "assert self._session is 
 #: small grids for the pages that compute wear maps
 SMALL = "nf=11&ncycles=12"  # 0.3 to 1.3 Hz by 0.1: the default f = 0.7 Hz is on the grid
 
+#: the study the server opens (``--args --study``): 16 draws, the normal mu goes negative for some
+STUDY_SPEC = """
+[study]
+title = "browser study"
+quantities = ["wear_life"]
+seed = 3
+samples = 16
+[model]
+name = "paper"
+[parameters]
+frequency = 0.7
+mu = { distribution = "normal", mean = 0.5, std = 0.5 }
+fex = { distribution = "normal", mean = 10.0, std = 1.0 }
+kw = 1e-11
+cycles = 1e6
+harmonics = 5
+"""
 #: the Bokeh plots on the page: title, page position of the canvas, and a data -> page coordinate map
 PLOTS_JS = """
 ([prefix, x, y]) => {
@@ -134,10 +151,13 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def start_server(log_path: Path, library: str | None = None) -> tuple[subprocess.Popen, str]:
+def start_server(
+    log_path: Path, library: str | None = None, args: tuple = ()
+) -> tuple[subprocess.Popen, str]:
     """``panel serve app/app.py`` on 127.0.0.1 and a free port, warmed up, logging to ``log_path``.
 
-    ``library``: a module of replacements of library functions (``app.backend.LIBRARY_VARIABLE``).
+    ``library``: a module of replacements of library functions (``app.backend.LIBRARY_VARIABLE``);
+    ``args``: the app's own arguments (``--args ...``, e.g. ``--study RESULT.zarr``).
     Returns the server process and the app's address once it answers.
     """
     if not Path(CHROMIUM).exists():
@@ -161,6 +181,7 @@ def start_server(log_path: Path, library: str | None = None) -> tuple[subprocess
         f"127.0.0.1:{port}",
         "--setup",
         "app/warmup.py",
+        *(["--args", *args] if args else []),
     ]
     with open(log_path, "w") as log:
         proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
@@ -190,9 +211,26 @@ def stop_server(proc: subprocess.Popen, log_path: Path) -> None:
 
 
 @pytest.fixture(scope="module")
-def server(tmp_path_factory):
+def study(tmp_path_factory) -> Path:
+    """A small study store for the Study tab: random mu (some draws negative: invalid points) and F_ex."""
+    from distributed import Client
+
+    from fretwear.studies.spec import read_spec
+    from fretwear.studies.study import run_study
+
+    root = tmp_path_factory.mktemp("study")
+    (root / "spec.toml").write_text(STUDY_SPEC)
+    with Client(
+        processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
+    ) as client:
+        run_study(read_spec(root / "spec.toml"), root / "study.zarr", client=client, progress=False)
+    return root / "study.zarr"
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory, study):
     log_path = tmp_path_factory.mktemp("server") / "panel.log"
-    proc, url = start_server(log_path, library="fake_library")
+    proc, url = start_server(log_path, library="fake_library", args=("--study", str(study)))
     yield url
     stop_server(proc, log_path)
 
@@ -631,3 +669,46 @@ def test_settings_save_and_load(open_page, tmp_path):
     bad.write_text('{"fex": "strong", "colour": 1}')
     page.page.locator("input[type=file]").set_input_files(str(bad))
     page.alert("settings file 'bad.json': unknown keys ['colour']").wait_for()
+
+
+# -- the Study and Interface tabs (issue 13, point 4; issue 11, point 5) ---------------------------
+
+
+def test_the_study_tab_shows_the_stored_study_and_its_failed_points(open_page, study):
+    """Feature: ``--args --study RESULT.zarr`` opens a study; the histogram's quantiles and the failed
+    (invalid) draws are those of the store."""
+    from fretwear.studies.study import STATUS, open_study, wear_life_summary
+
+    ds = open_study(study)
+    summary = wear_life_summary(ds, 0.5)
+    invalid = [
+        float(m) for m, s in zip(ds.mu.values, ds.status.values, strict=True) if STATUS[s] == "invalid"
+    ]
+    assert invalid  # the spec draws some negative mu
+    page = open_page()
+    page.tab("Study")
+    page.wait_title("Study: wear life")
+    assert f"median {summary['median']:.4g}" in page.plot("Study: wear life")["title"]
+    assert page.plot("Study: wear life")["vlines"][0] == pytest.approx(summary["median"])
+    page.page.locator("select").filter(has_text="fex").first.select_option("mu")
+    page.wait_title("against mu")
+    failed = page.curve("Study: cycles to", "failed (no value)")
+    assert sorted(failed["x"]) == pytest.approx(sorted(invalid))
+    assert f"{len(invalid)} invalid" in page.text()
+
+
+def test_the_interface_tab_computes_when_shown(open_page):
+    """Feature: the Interface tab computes the benchmark's wear when first shown: profiles at several N with
+    the Hertz pressure, the stick/slip map, the FRF before and after wear."""
+    page = open_page()
+    assert not any(t.startswith("Interface:") for t in page.titles())
+    page.tab("Interface")
+    page.wait_title("Interface: FRF of pad_x")
+    labels = [item["label"] for item in page.plot("Interface: pressure p(x)")["legends"]]
+    assert labels[0] == "N = 0" and labels[-1] == "Hertz (N = 0)" and len(labels) == 5
+    hertz = page.curve("Interface: pressure p(x)", "Hertz (N = 0)")
+    first = page.curve("Interface: pressure p(x)", "N = 0")
+    assert max(first["y"]) == pytest.approx(max(hertz["y"]), rel=0.1)  # N = 0: the Hertz pressure
+    frf = page.plot("Interface: FRF of pad_x")["legends"]
+    assert [f["label"] for f in frf] == ["before wear", "after wear"] and frf[0]["n"] == frf[1]["n"] > 0
+    assert "Interface: stick (0) / slip (1) / open (2) at N = 3e+04" in page.titles()

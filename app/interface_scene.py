@@ -1,0 +1,544 @@
+"""The Interface scene: wear of a contact interface with many node pairs (:mod:`fretwear.interface`).
+
+Models: the cylinder-on-flat fretting benchmark in partial slip (force
+control, ``Q0 / (mu P) = 0.5``) or in gross slip (displacement control), or a
+model file given to the server (``panel serve app/app.py --args
+--interface-model FILE.toml``). One run computes, in the session's executor
+and with progress by stage: the Craig-Bampton reduction, the nodal wear
+history (:func:`fretwear.interface.wear_interface`) and the FRF of the chosen
+DOF before and after wear (:func:`fretwear.interface.frf`). The figures show
+``w(x)`` and ``p(x)`` at several ``N`` (with the Hertz pressure for the
+benchmark), the stick/slip state over ``(x, phase of the cycle)`` at the last
+record, and the FRFs. Nothing computes until the tab is first shown; results
+are kept in the server's shared cache.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable
+from concurrent.futures import Executor
+from dataclasses import asdict, dataclass
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import panel as pn
+import param
+
+from fretwear import figures
+from fretwear.figures.plots import ensure_backend, holoviews, overlay_options, styled
+from fretwear.figures.record import version
+from fretwear.model import OPEN, SLIP, STICK
+
+from .backend import Cancelled, ResultCache, shared_cache
+
+__all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "compute_interface", "MODELS"]
+
+log = logging.getLogger(__name__)
+
+PARTIAL, GROSS, FILE = "benchmark, partial slip", "benchmark, gross slip", "model file"
+#: benchmark settings of each model choice (``fretwear.interface.cylinder_on_flat`` parameters)
+MODELS = {
+    PARTIAL: {"q_ratio": 0.5},
+    GROSS: {"window": 3.0, "arm_stiffness": 2e10, "drive_displacement": 2e-5},
+}
+#: records of the history drawn as profiles (the first, the last, and log-spaced ones between)
+PROFILES = 4
+#: fraction of a run's progress spent in each stage
+STAGES = {"reduce": 0.1, "wear": 0.6, "frf": 0.3}
+
+
+@dataclass(frozen=True)
+class InterfaceSettings:
+    """What one run of the Interface scene computes (SI units, frequencies in Hz)."""
+
+    model: str = GROSS
+    path: str | None = None
+    contact_nodes: int = 16
+    frequency: float = 50.0
+    harmonics: int = 5
+    kw: float = 1e-14
+    cycles: float = 3e4
+    dof: str = "pad_x"
+    fmin: float = 20.0
+    fmax: float = 200.0
+    n_frequencies: int = 10
+
+    def problems(self) -> list[str]:
+        """Invalid values, one line each naming the setting and its valid range."""
+        out = []
+        checks = (
+            ("frequency", 0.0, 1e5, "Hz"),
+            ("kw", 0.0, 1e-6, "1/Pa"),
+            ("cycles", 0.0, 1e9, "cycles"),
+            ("fmin", 0.0, 1e5, "Hz"),
+            ("fmax", 0.0, 1e5, "Hz"),
+        )
+        for name, low, high, unit in checks:
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and np.isfinite(v) and low < v <= high):
+                out.append(f"{name} must be a number > {low:g} and <= {high:g} {unit}, got {v!r}")
+                if name == "frequency":
+                    break  # the FRF band follows the frequency: one message
+        if not out and self.fmin >= self.fmax:
+            out.append(f"fmin must be below fmax, got {self.fmin:g} >= {self.fmax:g} Hz")
+        if not 1 <= self.harmonics <= 15:
+            out.append(f"harmonics must be an integer in [1, 15], got {self.harmonics!r}")
+        if not 3 <= self.n_frequencies <= 50:
+            out.append(f"n_frequencies must be an integer in [3, 50], got {self.n_frequencies!r}")
+        if self.model == FILE and not self.path:
+            out.append(
+                "model file: none was given (panel serve app/app.py --args --interface-model FILE.toml)"
+            )
+        return out
+
+
+def _model(s: InterfaceSettings):
+    from fretwear.interface import cylinder_on_flat, read_interface_model
+
+    if s.model == FILE:
+        return read_interface_model(s.path)
+    return cylinder_on_flat(contact_nodes=s.contact_nodes, **MODELS[s.model])
+
+
+def compute_interface(
+    s: InterfaceSettings, progress: Callable[[float, str], None], cancelled: Callable[[], bool]
+) -> dict[str, Any]:
+    """Reduce the model, run the nodal wear history and the FRFs before/after wear: the scene's results.
+
+    ``progress(fraction, stage)`` is called between stages; ``cancelled()`` is
+    checked between stages (raises :class:`~app.backend.Cancelled`).
+    """
+    from fretwear.interface import ContactCondensation, InterfaceProblem, craig_bampton, frf, wear_interface
+
+    def stage(done: float, label: str) -> None:
+        if cancelled():
+            raise Cancelled
+        progress(done, label)
+
+    stage(0.0, "the reduced model (Craig-Bampton)")
+    model = _model(s)
+    dof = model.dof(s.dof if s.dof in model.names else 0)
+    cond = ContactCondensation(craig_bampton(model, s.harmonics * max(s.frequency, s.fmax)))
+    problem = InterfaceProblem(cond, 2 * np.pi * s.frequency, harmonics=s.harmonics)
+    stage(STAGES["reduce"], f"the wear history to N = {s.cycles:g}")
+    h = wear_interface(problem, s.kw, s.cycles, rtol=3e-2)
+    stage(STAGES["reduce"] + STAGES["wear"], "the FRFs before and after wear")
+    freqs = np.linspace(s.fmin, s.fmax, s.n_frequencies)
+
+    def make(omega):
+        return InterfaceProblem(cond, omega, harmonics=s.harmonics)
+
+    names = {v: k for k, v in model.names.items()}
+    before, ok_before = frf(make, freqs, dof)
+    after, ok_after = frf(make, freqs, dof, wear=h.wear[-1])
+    progress(1.0, "done")
+    return {
+        "position": h.position,
+        "cycles": h.cycles,
+        "wear": h.wear,
+        "pressure": h.pressure,
+        "state": h.state,
+        "stick_fraction": h.stick_fraction,
+        "converged": h.converged,
+        "message": h.message,
+        "solves": h.solves,
+        "normal_force_sum": h.normal_force_sum,
+        "info": dict(model.info),
+        "dof": dof,
+        "dof_name": names.get(dof, str(dof)),
+        "frf_hz": freqs,
+        "frf_before": before,
+        "frf_after": after,
+        "frf_ok": ok_before & ok_after,
+    }
+
+
+class InterfaceScene(param.Parameterized):
+    """The Interface tab's state: its settings, the run in progress and the published results.
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        An interface model file (``--interface-model``): offered as the third model.
+    executor : Executor, optional
+        Where runs go; ``None`` computes in the calling thread (tests).
+    dispatch : callable, optional
+        ``dispatch(callback)`` runs ``callback`` where the page may be updated.
+    cache : ResultCache, optional
+        Result cache (default: the server's shared cache).
+    """
+
+    key = "interface"
+    title = "Interface"
+    figure_names = ("wear_profile", "pressure_profile", "stick_slip", "frf")
+    dataset_names = ("profiles", "frf")
+
+    model = param.Selector(default=GROSS, objects=[GROSS, PARTIAL], doc="Model")
+    contact_nodes = param.Selector(default=16, objects=[16, 32], doc="Benchmark pairs across the contact")
+    frequency = param.Number(50.0, doc="Excitation frequency (Hz)")
+    harmonics = param.Integer(5, doc="Harmonics Nh")
+    kw = param.Number(1e-14, doc="Archard coefficient (1/Pa)")
+    cycles = param.Number(3e4, doc="Wear horizon (cycles)")
+    busy = param.Boolean(False)
+    progress = param.Integer(0, bounds=(0, 100))
+    status = param.String("")
+    error = param.String("")
+    notes = param.List([])
+    version = param.Integer(0)
+
+    def __init__(
+        self,
+        path: str | Path | None = None,
+        executor: Executor | None = None,
+        dispatch: Callable[[Callable[[], None]], None] | None = None,
+        cache: ResultCache | None = None,
+        **params: Any,
+    ) -> None:
+        super().__init__(**params)
+        self.path = None if path is None else str(path)
+        if self.path is not None:
+            self.param.model.objects = [GROSS, PARTIAL, FILE]
+        self.executor, self.dispatch = executor, dispatch or (lambda callback: callback())
+        self.cache = cache if cache is not None else shared_cache()
+        self.results: dict[str, Any] = {}
+        self.active = False
+        self._generation = 0
+        self._lock = threading.Lock()
+        self.param.watch(self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles"])
+
+    def settings(self) -> InterfaceSettings:
+        """The settings of the controls (a model file's DOF is its first named one, or DOF 0)."""
+        return InterfaceSettings(
+            model=self.model,
+            path=self.path,
+            contact_nodes=int(self.contact_nodes),
+            frequency=float(self.frequency),
+            harmonics=int(self.harmonics),
+            kw=float(self.kw),
+            cycles=float(self.cycles),
+            fmin=0.4 * float(self.frequency),
+            fmax=4.0 * float(self.frequency),
+        )
+
+    def activate(self) -> None:
+        """The tab is shown: compute (only visible plots compute)."""
+        if not self.active:
+            self.active = True
+            self.refresh()
+
+    def refresh(self, *_events: Any) -> None:
+        """Show the results of the current settings: from the cache, or start a run."""
+        if not self.active:
+            return
+        with self._lock:
+            self._generation += 1
+            generation = self._generation
+        s = self.settings()
+        problems = s.problems()
+        if problems:
+            self.param.update(error="Invalid input: " + "; ".join(problems), busy=False, status="")
+            return
+        key = ("interface", *asdict(s).values())
+        self.error = ""
+        if key in self.cache:
+            self._publish(generation, self.cache.get(key))
+            return
+        self.param.update(busy=True, progress=0, status="Computing the reduced model")
+        run = partial(self._run, generation, s, key)
+        if self.executor is None:
+            run()
+        else:
+            self.executor.submit(run)
+
+    def close(self) -> None:
+        """Stop the pending run (the browser session ended)."""
+        with self._lock:
+            self._generation += 1
+
+    def _stale(self, generation: int) -> bool:
+        return generation != self._generation
+
+    def _report(self, generation: int, fraction: float, label: str) -> None:
+        def update():
+            if not self._stale(generation):
+                self.param.update(progress=int(100 * fraction), status=f"Computing {label}")
+
+        self.dispatch(update)
+
+    def _run(self, generation: int, s: InterfaceSettings, key: tuple) -> None:
+        try:
+            results = self.cache.get_or_compute(
+                key,
+                partial(
+                    compute_interface, s, partial(self._report, generation), partial(self._stale, generation)
+                ),
+            )
+        except Cancelled:
+            return
+        except Exception as exc:  # noqa: BLE001 - a bad model file or a bug: one line in the page
+            log.warning("interface run failed: %s", exc, exc_info=not isinstance(exc, (ValueError, OSError)))
+            message = " ".join(str(exc).split())
+
+            def fail():
+                if not self._stale(generation):
+                    self.param.update(error=f"The interface run failed: {message}", busy=False, status="")
+
+            self.dispatch(fail)
+            return
+        self.dispatch(partial(self._publish, generation, results))
+
+    def _publish(self, generation: int, results: dict[str, Any]) -> None:
+        if self._stale(generation):
+            return
+        self.results = results
+        notes = []
+        if not results["converged"]:
+            notes.append(f"The wear history stopped early: {results['message']}")
+        if not results["frf_ok"].all():
+            bad = results["frf_hz"][~results["frf_ok"]]
+            notes.append(
+                "FRF points that did not converge (shown as computed): "
+                f"{', '.join(f'{f:.4g}' for f in bad)} Hz"
+            )
+        self.notes = notes
+        self.param.update(busy=False, progress=100, status="", version=self.version + 1)
+
+    # -- figures -----------------------------------------------------------------------------
+    def records(self) -> np.ndarray:
+        """Indices of the history records drawn as profiles: first, last, log-spaced between."""
+        n = len(self.results.get("cycles", ()))
+        if n == 0:
+            return np.zeros(0, dtype=int)
+        return np.unique(np.round(np.linspace(0, n - 1, min(PROFILES, n))).astype(int))
+
+    def _profiles(self, name: str) -> dict[str, tuple]:
+        """Profiles of ``name`` keyed ``record 1..PROFILES`` (a DynamicMap keeps its layers' labels)."""
+        r, empty = self.results, (np.zeros(0), np.zeros(0))
+        records = self.records()
+        return {
+            f"record {k + 1}": (r["position"] * 1e3, r[name][records[k]]) if k < len(records) else empty
+            for k in range(PROFILES)
+        }
+
+    def _legend(self) -> dict[str, str]:
+        """Legend text of the profiles: their cycle counts."""
+        cycles = self.results.get("cycles", ())
+        return {f"record {k + 1}": f"N = {cycles[i]:.3g}" for k, i in enumerate(self.records())}
+
+    def _figure_wear_profile(self):
+        curves = {k: (x, y * 1e6) for k, (x, y) in self._profiles("wear").items()}
+        return figures.line_figure(
+            curves,
+            xlabel="x (mm)",
+            ylabel="worn depth w (µm)",
+            legend_labels=self._legend(),
+            title="Interface: wear profile w(x) at several N",
+        )
+
+    def hertz(self) -> tuple[np.ndarray, np.ndarray]:
+        """Hertz pressure ``p0 sqrt(1 - (x/a)^2)`` of the benchmark at N = 0 (x in mm, Pa), or empty."""
+        info = self.results.get("info", {})
+        if "hertz_half_width" not in info:
+            return np.zeros(0), np.zeros(0)
+        a, p0 = info["hertz_half_width"], info["hertz_peak_pressure"]
+        x = np.linspace(-a, a, 201)
+        return x * 1e3, p0 * np.sqrt(np.clip(1 - (x / a) ** 2, 0, None))
+
+    def _figure_pressure_profile(self):
+        curves = self._profiles("pressure")
+        curves["Hertz (N = 0)"] = self.hertz()
+        curves = {k: (x, y / 1e6) for k, (x, y) in curves.items()}
+        return figures.line_figure(
+            curves,
+            xlabel="x (mm)",
+            ylabel="pressure p, cycle mean (MPa)",
+            dashed=["Hertz (N = 0)"],
+            legend_labels=self._legend(),
+            title="Interface: pressure p(x) at several N",
+        )
+
+    def _figure_stick_slip(self):
+        hv = holoviews()
+        ensure_backend()
+        r = self.results
+        if r:
+            state = np.asarray(r["state"][-1], dtype=float)
+            x = r["position"] * 1e3
+            phase = np.arange(state.shape[1]) / state.shape[1] * 360.0
+            title = f"Interface: stick (0) / slip (1) / open (2) at N = {r['cycles'][-1]:.3g}"
+        else:
+            state, x, phase, title = (
+                np.zeros((2, 2)),
+                np.arange(2.0),
+                np.arange(2.0),
+                "Interface: stick/slip map",
+            )
+        codes = np.select([state == STICK, state == SLIP, state == OPEN], [0.0, 1.0, 2.0], np.nan)
+        mesh = hv.QuadMesh(
+            (phase, x, codes),
+            [hv.Dimension("phase", label="phase of the cycle (°)"), hv.Dimension("x", label="x (mm)")],
+            [hv.Dimension("state")],
+        )
+        mesh = styled(
+            mesh,
+            {
+                "cmap": ["#4c72b0", "#dd8452", "#dddddd"],
+                "clim": (-0.5, 2.5),
+                "colorbar": True,
+                "framewise": True,
+            },
+            {"tools": ["hover"]},
+            {},
+        )
+        return overlay_options(
+            hv.Overlay([mesh]), title, "phase of the cycle (°)", "x (mm)", False, False, False
+        )
+
+    def _figure_frf(self):
+        r = self.results
+        empty = (np.zeros(0), np.zeros(0))
+        curves = {
+            "before wear": (r["frf_hz"], r["frf_before"]) if r else empty,
+            "after wear": (r["frf_hz"], r["frf_after"]) if r else empty,
+        }
+        name = r.get("dof_name", "") if r else ""
+        return figures.line_figure(
+            curves,
+            xlabel="frequency f (Hz)",
+            ylabel=f"{name} amplitude, 1st harmonic (m)",
+            logy=True,
+            vline=self.frequency,
+            title=f"Interface: FRF of {name} before/after wear",
+        )
+
+    def figure(self, name: str, live: bool = False):
+        """Figure ``name`` of the published results (empty layers before the first run)."""
+        if name not in self.figure_names:
+            raise ValueError(f"the interface scene has no figure {name!r}; it has {self.figure_names}")
+        return getattr(self, f"_figure_{name}")()
+
+    # -- exports -----------------------------------------------------------------------------
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        """``profiles``: one row per (record, pair), the CLI's columns; ``frf``: before/after wear."""
+        r = self.results
+        if not r:
+            return {}
+        m, nc = r["wear"].shape
+        profiles = {
+            "cycles": np.repeat(r["cycles"], nc),
+            "x": np.tile(r["position"], m),
+            "w": r["wear"].ravel(),
+            "pressure": r["pressure"].ravel(),
+            "state_fraction_stick": r["stick_fraction"].ravel(),
+        }
+        frf = {
+            "f_hz": r["frf_hz"],
+            "before": r["frf_before"],
+            "after": r["frf_after"],
+            "converged": r["frf_ok"],
+        }
+        return {"profiles": profiles, "frf": frf}
+
+    def header(self) -> str:
+        s = self.settings()
+        model = s.model if s.model != FILE else f"model file {Path(s.path).name}"
+        lines = [
+            f"interface model: {model}",
+            f"f = {s.frequency:g} Hz, Nh = {s.harmonics}, K_w = {s.kw:g} 1/Pa, N = {s.cycles:g} cycles",
+            f"fretwear {version()}",
+        ]
+        return "".join(f"# {line}\n" for line in lines)
+
+    def filename(self, name: str, fmt: str) -> str:
+        return f"fretwear_interface_{name}.{fmt}"
+
+    def export_csv(self, name: str) -> str:
+        tables = self.datasets()
+        if name not in tables:
+            raise ValueError(f"no dataset {name!r} in the interface scene (yet); available: {sorted(tables)}")
+        return figures.csv_text(tables[name], self.header())
+
+    def export_figure(self, name: str, fmt: str, options: figures.ExportOptions | None = None) -> bytes:
+        if fmt not in figures.FIGURE_FORMATS:
+            raise ValueError(f"fmt must be one of {figures.FIGURE_FORMATS}, got {fmt!r}")
+        if not self.results:
+            raise ValueError("nothing to export yet: the Interface scene has not been computed")
+        figures.load_backend("bokeh" if fmt == "html" else "matplotlib")
+        text = " ".join(self.header().replace("# ", "").splitlines())
+        return figures.figure_bytes(
+            self.figure(name), fmt, title=f"fretwear: interface, {name}", options=options, caption=text
+        )
+
+
+def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> list:
+    """The Interface tab: its controls, progress, figures, notes and exports; starts the first run."""
+    hv = holoviews()
+    model = pn.widgets.RadioButtonGroup(
+        options=list(scene.param.model.objects), value=scene.model, variant="outline", color="primary"
+    )
+    model.link(scene, value="model")
+    nodes = pn.widgets.Select(
+        label="pairs (benchmark)", options=[16, 32], value=scene.contact_nodes, width=130
+    )
+    nodes.link(scene, value="contact_nodes")
+    boxes = []
+    for name, label in (
+        ("frequency", "f (Hz)"),
+        ("harmonics", "Nh"),
+        ("kw", "K_w (1/Pa)"),
+        ("cycles", "N (cycles)"),
+    ):
+        kind = pn.widgets.IntInput if name == "harmonics" else pn.widgets.FloatInput
+        box = kind(label=label, value=getattr(scene, name), width=120)
+        box.link(scene, value=name)
+        boxes.append(box)
+    bar = pn.indicators.Progress(
+        value=0, max=100, visible=False, sizing_mode="stretch_width", bar_color="info"
+    )
+    status = pn.pane.Markdown("")
+    error = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
+    notes = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
+
+    def show(*_events):
+        bar.visible, bar.value = scene.busy, scene.progress
+        status.object = f"{scene.status} ({scene.progress} %)" if scene.busy else ""
+        error.object, error.visible = scene.error, bool(scene.error)
+        notes.object = "\n".join(f"- {n}" for n in scene.notes)
+        notes.visible = bool(scene.notes)
+
+    scene.param.watch(show, ["busy", "progress", "status", "error", "notes"])
+    panes = [
+        pn.pane.HoloViews(
+            hv.DynamicMap(
+                partial(lambda n, **_k: scene.figure(n), name),
+                streams=[hv.streams.Params(scene, ["version"])],
+            ),
+            backend="bokeh",
+            sizing_mode="stretch_width",
+            linked_axes=False,
+        )
+        for name in scene.figure_names
+    ]
+    explanation = pn.pane.Markdown(
+        "A contact interface of many node pairs, each with Coulomb friction, unilateral contact and "
+        "Archard wear: the worn depth opens the local gap and the pressure redistributes. **Partial slip** "
+        "wears only the slip annulus around the stick zone; **gross slip** widens the scar and lowers the "
+        "peak pressure. Left: the wear and pressure profiles at several N (dashed: Hertz at N = 0); right: "
+        "which pairs stick, slip or open over one cycle, and the FRF before and after wear.",
+        sizing_mode="stretch_width",
+    )
+    scene.activate()
+    show()
+    return [
+        explanation,
+        pn.Row(model, nodes, *boxes, sizing_mode="stretch_width"),
+        error,
+        pn.Row(bar, status, sizing_mode="stretch_width"),
+        pn.GridBox(*panes, ncols=2, sizing_mode="stretch_width"),
+        notes,
+        export_card(scene),
+    ]

@@ -1,0 +1,102 @@
+"""The Interface scene: one run of the cylinder-on-flat benchmark (16 pairs, Nh = 5), drawn and exported.
+
+The run goes through the scene as the page drives it (settings, progress by
+stage, the shared-cache protocol), in the calling thread. The checks compare
+what the figures draw with the library's results and with the invariants of
+the benchmark: the pressure integral equals the normal load at every record,
+the Hertz reference peaks at the benchmark's ``p0`` over its half-width ``a``,
+gross slip widens the worn scar.
+"""
+
+import numpy as np
+import pytest
+
+from app.backend import ResultCache
+from app.interface_scene import FILE, GROSS, PROFILES, InterfaceScene
+from fretwear import figures
+from fretwear.model import OPEN, SLIP, STICK
+
+
+def layer(overlay, label):
+    return next(e for e in overlay if e.label == label)
+
+
+@pytest.fixture(scope="module")
+def run():
+    figures.load_backend("bokeh")
+    reports = []
+    scene = InterfaceScene(cache=ResultCache())
+    scene.param.watch(lambda e: reports.append((scene.progress, scene.status)), "progress")
+    assert scene.results == {} and scene.version == 0  # nothing computes before the tab is shown
+    scene.activate()
+    return scene, reports
+
+
+def test_nothing_computes_until_shown_then_one_run_with_progress(run):
+    scene, reports = run
+    assert scene.error == "" and not scene.busy and scene.version == 1
+    done = [p for p, _s in reports]
+    assert done == sorted(done) and done[-1] == 100 and len(done) >= 3
+    assert any("wear history" in s for _p, s in reports) and any("FRF" in s for _p, s in reports)
+    assert scene.model == GROSS and scene.results["converged"], scene.results["message"]
+
+
+def test_profiles_are_the_histories_and_the_load_is_carried(run):
+    scene, _ = run
+    r = scene.results
+    info = r["info"]
+    # the pressure integral of every record is the benchmark's normal load per unit length
+    np.testing.assert_allclose(r["normal_force_sum"], info["normal_load"], rtol=1e-6)
+    fig = scene.figure("wear_profile")
+    records = scene.records()
+    assert records[0] == 0 and records[-1] == len(r["cycles"]) - 1 and len(records) == PROFILES
+    for k, i in enumerate(records):
+        curve = layer(fig, f"record {k + 1}")
+        np.testing.assert_array_equal(curve.dimension_values(0), r["position"] * 1e3)
+        np.testing.assert_array_equal(curve.dimension_values(1), r["wear"][i] * 1e6)
+    assert np.all(r["wear"][0] == 0) and r["wear"][-1].max() > 0
+    # gross slip widens the scar: more pairs carry wear at the end than half-way
+    worn = (r["wear"] > 1e-3 * r["wear"][-1].max()).sum(axis=1)
+    assert worn[-1] >= worn[len(worn) // 2] > 0
+    hertz = layer(scene.figure("pressure_profile"), "Hertz (N = 0)")
+    x, p = hertz.dimension_values(0), hertz.dimension_values(1)
+    assert p.max() == pytest.approx(info["hertz_peak_pressure"] / 1e6, rel=1e-12)
+    assert x.max() == pytest.approx(info["hertz_half_width"] * 1e3, rel=1e-12)
+    # the first record's pressure is the Hertz one, within the mesh's resolution
+    first = layer(scene.figure("pressure_profile"), "record 1").dimension_values(1)
+    assert first.max() == pytest.approx(info["hertz_peak_pressure"] / 1e6, rel=0.1)
+
+
+def test_stick_slip_map_and_frf(run):
+    scene, _ = run
+    r = scene.results
+    mesh = scene.figure("stick_slip").get(0)
+    codes = mesh.dimension_values(2, flat=False)
+    state = r["state"][-1]
+    expected = np.select([state == STICK, state == SLIP, state == OPEN], [0.0, 1.0, 2.0], np.nan)
+    np.testing.assert_array_equal(codes, expected)
+    assert np.isin(codes[np.isfinite(codes)], (0, 1, 2)).all() and (codes == 1).any()
+    frf = scene.figure("frf")
+    np.testing.assert_array_equal(layer(frf, "before wear").dimension_values(1), r["frf_before"])
+    np.testing.assert_array_equal(layer(frf, "after wear").dimension_values(1), r["frf_after"])
+    assert r["frf_ok"].all() and not np.array_equal(r["frf_before"], r["frf_after"])
+    rows = scene.export_csv("profiles").splitlines()
+    assert rows[0].startswith("# interface model: benchmark, gross slip")
+    assert len([x for x in rows if not x.startswith("#")]) == 1 + r["wear"].size
+    assert scene.export_figure("stick_slip", "png")[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_bad_input_and_a_bad_model_file_are_messages(run, tmp_path):
+    scene, _ = run
+    scene.frequency = -1.0
+    assert scene.error == "Invalid input: frequency must be a number > 0 and <= 100000 Hz, got -1.0"
+    scene.frequency = 50.0
+    assert scene.error == "" and scene.version >= 2  # the same settings again: from the cache
+    bad = tmp_path / "bad.toml"
+    bad.write_text('title = "x"\n[matrices]\nM = "missing.mtx"\n')
+    other = InterfaceScene(bad, cache=ResultCache())
+    assert FILE in other.param.model.objects
+    other.model = FILE
+    other.activate()
+    assert other.error.startswith("The interface run failed: ") and "bad.toml" in other.error
+    assert other.results == {} and not other.busy
