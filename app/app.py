@@ -13,8 +13,11 @@ import warnings
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:  # Bokeh puts app/ first on the path; the package needs the repository root
-    sys.path.insert(0, str(ROOT))
+# Bokeh puts app/ first on the path, where ``import app`` would find this file instead of the package:
+# the repository root goes first (also when it is further down the path already)
+if str(ROOT) in sys.path:
+    sys.path.remove(str(ROOT))
+sys.path.insert(0, str(ROOT))
 
 import panel as pn  # noqa: E402
 
