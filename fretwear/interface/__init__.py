@@ -23,6 +23,8 @@ Layers, bottom up:
   (:class:`InterfaceProblem`, :func:`solve_interface`);
 * :mod:`~fretwear.interface.wear`: nodal Archard wear with pressure
   redistribution (:func:`wear_interface`) and FRFs before/after wear (:func:`frf`);
+* :mod:`~fretwear.interface.polynomial`: the polynomial slow-time method
+  (eq. 25-29, :func:`wear_polynomial_interface`, ``wear_interface(method="polynomial")``);
 * :mod:`~fretwear.interface.cli`: the ``fretwear interface`` command.
 """
 
@@ -46,6 +48,7 @@ _EXPORTS = {
     "solve_static": "static",
     "static_benchmark": "static",
     "wear_interface": "wear",
+    "wear_polynomial_interface": "polynomial",
     "write_interface_model": "modelfile",
 }
 
