@@ -25,6 +25,8 @@ Layers, bottom up:
   redistribution (:func:`wear_interface`) and FRFs before/after wear (:func:`frf`);
 * :mod:`~fretwear.interface.polynomial`: the polynomial slow-time method
   (eq. 25-29, :func:`wear_polynomial_interface`, ``wear_interface(method="polynomial")``);
+* :mod:`~fretwear.interface.time_integration`: direct time integration with the
+  same contact law (backward Euler, :func:`integrate_interface`), the check;
 * :mod:`~fretwear.interface.cli`: the ``fretwear interface`` command.
 """
 
@@ -49,6 +51,7 @@ _EXPORTS = {
     "static_benchmark": "static",
     "wear_interface": "wear",
     "wear_polynomial_interface": "polynomial",
+    "integrate_interface": "time_integration",
     "write_interface_model": "modelfile",
 }
 
