@@ -199,27 +199,35 @@ def wear_polynomial_interface(
     w0 = problem.wear.copy()
     scale_x = max(float(np.abs(problem.start()).max()), 1e-300)
     nodes = _Nodes(problem, kw, N_nodes, solve_tol, 1e-7 * scale_x)
-    # start: Heun's method along the nodes (each step from the previous node), then the projection
     first = solve_interface(problem, None, solve_tol)
     hist.solves += 1
     if not first.converged:
         hist.record(0.0, w0, first)
         hist.converged, hist.message = False, f"periodic solve failed at N = 0: {first.message}"
         return hist.finish()
+    # start: Heun's method along the nodes, in substeps that raise the largest depth by at most 25 %
     r0 = kw * first.pressure_slip
     w_scale = max(float(r0.max()) * cycles, 1e-300)
     w_nodes = np.empty((len(tau), nc))
-    w_prev, N_prev, r_prev, guess = w0, 0.0, r0, first.unknowns
+    w, N, r, guess = w0, 0.0, r0, first.unknowns
     for k, Nk in enumerate(N_nodes):
-        dN = Nk - N_prev
-        pred = w_prev + dN * r_prev
-        s = solve_interface(problem.with_wear(np.maximum(pred, 0.0)), guess, solve_tol)
-        corr = w_prev + 0.5 * dN * (r_prev + kw * s.pressure_slip)
-        s = solve_interface(problem.with_wear(np.maximum(corr, 0.0)), s.unknowns, solve_tol)
-        hist.solves += 2
-        w_nodes[k] = corr
-        w_prev, N_prev, r_prev, guess = corr, Nk, kw * s.pressure_slip, s.unknowns
-        nodes.x[k] = s.unknowns
+        while N < Nk:
+            grow = 0.25 * float(np.abs(w).max()) / max(float(r.max()), 1e-300)
+            dN = Nk - N if (N == 0.0 or not 0 < grow < Nk - N) else grow
+            s = solve_interface(problem.with_wear(np.maximum(w + dN * r, 0.0)), guess, solve_tol)
+            corr = w + 0.5 * dN * (r + kw * s.pressure_slip)
+            s = solve_interface(problem.with_wear(np.maximum(corr, 0.0)), s.unknowns, solve_tol)
+            hist.solves += 2
+            if not s.converged:
+                hist.record(0.0, w0, first)
+                hist.converged, hist.message = (
+                    False,
+                    f"periodic solve failed at N = {N + dN:.6g}: {s.message}",
+                )
+                return hist.finish()
+            w, N, r, guess = corr, N + dN if N + dN < Nk else Nk, kw * s.pressure_slip, s.unknowns
+        w_nodes[k] = w
+        nodes.x[k] = guess
     sw = np.sqrt(wq)[:, None]
     rows = np.vstack([V * sw, 10 * V0[None]])
     a = np.linalg.lstsq(rows, np.vstack([w_nodes * sw, 10 * w0[None]]), rcond=None)[0]
