@@ -23,6 +23,10 @@ Layers, bottom up:
   (:class:`InterfaceProblem`, :func:`solve_interface`);
 * :mod:`~fretwear.interface.wear`: nodal Archard wear with pressure
   redistribution (:func:`wear_interface`) and FRFs before/after wear (:func:`frf`);
+* :mod:`~fretwear.interface.polynomial`: the polynomial slow-time method
+  (eq. 25-29, :func:`wear_polynomial_interface`, ``wear_interface(method="polynomial")``);
+* :mod:`~fretwear.interface.time_integration`: direct time integration with the
+  same contact law (backward Euler, :func:`integrate_interface`), the check;
 * :mod:`~fretwear.interface.cli`: the ``fretwear interface`` command.
 """
 
@@ -46,6 +50,8 @@ _EXPORTS = {
     "solve_static": "static",
     "static_benchmark": "static",
     "wear_interface": "wear",
+    "wear_polynomial_interface": "polynomial",
+    "integrate_interface": "time_integration",
     "write_interface_model": "modelfile",
 }
 

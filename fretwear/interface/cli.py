@@ -9,8 +9,9 @@ bad input, 3 a solve did not converge). Three modes:
   ``stick_half_width``, ``peak_pressure``, ``normal_load_per_length``,
   ``tangential_load_per_length``, ``radius``, ``effective_modulus``, ``mu``,
   the Hertz and Mindlin values and the relative errors;
-* ``--kw K --cycles N``: a wear history at ``--f``, one CSV row per (record,
-  pair): ``cycles, x, w, pressure, slip, state_fraction_stick``;
+* ``--kw K --cycles N``: a wear history at ``--f`` (``--method stepping`` or
+  ``polynomial --degree D``), one CSV row per (record, pair): ``cycles, x, w,
+  pressure, slip, state_fraction_stick``;
 * otherwise one periodic solve at ``--f``: the same CSV columns at ``cycles = 0``.
 
 The numerical modules are imported when the command runs, so that declaring
@@ -130,6 +131,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=1e-2,
         help="slow-time step tolerance on the worn depth (-); default 1e-2",
     )
+    parser.add_argument(
+        "--method",
+        choices=("stepping", "polynomial"),
+        default="stepping",
+        help="slow-time method of the wear history: adaptive stepping (default) or the polynomial method "
+        "(one nonlinear solve over [0, --cycles])",
+    )
+    parser.add_argument(
+        "--degree",
+        type=number(1, integer=True),
+        metavar="D",
+        help="polynomial degree in slow time of --method polynomial, in [1, 12]; default 6",
+    )
     parser.add_argument("--out", metavar="FILE.csv", help="CSV file to write ('-' or omitted: stdout)")
 
 
@@ -227,7 +241,14 @@ def run(args: argparse.Namespace) -> int:
                 print(f"fretwear interface: no convergence: {sol.message}", file=sys.stderr)
                 return EXIT_NOT_CONVERGED
             return EXIT_OK
-        hist = wear_interface(prob, args.kw, args.cycles, rtol=args.rtol, converge=args.converge)
+        if args.method == "polynomial":
+            if args.converge is not None:
+                raise ValueError("--converge applies to --method stepping only")
+            hist = wear_interface(prob, args.kw, args.cycles, method="polynomial", degree=args.degree)
+        else:
+            if args.degree is not None:
+                raise ValueError("--degree applies to --method polynomial only")
+            hist = wear_interface(prob, args.kw, args.cycles, rtol=args.rtol, converge=args.converge)
         rows = (
             row
             for k, N in enumerate(hist.cycles)

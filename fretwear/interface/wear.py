@@ -33,7 +33,10 @@ import numpy as np
 from .contact import STICK
 from .periodic import InterfaceProblem, InterfaceSolution, solve_interface
 
-__all__ = ["InterfaceWearHistory", "wear_interface", "frf"]
+__all__ = ["InterfaceWearHistory", "wear_interface", "frf", "METHODS"]
+
+#: slow-time methods of :func:`wear_interface`, the default first
+METHODS = ("stepping", "polynomial")
 
 
 @dataclass(eq=False)
@@ -74,6 +77,11 @@ class InterfaceWearHistory:
         Periodic solves performed.
     solutions : list of InterfaceSolution
         The periodic solution at each record.
+    method : str
+        ``"stepping"`` or ``"polynomial"``.
+    info : dict
+        Method-specific diagnostics (polynomial: see
+        :func:`~fretwear.interface.polynomial.wear_polynomial_interface`).
     """
 
     position: np.ndarray
@@ -92,6 +100,8 @@ class InterfaceWearHistory:
     converged: bool = True
     message: str = ""
     solves: int = 0
+    method: str = "stepping"
+    info: dict = field(default_factory=dict)
 
     def record(self, N: float, w: np.ndarray, sol: InterfaceSolution) -> None:
         self.cycles.append(float(N))
@@ -145,8 +155,16 @@ def wear_interface(
     first_step: float | None = None,
     max_steps: int = 400,
     tol: float = 1e-10,
+    method: str = "stepping",
+    degree: int | None = None,
 ) -> InterfaceWearHistory:
     """Wear history of the interface ``problem`` from its current wear state to ``cycles``.
+
+    ``method="stepping"`` (default) integrates slow time step by step (module
+    docstring); ``method="polynomial"`` solves the whole period at once with the
+    worn depths as polynomials of degree ``degree`` in ``N``
+    (:func:`~fretwear.interface.polynomial.wear_polynomial_interface`; ``rtol``,
+    ``atol``, ``converge``, ``first_step`` and ``max_steps`` do not apply).
 
     Parameters
     ----------
@@ -168,7 +186,22 @@ def wear_interface(
         Accepted steps at most.
     tol : float
         Relative residual tolerance of the periodic solves.
+    method : {"stepping", "polynomial"}
+        Slow-time method.
+    degree : int, optional
+        Polynomial degree of the polynomial method (default
+        :data:`~fretwear.interface.polynomial.DEFAULT_DEGREE`).
     """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
+    if method == "polynomial":
+        from .polynomial import DEFAULT_DEGREE, wear_polynomial_interface  # imports this module
+
+        return wear_polynomial_interface(
+            problem, kw, cycles, degree=DEFAULT_DEGREE if degree is None else degree, solve_tol=tol
+        )
+    if degree is not None:
+        raise ValueError("degree applies to method='polynomial' only")
     if not (np.isfinite(kw) and kw > 0):
         raise ValueError(f"kw must be a finite Archard coefficient > 0 1/Pa, got {kw!r}")
     if not (np.isfinite(cycles) and cycles > 0):

@@ -1,0 +1,316 @@
+"""Direct time integration of an interface: the check of the harmonic balance and of the slow-time methods.
+
+The reduced, contact-condensed equations of motion
+(:class:`~fretwear.interface.reduction.ContactCondensation`, coordinates ``z =
+(q, s)``, ``q = (u_T, u_N)`` per pair),
+
+    M z'' + C z' + K z + E lambda = f_s + f_c cos(omega t) + f_s' sin(omega t),
+
+are integrated by the **implicit (backward) Euler method** on ``(z, z')``:
+first order, unconditionally stable and L-stable, so that the stiff
+constraint modes of the contact nodes are damped at once instead of ringing
+(the trapezoidal rule keeps them at amplitude factor -1). At every step the
+contact forces ``lambda`` of all pairs solve, with the structure's step
+compliance ``W = (M / h^2 + C / h + K)^-1`` restricted to ``q`` (the pairs
+are coupled through the elastic bodies), the **same contact law as the
+DLFT march** (eq. 17-23) without its penalty, i.e. its rigid limit:
+
+* unilateral normal contact: ``u_N <= g_i`` (gap plus wear), ``lambda_N >= 0``,
+  ``(g_i - u_N) lambda_N = 0``;
+* Coulomb friction on the step's increment: stick ``u_T = X_i`` (the slip
+  variable of the previous step) with ``|lambda_T| <= mu lambda_N``, or slip
+  ``lambda_T = mu lambda_N sign(u_T - X_i)``; an open pair has ``lambda = 0``.
+
+The pairs' states (open, stick, slip +-) are found by an active-set iteration
+started from the previous step's states: solve the linear system of the
+current states, switch every pair whose conditions fail (after a quarter of
+the iteration budget only the most violated pair, which breaks cycles of
+simultaneous switches), repeat; the law is
+piecewise linear, so the iteration ends on the exact step solution once the
+states are right (usually at once). A step whose states keep cycling is
+reported (``converged=False`` and the step).
+
+Wear (optional): after every step each slipping pair's depth grows by Archard's
+law, ``dw_i = K_w (lambda_N,i / A_i) |Delta u_T,i|`` (eq. 15), and opens its gap
+for the next step: no slow-time approximation at all.
+
+The step loop is compiled (:func:`integrate_kernel`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from .contact import OPEN, SLIP, STICK
+from .periodic import InterfaceSolution
+from .reduction import ContactCondensation
+
+__all__ = ["integrate_kernel", "InterfaceTransient", "integrate_interface", "initial_state"]
+
+_SLIP_NEG = 3  # internal state: slip with u_T decreasing (SLIP is the increasing direction)
+
+
+@njit(cache=True, nogil=True)
+def _step_contact(r, W, gap, mu, X, state, tol_f, tol_u, max_iter, lam, A, b):
+    """Contact forces of one step: ``q = r - W lambda`` with every pair's law (active set); True if found."""
+    nc = gap.shape[0]
+    n = 2 * nc
+    for it in range(max_iter):
+        A[:, :] = 0.0
+        for i in range(nc):
+            t, m = 2 * i, 2 * i + 1
+            s = state[i]
+            if s == OPEN:
+                A[t, t] = 1.0
+                A[m, m] = 1.0
+                b[t] = 0.0
+                b[m] = 0.0
+                continue
+            for j in range(n):  # normal row: u_N = g
+                A[m, j] = W[m, j]
+            b[m] = r[m] - gap[i]
+            if s == STICK:
+                for j in range(n):
+                    A[t, j] = W[t, j]
+                b[t] = r[t] - X[i]
+            else:
+                sg = 1.0 if s == SLIP else -1.0
+                A[t, t] = 1.0
+                A[t, m] = -sg * mu[i]
+                b[t] = 0.0
+        lam[:] = np.linalg.solve(A, b)
+        q = r - W @ lam
+        worst, which, to = 0.0, -1, STICK  # the most violated condition, in units of its tolerance
+        for i in range(nc):
+            t, m = 2 * i, 2 * i + 1
+            s = state[i]
+            if s == OPEN:  # closes, sliding the way it moves (an open pair's slip variable follows it)
+                v, du = (q[m] - gap[i]) / tol_u, q[t] - X[i]
+                new = STICK if abs(du) <= tol_u else (SLIP if du > 0 else _SLIP_NEG)
+            elif lam[m] < -tol_f:
+                v, new = -lam[m] / tol_f, OPEN
+            elif s == STICK:
+                v = (abs(lam[t]) - mu[i] * lam[m]) / tol_f
+                new = SLIP if lam[t] > 0 else _SLIP_NEG
+            else:
+                v, new = -(1.0 if s == SLIP else -1.0) * (q[t] - X[i]) / tol_u, STICK
+            if v > 1.0:
+                if it < max_iter // 4:  # switch every violated pair at once
+                    state[i] = new
+                    worst = v
+                elif v > worst:  # then one pair at a time: no cycling between simultaneous switches
+                    worst, which, to = v, i, new
+        if which >= 0:
+            state[which] = to
+        changed = worst > 1.0
+        if not changed:
+            return True
+    return False
+
+
+@njit(cache=True, nogil=True)
+def integrate_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega, t0, h, steps, gap0, mu,
+                     area, kw, tol_f, tol_u, every, rec_t, rec_q, rec_lam, rec_state, rec_wear,
+                     energy):  # fmt: skip
+    """Backward Euler steps with the pairs' contact law (see the module docstring).
+
+    Parameters
+    ----------
+    z, v : (n,) coordinates (m) and velocities (m/s), updated in place.
+    X : (nc,) slip variables (m), updated. state : (nc,) int8 pair states, updated.
+    wear : (nc,) worn depths (m), updated (``kw > 0``).
+    M, C : (n, n) mass and damping. Kinv : (n, n) inverse of ``M / h^2 + C / h + K``.
+    fs, fc, fsin : (n,) static, cosine and sine load patterns (N). omega : rad/s. t0, h : start, step (s).
+    steps : int. gap0, mu, area : (nc,) initial gaps (m), friction coefficients, areas.
+    kw : Archard coefficient (1/Pa), 0 for none. tol_f, tol_u : force (N) and displacement (m) tolerances.
+    every : record every ``every`` steps into ``rec_*`` (time, q, lambda, state, wear).
+    energy : (nc,) friction work of each pair (J), accumulated.
+
+    Returns the index of the first step whose contact problem failed, or -1.
+    """
+    nc = gap0.shape[0]
+    nq = 2 * nc
+    W = np.ascontiguousarray(Kinv[:nq, :nq])
+    G = np.ascontiguousarray(Kinv[:, :nq])
+    lam, A, b = np.empty(nq), np.empty((nq, nq)), np.empty(nq)
+    gap = gap0 + wear
+    Mh = M / h**2
+    Ch = C / h
+    rec = 0
+    for k in range(steps):
+        t1 = t0 + (k + 1) * h
+        f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
+        zfree = Kinv @ (f + Mh @ z + (M @ v) / h + Ch @ z)
+        r = zfree[:nq]
+        st = state.copy()
+        ok = _step_contact(r, W, gap, mu, X, st, tol_f, tol_u, 200, lam, A, b)
+        if not ok:
+            return k
+        state[:] = st
+        z1 = zfree - G @ lam
+        for i in range(nc):
+            du = z1[2 * i] - X[i]
+            if state[i] == SLIP or state[i] == _SLIP_NEG:
+                energy[i] += lam[2 * i] * du
+                if kw > 0.0:
+                    wear[i] += kw * lam[2 * i + 1] / area[i] * abs(du)
+                    gap[i] = gap0[i] + wear[i]
+            X[i] = z1[2 * i]
+        v[:] = (z1 - z) / h
+        z[:] = z1
+        if (k + 1) % every == 0 and rec < rec_t.shape[0]:
+            rec_t[rec] = t1
+            rec_q[rec] = z1[:nq]
+            rec_lam[rec] = lam
+            for i in range(nc):
+                rec_state[rec, i] = SLIP if state[i] == _SLIP_NEG else state[i]
+            rec_wear[rec] = wear
+            rec += 1
+    return -1
+
+
+def initial_state(solution: InterfaceSolution) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Coordinates ``z`` (m), velocities (m/s), slip variables (m) and pair states at ``t = 0`` of a periodic
+    harmonic-balance solution, in the condensation's coordinates."""
+    prob = solution.problem
+    cond = prob.condensation
+    nh, w = prob.harmonics, prob.omega
+    coords = cond.recover(w, nh, solution.contact_harmonics)  # reduced coordinates' harmonics
+    zh = np.linalg.solve(cond.T, coords)
+    k = np.arange(1, nh + 1)
+    z = zh[:, 0] + zh[:, 1::2].sum(axis=1)
+    v = (zh[:, 2::2] * (k * w)).sum(axis=1)
+    state = np.where(solution.state[:, 0] == OPEN, OPEN, STICK).astype(np.int8)
+    return z, v, z[: 2 * cond.n_pairs : 2].copy(), state
+
+
+@dataclass(eq=False)
+class InterfaceTransient:
+    """Time history of an interface, sampled every ``every`` steps.
+
+    Attributes
+    ----------
+    time : ndarray (m,)
+        Times (s).
+    contact : ndarray (m, 2 nc)
+        Contact coordinates ``(u_T, u_N)`` per pair (m).
+    forces : ndarray (m, 2 nc)
+        Contact forces ``(lambda_T, lambda_N)`` per pair (N).
+    state : ndarray (m, nc)
+        STICK, SLIP or OPEN per pair.
+    wear : ndarray (m, nc)
+        Worn depths (m).
+    energy_per_period : ndarray (periods, nc)
+        Friction work of each pair in each period (J).
+    z, v : ndarray (n,)
+        Final coordinates and velocities (continue with :func:`integrate_interface`).
+    slip_variable : ndarray (nc,)
+        Final slip variables (m).
+    converged : bool
+        Every step's contact problem was solved.
+    message : str
+        Where it failed, if it did.
+    """
+
+    time: np.ndarray
+    contact: np.ndarray
+    forces: np.ndarray
+    state: np.ndarray
+    wear: np.ndarray
+    energy_per_period: np.ndarray
+    z: np.ndarray
+    v: np.ndarray
+    slip_variable: np.ndarray
+    pair_state: np.ndarray
+    converged: bool
+    message: str
+
+
+def integrate_interface(
+    condensation: ContactCondensation,
+    omega: float,
+    z0: np.ndarray,
+    v0: np.ndarray,
+    slip0: np.ndarray,
+    state0: np.ndarray,
+    periods: int,
+    steps_per_period: int = 512,
+    wear0: np.ndarray | None = None,
+    kw: float = 0.0,
+    samples_per_period: int | None = None,
+) -> InterfaceTransient:
+    """Integrate the interface over ``periods`` excitation periods from ``t = 0`` (see the module docstring).
+
+    Parameters
+    ----------
+    condensation : ContactCondensation
+    omega : float
+        Excitation frequency (rad/s), > 0.
+    z0, v0 : ndarray (n,)
+        Initial coordinates (m) and velocities (m/s) in the condensation's coordinates
+        (e.g. :func:`initial_state`).
+    slip0 : ndarray (nc,)
+        Initial slip variables (m). state0 : ndarray (nc,) initial pair states (a guess).
+    periods : int
+        Periods to integrate, >= 1.
+    steps_per_period : int
+        Time steps per period, >= 8.
+    wear0 : ndarray (nc,), optional
+        Initial worn depths (m).
+    kw : float
+        Archard coefficient (1/Pa), >= 0 (0: no wear).
+    samples_per_period : int, optional
+        Records per period (must divide ``steps_per_period``; default ``steps_per_period``).
+    """
+    if not (np.isfinite(omega) and omega > 0):
+        raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {omega!r}")
+    if not (isinstance(periods, (int, np.integer)) and periods >= 1):
+        raise ValueError(f"periods must be an integer >= 1, got {periods!r}")
+    if not (isinstance(steps_per_period, (int, np.integer)) and steps_per_period >= 8):
+        raise ValueError(f"steps_per_period must be an integer >= 8, got {steps_per_period!r}")
+    if not (np.isfinite(kw) and kw >= 0):
+        raise ValueError(f"kw must be a finite Archard coefficient >= 0 1/Pa, got {kw!r}")
+    samples = steps_per_period if samples_per_period is None else int(samples_per_period)
+    if samples < 1 or steps_per_period % samples:
+        raise ValueError(
+            f"samples_per_period must divide steps_per_period = {steps_per_period}, got {samples}"
+        )
+    c = condensation
+    contact = c.reduced.contact
+    nc = contact.count
+    h = 2 * np.pi / omega / steps_per_period
+    Kinv = np.linalg.inv(c.M / h**2 + c.C / h + c.K)
+    fs = c.force_static
+    fc, fsin = c.force_harmonic.real.copy(), -c.force_harmonic.imag
+    z, v = np.array(z0, dtype=float), np.array(v0, dtype=float)
+    X, state = np.array(slip0, dtype=float), np.array(state0, dtype=np.int8)
+    wear = np.zeros(nc) if wear0 is None else np.array(wear0, dtype=float)
+    scale_f = max(float(np.abs(fs).max()), float(np.abs(fc).max()), float(np.abs(fsin).max()), 1e-300)
+    scale_u = max(float(np.abs(z[: 2 * nc]).max()), 1e-300)
+    every = steps_per_period // samples
+    m = periods * samples
+    rec_t, rec_q, rec_lam = np.empty(m), np.empty((m, 2 * nc)), np.empty((m, 2 * nc))
+    rec_state, rec_wear = np.empty((m, nc), dtype=np.int8), np.empty((m, nc))
+    energy = np.zeros((periods, nc))
+    failed, message = -1, ""
+    for p in range(periods):  # one compiled call per period: the friction work per period
+        e = np.zeros(nc)
+        sl = slice(p * samples, (p + 1) * samples)
+        failed = integrate_kernel(
+            z, v, X, state, wear, c.M, c.C, Kinv, fs, fc, fsin, omega, p * 2 * np.pi / omega, h,
+            steps_per_period, contact.gap, contact.mu, contact.area, kw, 1e-12 * scale_f, 1e-12 * scale_u,
+            every, rec_t[sl], rec_q[sl], rec_lam[sl], rec_state[sl], rec_wear[sl], e,
+        )  # fmt: skip
+        energy[p] = e
+        if failed >= 0:
+            message = f"contact states kept cycling at step {failed} of period {p}"
+            m = p * samples
+            break
+    return InterfaceTransient(
+        time=rec_t[:m], contact=rec_q[:m], forces=rec_lam[:m], state=rec_state[:m], wear=rec_wear[:m],
+        energy_per_period=energy[: (m // samples)], z=z, v=v, slip_variable=X, pair_state=state,
+        converged=failed < 0, message=message,
+    )  # fmt: skip
