@@ -65,7 +65,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -600,19 +600,21 @@ def _block_params(spec: StudySpec, lay: Layout, draws: Mapping[str, np.ndarray],
 
 
 @contextmanager
-def _no_interrupt():
-    """Hold Ctrl-C (SIGINT, main thread only) until the end of the block, then raise it."""
+def _ctrl_c() -> Iterator[threading.Event]:
+    """An event that Ctrl-C (SIGINT, main thread only) sets; the study stops where it checks it.
+
+    The handler only sets the event, so that no interrupt can land inside the
+    scheduler client's code (which may swallow it) or in the middle of a block's write.
+    """
+    pressed = threading.Event()
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield pressed
         return
-    caught = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: pressed.set())
     try:
-        yield
+        yield pressed
     finally:
         signal.signal(signal.SIGINT, previous)
-    if caught:
-        raise KeyboardInterrupt
 
 
 def _ready() -> int:
@@ -727,49 +729,54 @@ def _compute(spec, lay, group, pending, result, client, scheduler, workers, retr
             futures[future] = task
             blocks[task] = (slices, shape, params)
         queue = as_completed(list(futures), loop=client.loop)
-        for future in queue:
-            task = futures.pop(future)
-            slices, shape, params = blocks[task]
-            if future.status != "finished":
-                # compute_block records every failure of a point, so an error here is the cluster's
-                # (a worker killed while it held the task more often than Dask allows, a lost
-                # connection): resubmit the task rather than leave a hole in the study.
-                reason = repr(future.exception()) if future.status == "error" else future.status
-                if lost[task] < retries:
-                    lost[task] += 1
-                    if log is not None:
-                        log(f"task {task} lost ({reason}): resubmitted")
-                    again = client.submit(compute_block, work, params, pure=False, retries=retries)
-                    futures[again] = task
-                    queue.add(again)
+        with _ctrl_c() as pressed:
+            for future in queue:
+                if pressed.is_set():  # Ctrl-C: the blocks written so far are whole and marked done
+                    raise KeyboardInterrupt
+                task = futures.pop(future)
+                slices, shape, params = blocks[task]
+                if future.status != "finished":
+                    # compute_block records every failure of a point, so an error here is the cluster's
+                    # (a worker killed while it held the task more often than Dask allows, a lost
+                    # connection): resubmit the task rather than leave a hole in the study.
+                    reason = repr(future.exception()) if future.status == "error" else future.status
+                    if lost[task] < retries:
+                        lost[task] += 1
+                        if log is not None:
+                            log(f"task {task} lost ({reason}): resubmitted")
+                        again = client.submit(compute_block, work, params, pure=False, retries=retries)
+                        futures[again] = task
+                        queue.add(again)
+                        continue
+                    result.failed_tasks[task] = reason
+                    blocks.pop(task)
+                    bar.update(0, int(np.prod(shape)))
                     continue
-                result.failed_tasks[task] = reason
                 blocks.pop(task)
-                bar.update(0, int(np.prod(shape)))
-                continue
-            blocks.pop(task)
-            res = future.result()
-            future.release()
-            with _no_interrupt():  # a block is written whole, then marked done
-                for name, values in res.items():
+                res = future.result()
+                future.release()
+                for name, values in res.items():  # Ctrl-C waits: a block is written whole, then marked done
                     if name in ("seconds", "cpu_seconds", "messages"):
                         continue
                     group[name][slices] = values.reshape(shape + values.shape[1:])
                 group["task_seconds"][task : task + 1] = [res["seconds"]]
-            result.computed.append(task)
-            result.compute_seconds += res["seconds"]
-            result.cpu_seconds += res["cpu_seconds"]
-            failed = int(np.isin(res["status"], FAILED).sum())
-            for i, message in res["messages"]:
-                if len(result.messages) < 20:
-                    point = np.unravel_index(i, shape)
-                    where = ", ".join(
-                        f"{d}={s.start + int(j)}" for d, s, j in zip(spec.dims, slices, point, strict=True)
-                    )
-                    result.messages.append(f"point ({where}): {message}")
-                    if log is not None:
-                        log(result.messages[-1])
-            bar.update(int(np.prod(shape)), failed)
+                result.computed.append(task)
+                result.compute_seconds += res["seconds"]
+                result.cpu_seconds += res["cpu_seconds"]
+                failed = int(np.isin(res["status"], FAILED).sum())
+                for i, message in res["messages"]:
+                    if len(result.messages) < 20:
+                        point = np.unravel_index(i, shape)
+                        where = ", ".join(
+                            f"{d}={s.start + int(j)}"
+                            for d, s, j in zip(spec.dims, slices, point, strict=True)
+                        )
+                        result.messages.append(f"point ({where}): {message}")
+                        if log is not None:
+                            log(result.messages[-1])
+                bar.update(int(np.prod(shape)), failed)
+            if pressed.is_set():
+                raise KeyboardInterrupt
         result.wall_time = time.perf_counter() - start
     finally:
         if futures:
