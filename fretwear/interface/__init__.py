@@ -8,6 +8,8 @@ Layers, bottom up:
 * :mod:`~fretwear.interface.mesh`, :mod:`~fretwear.interface.fe`: the
   cylinder-on-flat fretting benchmark in plane strain, meshed and assembled
   with scikit-fem (:func:`cylinder_on_flat`);
+* :mod:`~fretwear.interface.paper`: the paper's 2-DOF example as a one-pair
+  interface (:func:`paper_interface`);
 * :mod:`~fretwear.interface.modelfile`: matrices exported from another FE code
   (Matrix Market or ``.npz``) plus the contact pairs, in a TOML file
   (:func:`read_interface_model`);
@@ -46,6 +48,7 @@ _EXPORTS = {
     "cylinder_on_flat": "fe",
     "frf": "wear",
     "read_interface_model": "modelfile",
+    "paper_interface": "paper",
     "solve_interface": "periodic",
     "solve_static": "static",
     "static_benchmark": "static",

@@ -6,6 +6,7 @@ import pytest
 import fretwear as fw
 from fretwear.interface.contact import OPEN, SLIP, STICK, march_pair
 from fretwear.interface.fe import cylinder_on_flat
+from fretwear.interface.paper import paper_interface
 from fretwear.interface.periodic import InterfaceProblem, solve_interface
 from fretwear.interface.reduction import ContactCondensation, craig_bampton
 from fretwear.interface.structure import ContactPairs, InterfaceModel
@@ -13,15 +14,9 @@ from fretwear.model import Model, NormalContact
 
 
 def _paper_equivalent(fex=10.0, mu=1.0, normal_load=10.0):
-    """The paper's 2-DOF model as a one-pair interface: x_r = x1 - x2 tangential, a pressed DOF y normal."""
+    """The paper's 2-DOF model and its one-pair interface form (:func:`paper_interface`), condensed."""
     pm = fw.paper_model(fex=fex, mu=mu, normal_load=normal_load)
-    M = np.eye(3)
-    K = np.diag([pm.K[0, 0], pm.K[1, 1], 1e3])
-    C = np.diag([pm.C[0, 0], pm.C[1, 1], 1.0])
-    pairs = ContactPairs(dofs_a=[[1, -1]], dofs_b=[[0, 2]], normal=[[0.0, 1.0]], area=[1.0], mu=mu)
-    model = InterfaceModel(
-        M=M, K=K, C=C, contact=pairs, force_static=[0, 0, -normal_load], force_cos=[fex, 0, 0]
-    )
+    model = paper_interface(fex=fex, mu=mu, normal_load=normal_load)
     return pm, ContactCondensation(craig_bampton(model, 0.0))
 
 
@@ -137,3 +132,20 @@ def test_gross_slip_under_displacement_control():
     assert np.all(np.any(sol.state[closed] == SLIP, axis=1))  # every closed pair slips
     Q = model.info["mu"] * model.info["normal_load"]
     assert np.abs(sol.tangential_force.sum(axis=0)).max() == pytest.approx(Q, rel=1e-6)  # saturated at mu P
+
+
+def test_one_pair_wears_as_the_single_contact_exact_load_path():
+    """The paper's normal-load relaxation through the pressing spring: F_N = k_n (u0 - w)."""
+    from fretwear.interface.wear import wear_interface
+
+    pm, cond = _paper_equivalent()
+    omega = 2 * np.pi * 0.7
+    ref = fw.wear_history(pm, omega, "exact", harmonics=7, kw=1e-11, cycles=2e4)
+    errors = []
+    for rtol in (1e-2, 1e-4):  # the slow-time error of the interface's stepping falls to round-off
+        h = wear_interface(InterfaceProblem(cond, omega, harmonics=7), 1e-11, 2e4, rtol=rtol)
+        load = np.maximum(10.0 - 1e7 * h.wear[:, 0], 0.0)  # clipped at zero once worn through
+        assert h.converged and np.allclose(h.normal_force_sum, load, rtol=1e-9, atol=1e-9)
+        inside = ref.at(h.cycles)["wear"][:, 0] < 0.98 * ref.u0[0]  # the reference stops at 0.99 u0
+        errors.append(np.abs(ref.at(h.cycles)["wear"][inside, 0] - h.wear[inside, 0]).max() / ref.u0[0])
+    assert errors[1] < 1e-3 and errors[1] < errors[0] / 10
