@@ -1,7 +1,9 @@
 """The Interface scene: wear of a contact interface with many node pairs (:mod:`fretwear.interface`).
 
 Models: the cylinder-on-flat fretting benchmark in partial slip (force
-control, ``Q0 / (mu P) = 0.5``) or in gross slip (displacement control), or a
+control, ``Q0 / (mu P) = 0.5``) or in gross slip (displacement control), the
+paper's 2-DOF example as a one-pair interface (its single node drawn as a
+short segment in the profiles), or a
 model file given to the server (``panel serve app/app.py --args
 --interface-model FILE.toml``). One run computes, in the session's executor
 and with progress by stage: the Craig-Bampton reduction, the nodal wear
@@ -35,11 +37,18 @@ from fretwear.model import OPEN, SLIP, STICK
 
 from .backend import Cancelled, ResultCache, shared_cache
 
-__all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "compute_interface", "MODELS"]
+__all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "compute_interface", "MODELS", "PAPER"]
 
 log = logging.getLogger(__name__)
 
 PARTIAL, GROSS, FILE = "benchmark, partial slip", "benchmark, gross slip", "model file"
+PAPER = "paper's 2-DOF (one pair)"
+#: settings each model choice starts from (the benchmark at 50 Hz; the paper's case at 0.7 Hz)
+DEFAULTS = {
+    GROSS: {"frequency": 50.0, "kw": 1e-14, "cycles": 3e4},
+    PARTIAL: {"frequency": 50.0, "kw": 1e-14, "cycles": 3e4},
+    PAPER: {"frequency": 0.7, "kw": 1e-11, "cycles": 2e4},
+}
 #: benchmark settings of each model choice (``fretwear.interface.cylinder_on_flat`` parameters)
 MODELS = {
     PARTIAL: {"q_ratio": 0.5},
@@ -97,10 +106,12 @@ class InterfaceSettings:
 
 
 def _model(s: InterfaceSettings):
-    from fretwear.interface import cylinder_on_flat, read_interface_model
+    from fretwear.interface import cylinder_on_flat, paper_interface, read_interface_model
 
     if s.model == FILE:
         return read_interface_model(s.path)
+    if s.model == PAPER:
+        return paper_interface()
     return cylinder_on_flat(contact_nodes=s.contact_nodes, **MODELS[s.model])
 
 
@@ -177,7 +188,7 @@ class InterfaceScene(param.Parameterized):
     figure_names = ("wear_profile", "pressure_profile", "stick_slip", "frf")
     dataset_names = ("profiles", "frf")
 
-    model = param.Selector(default=GROSS, objects=[GROSS, PARTIAL], doc="Model")
+    model = param.Selector(default=GROSS, objects=[GROSS, PARTIAL, PAPER], doc="Model")
     contact_nodes = param.Selector(default=16, objects=[16, 32], doc="Benchmark pairs across the contact")
     frequency = param.Number(50.0, doc="Excitation frequency (Hz)")
     harmonics = param.Integer(5, doc="Harmonics Nh")
@@ -201,14 +212,20 @@ class InterfaceScene(param.Parameterized):
         super().__init__(**params)
         self.path = None if path is None else str(path)
         if self.path is not None:
-            self.param.model.objects = [GROSS, PARTIAL, FILE]
+            self.param.model.objects = [GROSS, PARTIAL, PAPER, FILE]
         self.executor, self.dispatch = executor, dispatch or (lambda callback: callback())
         self.cache = cache if cache is not None else shared_cache()
         self.results: dict[str, Any] = {}
         self.active = False
         self._generation = 0
         self._lock = threading.Lock()
+        self.param.watch(self._defaults, ["model"])  # first: the run below sees the model's settings
         self.param.watch(self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles"])
+
+    def _defaults(self, event: param.parameterized.Event) -> None:
+        """A new model starts from its own frequency, wear coefficient and horizon (a file keeps them)."""
+        if event.new in DEFAULTS and DEFAULTS.get(event.old) != DEFAULTS[event.new]:
+            self.param.update(**DEFAULTS[event.new])
 
     def settings(self) -> InterfaceSettings:
         """The settings of the controls (a model file's DOF is its first named one, or DOF 0)."""
@@ -319,8 +336,14 @@ class InterfaceScene(param.Parameterized):
         """Profiles of ``name`` keyed ``record 1..PROFILES`` (a DynamicMap keeps its layers' labels)."""
         r, empty = self.results, (np.zeros(0), np.zeros(0))
         records = self.records()
+        x = r["position"] * 1e3 if r else np.zeros(0)
+        single = len(x) == 1  # one pair (the paper's model): its value drawn over +-0.5 mm
         return {
-            f"record {k + 1}": (r["position"] * 1e3, r[name][records[k]]) if k < len(records) else empty
+            f"record {k + 1}": (
+                (x + [-0.5, 0.5], np.repeat(r[name][records[k]], 2)) if single else (x, r[name][records[k]])
+            )
+            if k < len(records)
+            else empty
             for k in range(PROFILES)
         }
 

@@ -100,3 +100,25 @@ def test_bad_input_and_a_bad_model_file_are_messages(run, tmp_path):
     other.activate()
     assert other.error.startswith("The interface run failed: ") and "bad.toml" in other.error
     assert other.results == {} and not other.busy
+
+
+def test_the_papers_two_dof_model_is_a_choice_and_wears_like_the_single_contact():
+    import fretwear as fw
+    from app.interface_scene import PAPER
+
+    scene = InterfaceScene(cache=ResultCache())
+    scene.activate()
+    scene.model = PAPER  # its own settings: the paper's case at 0.7 Hz
+    assert (scene.frequency, scene.kw, scene.cycles) == (0.7, 1e-11, 2e4)
+    r = scene.results
+    assert scene.error == "" and r["dof_name"] == "x1" and r["wear"].shape[1] == 1
+    # the one pair's wear follows the single-contact exact load path at the same Nh (slow-time error)
+    ref = fw.wear_history(fw.paper_model(), 2 * np.pi * 0.7, "exact", harmonics=scene.harmonics, kw=1e-11,
+                          cycles=2e4)  # fmt: skip
+    inside = ref.at(r["cycles"])["wear"][:, 0] < 0.98 * ref.u0[0]
+    assert np.abs(ref.at(r["cycles"])["wear"][inside, 0] - r["wear"][inside, 0]).max() < 0.05 * ref.u0[0]
+    # the single pair is drawn as a short segment at its value
+    last = layer(scene.figure("wear_profile"), f"record {len(scene.records())}")
+    assert len(last) == 2 and np.all(last.dimension_values(1) == r["wear"][-1, 0] * 1e6)
+    scene.model = GROSS  # back to the benchmark's settings
+    assert (scene.frequency, scene.kw) == (50.0, 1e-14)
