@@ -23,6 +23,8 @@ Layers, bottom up:
   compiled Newton loop and load walk;
 * :mod:`~fretwear.interface.periodic`: the periodic response
   (:class:`InterfaceProblem`, :func:`solve_interface`);
+* :mod:`~fretwear.interface.history`: the record of a nodal wear history
+  (:class:`InterfaceWearHistory`);
 * :mod:`~fretwear.interface.wear`: nodal Archard wear with pressure
   redistribution (:func:`wear_interface`) and FRFs before/after wear (:func:`frf`);
 * :mod:`~fretwear.interface.polynomial`: the polynomial slow-time method
@@ -42,7 +44,7 @@ _EXPORTS = {
     "InterfaceModel": "structure",
     "InterfaceProblem": "periodic",
     "InterfaceSolution": "periodic",
-    "InterfaceWearHistory": "wear",
+    "InterfaceWearHistory": "history",
     "ReducedModel": "reduction",
     "craig_bampton": "reduction",
     "cylinder_on_flat": "fe",

@@ -44,8 +44,8 @@ import numpy as np
 from numba import njit
 
 from .contact import evaluate, jacobian, slip_work
+from .history import InterfaceWearHistory
 from .periodic import InterfaceProblem, solve_interface
-from .wear import InterfaceWearHistory
 
 __all__ = ["rate_sensitivity", "wear_polynomial_interface", "DEFAULT_DEGREE"]
 

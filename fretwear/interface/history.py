@@ -1,0 +1,117 @@
+"""The record of a nodal wear history of an interface: profiles of wear, pressure and slip over ``N``.
+
+Shared by the slow-time methods of :mod:`fretwear.interface.wear` (stepping)
+and :mod:`fretwear.interface.polynomial`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .contact import STICK
+from .periodic import InterfaceSolution
+
+__all__ = ["InterfaceWearHistory"]
+
+
+@dataclass(eq=False)
+class InterfaceWearHistory:
+    """Wear profile history of an interface.
+
+    Attributes
+    ----------
+    position : ndarray, shape (nc,)
+        Coordinate of each pair along the interface (m).
+    area : ndarray, shape (nc,)
+        Tributary area of each pair (m, per unit thickness in 2-D).
+    cycles : ndarray, shape (m,)
+        Cycle counts ``N`` of the records (starting at 0).
+    wear : ndarray, shape (m, nc)
+        Worn depth ``w(x, N)`` (m).
+    pressure : ndarray, shape (m, nc)
+        Pressure averaged over the cycle, ``p(x, N)`` (Pa).
+    peak_pressure : ndarray, shape (m, nc)
+        Largest pressure over the cycle (Pa).
+    slip : ndarray, shape (m, nc)
+        Distance slid per cycle ``s(x, N)`` (m).
+    stick_fraction : ndarray, shape (m, nc)
+        Fraction of the cycle each pair sticks.
+    wear_rate : ndarray, shape (m, nc)
+        ``dw / dN = K_w int p ds`` (m per cycle).
+    state : ndarray, shape (m, nc, N_samples)
+        Stick/slip/open state over ``(x, phase of the cycle)`` at each record.
+    normal_force_sum : ndarray, shape (m,)
+        Cycle-averaged sum of the normal forces, the pressure integral (N).
+    kw : float
+        Archard coefficient (1/Pa).
+    converged : bool
+        Every periodic solve converged and the history reached its end.
+    message : str
+        Why the history stopped early, if it did.
+    solves : int
+        Periodic solves performed.
+    solutions : list of InterfaceSolution
+        The periodic solution at each record.
+    method : str
+        ``"stepping"`` or ``"polynomial"``.
+    info : dict
+        Method-specific diagnostics (polynomial: see
+        :func:`~fretwear.interface.polynomial.wear_polynomial_interface`).
+    """
+
+    position: np.ndarray
+    area: np.ndarray
+    kw: float
+    cycles: list = field(default_factory=list)
+    wear: list = field(default_factory=list)
+    pressure: list = field(default_factory=list)
+    peak_pressure: list = field(default_factory=list)
+    slip: list = field(default_factory=list)
+    stick_fraction: list = field(default_factory=list)
+    wear_rate: list = field(default_factory=list)
+    state: list = field(default_factory=list)
+    normal_force_sum: list = field(default_factory=list)
+    solutions: list = field(default_factory=list)
+    converged: bool = True
+    message: str = ""
+    solves: int = 0
+    method: str = "stepping"
+    info: dict = field(default_factory=dict)
+
+    def record(self, N: float, w: np.ndarray, sol: InterfaceSolution) -> None:
+        self.cycles.append(float(N))
+        self.wear.append(w.copy())
+        self.pressure.append(sol.mean_pressure)
+        self.peak_pressure.append(sol.pressure.max(axis=1))
+        self.slip.append(sol.slip_distance)
+        self.stick_fraction.append(sol.state_fraction(STICK))
+        self.wear_rate.append(self.kw * sol.pressure_slip)
+        self.state.append(sol.state.copy())
+        self.normal_force_sum.append(float(sol.normal_force.mean(axis=1).sum()))
+        self.solutions.append(sol)
+
+    def finish(self) -> InterfaceWearHistory:
+        for name in ("cycles", "normal_force_sum"):
+            setattr(self, name, np.array(getattr(self, name)))
+        for name in ("wear", "pressure", "peak_pressure", "slip", "stick_fraction", "wear_rate", "state"):
+            setattr(self, name, np.array(getattr(self, name)))
+        return self
+
+    @property
+    def worn_area(self) -> np.ndarray:
+        """Worn area per unit length ``sum_i w_i A_i`` at each record (m^2 per m of thickness in 2-D)."""
+        return self.wear @ self.area
+
+    @property
+    def worn_area_rate(self) -> np.ndarray:
+        """Archard's worn area per cycle ``K_w sum_i (int p ds)_i A_i`` at each record."""
+        return self.wear_rate @ self.area
+
+    @property
+    def contact_width(self) -> np.ndarray:
+        """Extent of the pairs that carry load at some time of the cycle, at each record (m)."""
+        loaded = self.peak_pressure > 0
+        x = self.position
+        return np.array([x[row].max() - x[row].min() if row.any() else 0.0 for row in loaded])
