@@ -484,6 +484,16 @@ def _digits(value: float) -> float:
     return float(f"{value:.12g}")
 
 
+def _wear_after(job: Job, history: Task | None, cycles: float) -> np.ndarray | Failure | None:
+    """The worn depths after ``cycles`` by the result of ``history`` in ``job`` (None without history)."""
+    if history is None:
+        return None
+    h = job.results[history.name]
+    if isinstance(h, Failure):
+        return Failure(f"no {history.label}: {h}")
+    return h.at([cycles])["wear"][0]
+
+
 class Tasks:
     """Builds the tasks of the scenes, each with the cache key of what it depends on."""
 
@@ -526,10 +536,12 @@ class Tasks:
 
         return Task("regime", key, run, "regime map", 3.0)
 
-    def wear_map_key(self, s: Settings) -> tuple:
-        """Cache key of the wear map: the model, the grids, the method and only the options it uses."""
+    def wear_map_key(self, s: Settings, method: str | None = None, options: tuple | None = None) -> tuple:
+        """Cache key of a wear map: the model, the grids, the method (default the selected one) and only
+        the options it uses."""
         grid = _grid(s.fmin, s.fmax, s.n_frequencies)
-        return ("wear_map", s.model, grid, s.horizon, s.n_cycles, s.method, s.kw, tuple(s.options().items()))
+        method, options = (s.method, tuple(s.options().items())) if method is None else (method, options)
+        return ("wear_map", s.model, grid, s.horizon, s.n_cycles, method, s.kw, options)
 
     def history_key(self, s: Settings, f_hz: float, method: str, harmonics: int | None = None) -> tuple:
         """Cache key of a wear history: the same as the wear map's row at ``f_hz`` (12 digits)."""
@@ -608,20 +620,16 @@ class Tasks:
                 )
             )  # fmt: skip
 
-        grid = _grid(s.fmin, s.fmax, s.n_frequencies)
-        key = ("wear_map", s.model, grid, s.horizon, s.n_cycles, "exact", s.kw, _EXACT_OPTIONS)
+        key = self.wear_map_key(s, "exact", _EXACT_OPTIONS)
         return Task(EXACT_MAP, key, run, "exact wear map (event-driven dynamics)", 5.0)
 
     def exact_point(self, s: Settings, f_hz: float, cycles: float, history: Task | None) -> Task:
         """The exact periodic orbit at ``f_hz`` after ``cycles``, worn as the exact ``history`` says."""
 
         def run(job: Job):
-            wear = None
-            if history is not None:
-                h = job.results[history.name]
-                if isinstance(h, Failure):
-                    return Failure(f"no exact wear history: {h}")
-                wear = h.at([cycles])["wear"][0]
+            wear = _wear_after(job, history, cycles)
+            if isinstance(wear, Failure):
+                return wear
             return _guard(lambda: self.backend.exact_point(s.model, f_hz, wear))
 
         source = None if history is None else history.key
@@ -632,12 +640,9 @@ class Tasks:
         """Periodic response at ``f_hz`` after ``cycles`` (the wear of ``history`` there; none at 0)."""
 
         def run(job: Job):
-            wear = None
-            if history is not None:
-                h = job.results[history.name]
-                if isinstance(h, Failure):
-                    return Failure(f"no wear history: {h}")
-                wear = h.at([cycles])["wear"][0]
+            wear = _wear_after(job, history, cycles)
+            if isinstance(wear, Failure):
+                return wear
             return _guard(lambda: self.backend.point(s.model, f_hz, s.harmonics, wear))
 
         source = None if history is None else history.key
