@@ -1,8 +1,3 @@
-"""The installed version of fretwear (``0+unknown`` in a source tree that was not installed)."""
+"""fretwear's version: the one place it is written (``pyproject.toml`` reads it from here)."""
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("fretwear")
-except PackageNotFoundError:
-    __version__ = "0+unknown"
+__version__ = "0.1.0"

@@ -846,16 +846,25 @@ def _figures(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _kernel_groups(args: argparse.Namespace) -> tuple[str, ...]:
+    """The compiled kernel groups (:data:`fretwear.compile.KERNELS`) that the command runs."""
+    method = getattr(args, "method", None)
+    if args.command == "interface":
+        return () if args.static else ("interface",)
+    if args.command in ("frf", "point"):
+        if method == "shooting":
+            return ("exact",)
+        return ("solver",) if getattr(args, "continuation", False) else ("sweep",)
+    if args.command in ("wear", "map"):
+        groups = ("solver",) + (("polynomial",) if method == "polynomial" else ())
+        return groups + (("exact",) if method == "time" or args.dynamics == "shooting" else ())
+    return ()
+
+
 def _compile_notice(args: argparse.Namespace) -> None:
     """One line on stderr when the compiled kernels the command needs are not in the cache yet."""
-    if getattr(args, "method", None) == "shooting":
-        return
-    if args.command in ("frf", "point") and not getattr(args, "continuation", False):
-        message = compiled.notice("sweep")
-    elif args.command in ("frf", "wear", "map"):
-        message = compiled.notice("solver")
-    else:
-        return
+    groups = _kernel_groups(args)
+    message = compiled.notice(*groups) if groups else None
     if message:
         print(f"fretwear {args.command}: {message}", file=sys.stderr, flush=True)
 
@@ -895,6 +904,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == "study":
             return study_command.run(args)
         if args.command == "interface":
+            _compile_notice(args)
             return interface_command.run(args)
         model, names = _model(args)
         _compile_notice(args)

@@ -12,7 +12,15 @@ computations that need them, so that a command compiles only its own:
 * ``"solver"``: the periodic solver's loops as the slow-time (wear) methods
   and the branch continuation use them (:func:`fretwear.hbm.periodic.solve_problem`,
   :func:`fretwear.hbm.periodic.walk`; ``fretwear wear``, ``fretwear map``,
-  ``fretwear frf --continuation``).
+  ``fretwear frf --continuation``);
+* ``"polynomial"``: the polynomial slow-time method on DLFT dynamics
+  (``wear_history(..., "polynomial")``, ``fretwear wear --method polynomial``);
+* ``"exact"``: the exact event-driven dynamics: shooting, direct time
+  integration and the exact wear tables (:func:`fretwear.shooting`,
+  :func:`fretwear.shooting_sweep`, ``dynamics="shooting"``, ``method="time"``;
+  ``--method shooting``, ``--dynamics shooting``);
+* ``"interface"``: contact interfaces with many node pairs
+  (:mod:`fretwear.interface`; ``fretwear interface``).
 
 A front end tells its user before a first run::
 
@@ -83,6 +91,40 @@ def _run_solver() -> None:
     problem.evaluate(x)  # evaluate and jacobian_from_blocks, as Problem calls them
 
 
+def _run_polynomial() -> None:
+    from .model import paper_model
+    from .wear.history import wear_history
+
+    wear_history(paper_model(), 2 * np.pi * 0.7, "polynomial", kw=1e-11, cycles=20.0, harmonics=3)
+
+
+def _run_exact() -> None:
+    from .model import paper_model
+    from .time.shooting import shooting, shooting_sweep
+    from .wear.history import wear_history
+
+    model, omega = paper_model(), 2 * np.pi * 0.7
+    shooting(model, omega)
+    shooting_sweep(model, omega * np.array([0.95, 1.0]))
+    wear_history(model, omega, "exact", kw=1e-11, cycles=20.0, dynamics="shooting")
+    wear_history(model, omega, "time", kw=1e-11, cycles=20.0)
+
+
+def _run_interface() -> None:
+    from .interface.paper import paper_interface
+    from .interface.periodic import InterfaceProblem, solve_interface
+    from .interface.reduction import ContactCondensation, craig_bampton
+    from .interface.time_integration import initial_state, integrate_interface
+    from .interface.wear import wear_interface
+
+    condensation = ContactCondensation(craig_bampton(paper_interface(), 0.0))
+    problem = InterfaceProblem(condensation, 2 * np.pi * 0.7, harmonics=3)
+    integrate_interface(condensation, problem.omega, *initial_state(solve_interface(problem)), periods=1,
+                        steps_per_period=64)  # fmt: skip
+    for method in ("stepping", "polynomial"):
+        wear_interface(problem, 1e-11, 100.0, method=method, degree=2 if method == "polynomial" else None)
+
+
 #: the kernel groups, by name
 KERNELS: dict[str, Kernel] = {
     k.name: k
@@ -105,6 +147,39 @@ KERNELS: dict[str, Kernel] = {
             ),  # fmt: skip
             35.0,
             _run_solver,
+        ),
+        Kernel(
+            "polynomial",
+            "the polynomial slow-time method on DLFT dynamics (wear_history(..., 'polynomial'))",
+            ("fretwear.wear.polynomial:_chain", "fretwear.wear.polynomial:_galerkin"),
+            45.0,
+            _run_polynomial,
+        ),
+        Kernel(
+            "exact",
+            "the exact event-driven dynamics: shooting, time integration, exact wear tables",
+            (
+                "fretwear.time.kernels:solve",
+                "fretwear.time.kernels:newton",
+                "fretwear.time.kernels:settle",
+                "fretwear.time.kernels:march",
+                "fretwear.time.kernels:orbit",
+                "fretwear.wear.sliding:_invert",
+            ),  # fmt: skip
+            95.0,
+            _run_exact,
+        ),
+        Kernel(
+            "interface",
+            "contact interfaces with many node pairs (fretwear.interface)",
+            (
+                "fretwear.interface.kernels:newton_kernel",
+                "fretwear.interface.kernels:load_walk_kernel",
+                "fretwear.interface.polynomial:rate_sensitivity",
+                "fretwear.interface.time_integration:integrate_kernel",
+            ),  # fmt: skip
+            40.0,
+            _run_interface,
         ),
     )
 }

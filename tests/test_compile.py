@@ -36,13 +36,14 @@ def test_a_new_process_reads_the_on_disk_cache(tmp_path):
 
 
 def test_notice_sums_the_pending_groups(monkeypatch):
+    seconds = {name: kernel.seconds for name, kernel in compiled.KERNELS.items()}
     monkeypatch.setattr(compiled, "cached", lambda name: name == "sweep")
-    assert compiled.pending() == ["solver"]
+    assert compiled.pending() == [name for name in compiled.KERNELS if name != "sweep"]
     assert compiled.notice("sweep") is None
-    assert compiled.notice() == NOTICE + f"{compiled.KERNELS['solver'].seconds:.0f} s"
+    assert compiled.notice("sweep", "solver") == NOTICE + f"{seconds['solver']:.0f} s"
+    assert compiled.notice() == NOTICE + f"{sum(seconds.values()) - seconds['sweep']:.0f} s"
     monkeypatch.setattr(compiled, "cached", lambda name: False)
-    total = sum(k.seconds for k in compiled.KERNELS.values())
-    assert compiled.notice("sweep", "solver") == NOTICE + f"{total:.0f} s"
+    assert compiled.notice("sweep", "solver") == NOTICE + f"{seconds['sweep'] + seconds['solver']:.0f} s"
     with pytest.raises(ValueError, match="kernel names must be among"):
         compiled.notice("nonsense")
 
@@ -54,3 +55,21 @@ def test_cli_prints_the_notice_once_only_when_kernels_must_compile(monkeypatch, 
     err = capsys.readouterr().err.splitlines()
     notices = [line for line in err if NOTICE in line]
     assert notices == ([f"fretwear point: {compiled.notice('sweep')}"] if cache_empty else [])
+
+
+@pytest.mark.parametrize(
+    ("argv", "groups"),
+    [
+        (["frf", "--fmin", "0.5", "--fmax", "0.7", "--out", "-"], ("sweep",)),
+        (["frf", "--fmin", "0.5", "--fmax", "0.7", "--out", "-", "--continuation"], ("solver",)),
+        (["point", "--f", "0.7", "--method", "shooting"], ("exact",)),
+        (["wear", "--f", "0.7", "--out", "-"], ("solver",)),
+        (["wear", "--f", "0.7", "--out", "-", "--method", "polynomial"], ("solver", "polynomial")),
+        (["wear", "--f", "0.7", "--out", "-", "--dynamics", "shooting"], ("solver", "exact")),
+        (["interface", "--f", "50"], ("interface",)),
+        (["interface", "--static"], ()),
+    ],
+)
+def test_each_command_announces_the_kernels_it_runs(argv, groups):
+    args = cli.build_parser().parse_args(argv)
+    assert cli._kernel_groups(args) == groups

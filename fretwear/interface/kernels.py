@@ -17,10 +17,14 @@ from .contact import boundary_distance, evaluate, jacobian
 
 __all__ = ["newton_kernel", "load_walk_kernel"]
 
+# ``evaluate``'s Jacobian flag as a NumPy scalar: a Python literal would make Numba compile one more
+# specialisation of it per literal value
+_JACOBIAN = np.bool_(True)
+
 
 @njit(cache=True, nogil=True)
 def _residual(x, Z, F, eps, gap, mu, xref, Phi, Psi, R, A, J, lamT, lamN, X, state):
-    evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, True, R, A, lamT, lamN, X, state)
+    evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, _JACOBIAN, R, A, lamT, lamN, X, state)
     jacobian(Z, eps, A, J)
     return np.abs(R).max()
 
@@ -189,7 +193,7 @@ def load_walk_kernel(x0, p0, Z, F_static, F_exc, eps, gap, mu, xref, Phi, Psi, m
     dR = np.empty(n)
     for piece in range(1, max_pieces + 1):
         Fp = F_static + p * F_exc
-        evaluate(x, Z, Fp, eps, gap, mu, xref, Phi, Psi, True, R, A, lamT, lamN, X, state)
+        evaluate(x, Z, Fp, eps, gap, mu, xref, Phi, Psi, _JACOBIAN, R, A, lamT, lamN, X, state)
         jacobian(Z, eps, A, J)
         for i in range(nc):
             r0 = 2 * i * H

@@ -51,6 +51,9 @@ __all__ = ["rate_sensitivity", "wear_polynomial_interface", "DEFAULT_DEGREE"]
 
 #: default polynomial degree in slow time
 DEFAULT_DEGREE = 6
+# ``evaluate``'s Jacobian flag as a NumPy scalar: a Python literal would make Numba compile one more
+# specialisation of it per literal value
+_NO_JACOBIAN = np.bool_(False)
 
 
 @njit(cache=True, nogil=True)
@@ -79,15 +82,19 @@ def rate_sensitivity(x, Z, F, eps, gap, mu, xref, Phi, Psi, area, A, h, ps, dps)
     Ab = np.empty((nc, 2 * H, 2 * H))
     lamT, lamN, X = np.empty((nc, Ns)), np.empty((nc, Ns)), np.empty((nc, Ns))
     state = np.empty((nc, Ns), dtype=np.int8)
-    evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, False, R, Ab, lamT, lamN, X, state)
+    evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, _NO_JACOBIAN, R, Ab, lamT, lamN, X, state)
     ps[:] = slip_work(X, lamN, state)[1] / area
     g = gap.copy()
     for j in range(nc):
         g[j] = gap[j] + h
-        evaluate(x + h * dx[:, j], Z, F, eps, g, mu, xref, Phi, Psi, False, R, Ab, lamT, lamN, X, state)
+        evaluate(
+            x + h * dx[:, j], Z, F, eps, g, mu, xref, Phi, Psi, _NO_JACOBIAN, R, Ab, lamT, lamN, X, state
+        )
         up = slip_work(X, lamN, state)[1]
         g[j] = gap[j] - h
-        evaluate(x - h * dx[:, j], Z, F, eps, g, mu, xref, Phi, Psi, False, R, Ab, lamT, lamN, X, state)
+        evaluate(
+            x - h * dx[:, j], Z, F, eps, g, mu, xref, Phi, Psi, _NO_JACOBIAN, R, Ab, lamT, lamN, X, state
+        )
         down = slip_work(X, lamN, state)[1]
         g[j] = gap[j]
         dps[:, j] = (up - down) / (2 * h * area)

@@ -95,6 +95,9 @@ _MAX_NULL = 40  # consecutive events at one instant before giving up
 _STALL = 6  # Newton gives up when its residual has not halved over this many iterations
 _STEP_TOL = 1e-7  # a Newton step below this (relative) ends the iterations (residual ~ step^2)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
+# Flags and masks passed from one kernel to another as NumPy scalars: a Python literal (``True``, ``0``)
+# would make Numba compile one more specialisation of the callee per literal value (seconds each).
+_TRUE, _FALSE, _NONE = np.bool_(True), np.bool_(False), np.int64(0)
 
 
 # ---------------------------------------------------------------------------
@@ -591,7 +594,7 @@ def march(
     for i in range(n):
         vscale = max(vscale, 2 * abs(y[n + i]))
     dirs = np.zeros(nf, dtype=np.int64)
-    Z = 0
+    Z = _NONE
     for j in range(nf):
         if g[j] <= 0:
             continue
@@ -601,7 +604,7 @@ def march(
         else:
             dirs[j] = 1 if vr > 0 else -1
     status, S, dirs, need = select(
-        t, y, Z, 0, g, dirs, Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, count
+        t, y, Z, _NONE, g, dirs, Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, count
     )
     if status != OK:
         return status, need, y, J, sliding, 0, 0, 0
@@ -825,7 +828,7 @@ def _period(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, 
     e2 = np.zeros((0, 0))
     e8 = np.zeros((0, 0), dtype=np.int8)
     return march(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, step, count,
-                 g, y, 0.0, 2 * math.pi / omega, jacobian, False, max_phases,
+                 g, y, 0.0, 2 * math.pi / omega, jacobian, _FALSE, max_phases,
                  e, e, ei, ei, e2, e, e8, e8, e, ei, ei, ei)  # fmt: skip
 
 
@@ -885,7 +888,7 @@ def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
     y = y_guess.copy()
     I = np.eye(n2)
     status, need, y1, J, _, _, _, _ = _period(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi,
-                                              phi_series, step, count, g, y, True, max_phases)  # fmt: skip
+                                              phi_series, step, count, g, y, _TRUE, max_phases)  # fmt: skip
     if status != OK:
         return status, need, y, False, False, 0, math.inf, J
     res = _scaled_norm(y1 - y, n, omega)
@@ -904,7 +907,7 @@ def newton(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
         while True:
             trial = y + alpha * dy
             status, need, t1, tJ, _, _, _, _ = _period(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows,
-                                                       phi, phi_series, step, count, g, trial, True,
+                                                       phi, phi_series, step, count, g, trial, _TRUE,
                                                        max_phases)  # fmt: skip
             if status == NEED_PATTERN:
                 return status, need, y, False, False, it, res / size, J
@@ -930,7 +933,7 @@ def settle(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, s
     change = math.inf
     for p in range(periods):
         status, need, y1, _, _, _, _, _ = _period(
-            Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, step, count, g, y, False,
+            Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, step, count, g, y, _FALSE,
             max_phases,
         )  # fmt: skip
         if status != OK:
@@ -1079,7 +1082,7 @@ def orbit(Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, st
     n = Minv.shape[0]
     status, need, y, J, sliding, ns, nph, nev = march(
         Minv, B, C, Kmat, F, omega, masks, Ah, force_rows, phi, phi_series, step, count, g, y0, t0, t1,
-        jacobian, True, max_phases, st_t, st_len, st_pat, st_phase, st_X, ph_t, ph_state, ph_dir, ev_t, ev_c,
+        jacobian, _TRUE, max_phases, st_t, st_len, st_pat, st_phase, st_X, ph_t, ph_state, ph_dir, ev_t, ev_c,
         ev_kind, ev_dir,
     )  # fmt: skip
     work = visc = 0.0
@@ -1178,7 +1181,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
                 kind, y = MARCH_START + j, ys.copy()
             status, need, y1, ok, _, its, res, _ = newton(
                 Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, tol,
-                max_iter, max_phases, False,
+                max_iter, max_phases, _FALSE,
             )  # fmt: skip
             if status == NEED_PATTERN:
                 return status, need, i
@@ -1199,7 +1202,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
             s0, p0, e0 = st_off[i], ph_off[i], ev_off[i]
             status, need, y1, J, slid, ns, nph, nev, work, visc, fre, fim, hi, lo = orbit(
                 Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, 0.0,
-                T, True, max_phases, rows, st_t[s0:], st_len[s0:], st_pat[s0:], st_phase[s0:], st_X[s0:],
+                T, _TRUE, max_phases, rows, st_t[s0:], st_len[s0:], st_pat[s0:], st_phase[s0:], st_X[s0:],
                 ph_t[p0:], ph_state[p0:], ph_dir[p0:], ev_t[e0:], ev_c[e0:], ev_kind[e0:], ev_dir[e0:],
             )  # fmt: skip
             if status == NEED_PATTERN or status == NEED_SPACE:
@@ -1214,7 +1217,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
                 break
             status, need, y2, ok, _, its, _, _ = newton(
                 Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, tol,
-                max_iter, max_phases, True,
+                max_iter, max_phases, _TRUE,
             )  # fmt: skip
             if status == NEED_PATTERN:
                 return status, need, i

@@ -39,7 +39,6 @@ from functools import lru_cache
 
 import numpy as np
 from numba import njit
-from scipy import linalg
 
 from ..model import Model
 
@@ -50,6 +49,13 @@ TAYLOR_ORDER = 30
 _REMAINDER = 1e-20  # bound on the truncated tail of a step, relative to |X| in the balanced norm
 _STEP_RADIUS = 3.0  # first trial of h_S: growth rate times h_S
 _MIN_STEPS = 4  # at least this many steps per excitation period
+
+
+def _null_space(A: np.ndarray) -> np.ndarray:
+    """Orthonormal basis (columns) of the null space of ``A``, by SVD (rank tolerance as scipy's)."""
+    _, s, vh = np.linalg.svd(A)
+    rank = int(np.sum(s > np.finfo(float).eps * max(A.shape) * s.max())) if s.size else 0
+    return vh[rank:].T
 
 
 class Structure:
@@ -81,7 +87,7 @@ class Structure:
                 "friction contacts must be linearly independent (relative map B of full row rank): "
                 "redundant contacts make the stuck forces indeterminate"
             )
-        Minv = linalg.inv(M)
+        Minv = np.linalg.inv(M)
         self.Minv = (Minv + Minv.T) / 2
         self.C, self.K = model.C, model.K
         self.forces = np.column_stack([model.force_static, model.force_cos, model.force_sin])
@@ -100,9 +106,11 @@ class Structure:
         if found is None:
             model = self.model
             Ba = self.B[[j for j in range(self.nf) if active >> j & 1]]
-            N = linalg.null_space(Ba) if len(Ba) else np.eye(self.n)
+            N = _null_space(Ba) if len(Ba) else np.eye(self.n)
             Kr, Mr, Cr = (N.T @ a @ N for a in (model.K, model.M, model.C))
-            u_static = N @ linalg.lstsq(Kr, N.T @ model.force_static)[0] if N.shape[1] else np.zeros(self.n)
+            u_static = (
+                N @ np.linalg.lstsq(Kr, N.T @ model.force_static)[0] if N.shape[1] else np.zeros(self.n)
+            )
             found = self._rigid[active] = (
                 N,
                 Kr,
@@ -138,7 +146,7 @@ class Structure:
             BS = self.B[stuck]
             MiBt = self.Minv @ BS.T
             W = BS @ MiBt
-            L = linalg.solve(W, BS @ acc, assume_a="pos")  # lambda_S = W^-1 B_S M^-1 r
+            L = np.linalg.solve(W, BS @ acc)  # lambda_S = W^-1 B_S M^-1 r
             rows[stuck] = L
             acc = acc - MiBt @ L
         A = np.zeros((D, D))

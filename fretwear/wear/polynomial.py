@@ -216,6 +216,11 @@ def wear_polynomial(
 
 
 # -- compiled kernels ---------------------------------------------------------------------------------
+# Counts and flags passed to the solver's kernels as NumPy scalars: a Python literal (``12``, ``True``)
+# would make Numba compile one more specialisation of the callee per literal value (seconds each).
+_NEWTON_ITER, _POLISH_ITER, _MAX_PIECES = np.int64(12), np.int64(20), np.int64(5000)
+_WALK_MODE = np.int64(NEWTON)
+_JACOBIAN, _NO_JACOBIAN = np.bool_(True), np.bool_(False)
 
 
 @njit(cache=True, nogil=True)
@@ -225,7 +230,9 @@ def _node_solve(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target):
     The residual is piecewise linear: far from the start, Newton alone can jump
     between stick/slip patterns; the homotopy follows the pieces exactly.
     """
-    x, ok, it, r, code = newton_kernel(x0.copy(), Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, 12)
+    x, ok, it, r, code = newton_kernel(
+        x0.copy(), Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, _NEWTON_ITER
+    )
     if ok:
         return x, True
     n, nc = x0.shape[0], kinds.shape[0]
@@ -234,11 +241,12 @@ def _node_solve(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target):
     A = np.empty((nc, H, H))
     lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
     state = np.empty((nc, Ns), dtype=np.int8)
-    dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, False, R, A, lam, X, state)
+    dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, _NO_JACOBIAN, R, A, lam, X, state)
     none = np.empty((0, n))
-    x, p, pieces, arrived, k = walk_kernel(x, 0.0, 1.0, NEWTON, Z, F, R, eps, kinds, limits, Phi, Psi,
-                                           half_wave, 5000, none, np.empty(0), np.empty(0))  # fmt: skip
-    x, ok, it, r, code = newton_kernel(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, 20)
+    x, p, pieces, arrived, k = walk_kernel(x, 0.0, 1.0, _WALK_MODE, Z, F, R, eps, kinds, limits, Phi, Psi,
+                                           half_wave, _MAX_PIECES, none, np.empty(0),
+                                           np.empty(0))  # fmt: skip
+    x, ok, it, r, code = newton_kernel(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, _POLISH_ITER)
     return x, ok
 
 
@@ -284,7 +292,7 @@ def _slope(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave):
     A = np.empty((nc, H, H))
     lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
     st = np.empty((nc, Ns), dtype=np.int8)
-    dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, True, R, A, lam, X, st)
+    dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, _JACOBIAN, R, A, lam, X, st)
     dlft.jacobian_from_blocks(Z, eps, A, J)
     lam_c, X_c, dlam, dsu = np.empty(Ns), np.empty(Ns), np.empty(Ns), np.empty(Ns)
     st_c = np.empty(Ns, dtype=np.int8)
