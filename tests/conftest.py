@@ -16,6 +16,10 @@ from pathlib import Path
 
 import pytest
 
+# One BLAS thread per process: the tests, the dashboard server they start and the kernel warm-up share
+# two cores, and OpenBLAS threads that wait for a busy core slow a 350-unknown solve 25-fold (measured).
+# (Read when a BLAS library loads: SciPy's, which the compiled kernels call, and every subprocess's.)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 CHROMIUM = Path("/usr/bin/chromium")
 ROOT = Path(__file__).resolve().parents[1]
 #: kernel groups (fretwear.compile.KERNELS) compiled side by side, one process each, when not cached
