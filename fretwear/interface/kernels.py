@@ -191,6 +191,7 @@ def load_walk_kernel(x0, p0, Z, F_static, F_exc, eps, gap, mu, xref, Phi, Psi, m
     row[n] = 1.0
     orientation = 0.0
     dR = np.empty(n)
+    stalled = 0
     for piece in range(1, max_pieces + 1):
         Fp = F_static + p * F_exc
         evaluate(x, Z, Fp, eps, gap, mu, xref, Phi, Psi, _JACOBIAN, R, A, lamT, lamN, X, state)
@@ -209,7 +210,11 @@ def load_walk_kernel(x0, p0, Z, F_static, F_exc, eps, gap, mu, xref, Phi, Psi, m
         if reach <= tau:
             return x + reach * tx, 1.0, piece, True
         big = max(np.abs(x).max(), abs(p))
-        step = tau * (1 + 1e-9) + 1e-13 * (big + 1e-300)
+        nudge = 1e-13 * (big + 1e-300)
+        # a vertex where several samples change state at once can send the walk back and forth between
+        # their pieces without progress: each stalled piece steps ten times further past its boundary
+        stalled = stalled + 1 if tau < nudge else 0
+        step = tau * (1 + 1e-9) + nudge * 10.0 ** min(stalled, 8)
         x = x + step * tx
         p = p + step * t[n]
         row = t

@@ -7,7 +7,8 @@ import fretwear as fw
 from fretwear.interface.contact import OPEN, SLIP, STICK, march_pair
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.paper import paper_interface
-from fretwear.interface.periodic import InterfaceProblem, solve_interface
+from fretwear.interface.kernels import load_walk_kernel
+from fretwear.interface.periodic import InterfaceProblem, newton, solve_interface
 from fretwear.interface.reduction import ContactCondensation, craig_bampton
 from fretwear.interface.structure import ContactPairs, InterfaceModel
 from fretwear.model import Model, NormalContact
@@ -149,3 +150,22 @@ def test_one_pair_wears_as_the_single_contact_exact_load_path():
         inside = ref.at(h.cycles)["wear"][:, 0] < 0.98 * ref.u0[0]  # the reference stops at 0.99 u0
         errors.append(np.abs(ref.at(h.cycles)["wear"][inside, 0] - h.wear[inside, 0]).max() / ref.u0[0])
     assert errors[1] < 1e-3 and errors[1] < errors[0] / 10
+
+
+def test_the_load_walk_passes_a_vertex_where_several_samples_change_state(bench):
+    """At 70 Hz (Nh = 3) the walk meets a vertex where it went back and forth between pieces without
+    progress (it stalled at p = 0.3428 for 20 000 pieces); it now arrives, on Newton's solution."""
+    model, cond = bench
+    prob = InterfaceProblem(cond, 2 * np.pi * 70.0, harmonics=3)
+    b = prob.basis
+    x, p, pieces, arrived = load_walk_kernel(
+        prob.start(), 0.0, prob.Z, prob.F_static, prob.force_scale * prob.F_exc, prob.eps, prob.gap, prob.mu,
+        prob.xref, b.synthesis, b.analysis, 8000,
+    )  # fmt: skip
+    ref = solve_interface(prob)
+    assert arrived and p == 1.0 and ref.converged
+    R = prob.evaluate(x)[0]
+    assert np.abs(R).max() <= 1e-5 * prob.residual_scale()  # near the path: nudged past the vertices
+    polished = newton(prob, x)  # as load_walk ends
+    assert polished.converged and polished.iterations <= 3
+    assert np.abs(polished.x - ref.unknowns).max() <= 1e-10 * np.abs(ref.unknowns).max()
