@@ -6,8 +6,8 @@ import pytest
 import fretwear as fw
 from fretwear.interface.contact import OPEN, SLIP, STICK, march_pair
 from fretwear.interface.fe import cylinder_on_flat
-from fretwear.interface.paper import paper_interface
 from fretwear.interface.kernels import load_walk_kernel
+from fretwear.interface.paper import paper_interface
 from fretwear.interface.periodic import InterfaceProblem, newton, solve_interface
 from fretwear.interface.reduction import ContactCondensation, craig_bampton
 from fretwear.interface.structure import ContactPairs, InterfaceModel
