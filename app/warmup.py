@@ -35,14 +35,18 @@ _thread: list[threading.Thread] = []
 def compile_kernels() -> float:
     """Run every solver and slow-time method once on a tiny case (compiling its kernels); seconds spent.
 
-    From Numba's cache this takes about a second; with an empty cache (a fresh
-    install) a few minutes, once.
+    From Numba's cache this takes about a second. With an empty cache (a fresh
+    install) the kernels of every scene, the Interface tab's included, first
+    compile in two processes at once (:func:`fretwear.compile.warm_in_processes`):
+    two to three minutes on two cores, once.
     """
     import numpy as np
 
     import fretwear as fw
+    from fretwear.compile import warm_in_processes
 
     start = time.perf_counter()
+    warm_in_processes()
     model, omega = fw.paper_model(fex=10), 2 * np.pi * 0.7
     fw.sweep(model, omega * np.array([0.95, 1.0]), 3)
     fw.shooting(model, omega)

@@ -9,8 +9,6 @@ Playwright or /usr/bin/chromium is missing (``.ci/run`` installs both).
 
 import importlib.util
 import os
-import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
@@ -21,9 +19,6 @@ import pytest
 # (Read when a BLAS library loads: SciPy's, which the compiled kernels call, and every subprocess's.)
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 CHROMIUM = Path("/usr/bin/chromium")
-ROOT = Path(__file__).resolve().parents[1]
-#: kernel groups (fretwear.compile.KERNELS) compiled side by side, one process each, when not cached
-WARM_UP = (("sweep", "solver", "polynomial"), ("exact", "interface"))
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
@@ -64,24 +59,14 @@ def pytest_configure(config: pytest.Config) -> None:
 def pytest_sessionstart(session: pytest.Session) -> None:
     """On a cold Numba cache (a fresh clone), compile the kernels in two processes at once first.
 
-    The tests would compile them one after another as they first need them (about six minutes);
-    two processes on two cores take about half of that. The machine code goes to Numba's on-disk
-    cache, where the tests find it. A warm-up that fails only costs time: the tests compile then.
+    The tests would compile them one after another as they first need them; two processes on two
+    cores take about half of that (:func:`fretwear.compile.warm_in_processes`).
     """
     import fretwear.compile as compiled
 
-    parts = [[name for name in part if name in compiled.pending(*part)] for part in WARM_UP]
-    parts = [part for part in parts if part]
-    if not parts:
+    if not compiled.pending():
         return
     reporter = session.config.pluginmanager.get_plugin("terminalreporter")
     if reporter is not None:
-        reporter.write_line(f"compiling numerical kernels {parts} (first run only, a few minutes)")
-    env = {**os.environ, "FRETWEAR_CACHE_DIR": ""}  # no sliding tables left on disk for the tests
-    code = "import sys, fretwear.compile as c; c.warm(*sys.argv[1:])"
-    runs = [
-        subprocess.Popen([sys.executable, "-W", "ignore", "-c", code, *part], cwd=ROOT, env=env)
-        for part in parts
-    ]
-    for run in runs:
-        run.wait()
+        reporter.write_line("compiling numerical kernels in two processes (first run only, a few minutes)")
+    compiled.warm_in_processes(env={**os.environ, "FRETWEAR_CACHE_DIR": ""})  # no sliding tables left

@@ -73,3 +73,13 @@ def test_cli_prints_the_notice_once_only_when_kernels_must_compile(monkeypatch, 
 def test_each_command_announces_the_kernels_it_runs(argv, groups):
     args = cli.build_parser().parse_args(argv)
     assert cli._kernel_groups(args) == groups
+
+
+def test_warm_in_processes_runs_each_part_in_a_process_of_its_own(monkeypatch):
+    """Every pending group is warmed, each part by its own process (here loading the suite's cache)."""
+    monkeypatch.setattr(compiled, "pending", lambda *names: list(names))  # as on a cold cache
+    done = compiled.warm_in_processes(env={**os.environ, "FRETWEAR_CACHE_DIR": ""})
+    assert done == [(list(part), True) for part in compiled.PARTS]
+    assert sorted(name for part in compiled.PARTS for name in part) == sorted(compiled.KERNELS)
+    monkeypatch.setattr(compiled, "pending", lambda *names: [])
+    assert compiled.warm_in_processes() == []
