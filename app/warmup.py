@@ -16,6 +16,7 @@ and no later scene waits for a compilation. Two ways to run it:
 from __future__ import annotations
 
 import logging
+import os
 import sys
 import threading
 import time
@@ -24,6 +25,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
+# One OpenBLAS thread per process (unless set): the sessions share the server's cores, and OpenBLAS threads
+# waiting for a busy core made the Interface tab's dense solves 3-25x slower under load (measured; on an
+# idle machine one thread was as fast). SciPy's BLAS reads this when it loads, at the first computation.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 __all__ = ["compile_kernels", "warm", "warm_in_background"]
 

@@ -886,6 +886,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         ``0`` success, ``2`` bad input, ``3`` some frequency did not converge.
     """
     argv = list(sys.argv[1:] if argv is None else argv)
+    # One OpenBLAS thread (unless set): fretwear's dense solves gain nothing from more on an idle machine,
+    # and threads waiting for a busy core made them 3-25x slower under load (measured). SciPy's BLAS reads
+    # this when it loads, at the first computation; study workers inherit it.
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     parser = build_parser()
     try:
         _apply_settings(parser, argv)
