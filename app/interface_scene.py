@@ -36,6 +36,7 @@ from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
 
 from .backend import Cancelled, ResultCache, shared_cache
+from .live import live_pane
 
 __all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "compute_interface", "MODELS", "PAPER"]
 
@@ -535,15 +536,7 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
 
     scene.param.watch(show, ["busy", "progress", "status", "error", "notes"])
     panes = [
-        pn.pane.HoloViews(
-            hv.DynamicMap(
-                partial(lambda n, **_k: scene.figure(n), name),
-                streams=[hv.streams.Params(scene, ["version"])],
-            ),
-            backend="bokeh",
-            sizing_mode="stretch_width",
-            linked_axes=False,
-        )
+        live_pane(partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])])
         for name in scene.figure_names
     ]
     explanation = pn.pane.Markdown(

@@ -33,6 +33,7 @@ from fretwear import figures
 from fretwear.figures.record import parse_settings, settings_json
 
 from .glossary import glossary_markdown, help_mark, term
+from .live import live_pane
 from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, CycleScene, Scene
 from .session import Session
 from .state import CUSTOM, LADDERS, METHODS, PRESETS, number_text, parse_number
@@ -440,8 +441,7 @@ def _figure_pane(scene: Scene, name: str, session: Session) -> pn.pane.HoloViews
         streams.append(tap)
     if isinstance(scene, CycleScene):
         streams = [hv.streams.Params(scene, ["version", "frame"])]  # the animation redraws them
-    dmap = hv.DynamicMap(partial(_draw, scene, name), streams=streams)
-    return pn.pane.HoloViews(dmap, backend="bokeh", sizing_mode="stretch_width", linked_axes=False)
+    return live_pane(partial(_draw, scene, name), streams)
 
 
 def _export_card(scene: Scene, settings: ExportSettings) -> pn.Card:

@@ -28,6 +28,8 @@ from fretwear import figures
 from fretwear.figures.plots import ensure_backend, holoviews, marker_line, overlay_options, styled
 from fretwear.studies.study import STATUS, open_study, wear_life_summary
 
+from .live import live_pane
+
 __all__ = ["StudyScene", "load_study", "study_tab", "QUANTITIES"]
 
 #: the per-point quantities a study may hold: variable -> (label, unit, logarithmic axis)
@@ -467,11 +469,9 @@ def study_tab(scene: StudyScene, export_card: Callable[[Any], Any]) -> list:
         sizing_mode="stretch_width",
     )
     panes = [
-        pn.pane.HoloViews(hv.DynamicMap(partial(lambda n, **_k: scene.figure(n), name),
-                                        streams=[hv.streams.Params(scene, ["version"])]),
-                          backend="bokeh", sizing_mode="stretch_width", linked_axes=False)
+        live_pane(partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])])
         for name in scene.figure_names
-    ]  # fmt: skip
+    ]
     notes = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
 
     def show(*_events):

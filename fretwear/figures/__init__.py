@@ -28,6 +28,7 @@ from .plots import (
     overlay_options,
     signals_figure,
     styled,
+    styling_for,
     wear_curve,
     wear_map_figure,
 )
@@ -52,6 +53,7 @@ __all__ = [
     "holoviews",
     "line_figure",
     "load_backend",
+    "styling_for",
     "map_figure",
     "marker_line",
     "overlay_options",
