@@ -26,8 +26,9 @@ with the machine's load average: on a loaded machine every figure grows.
     python benchmarks/bench_app.py --quick    # 3 and 5
     python benchmarks/bench_app.py --quick --screenshots assets   # and a screenshot of every scene
 
-With ``--screenshots DIR``, every scene is also opened from its address (the
-settings of its screenshot in :data:`SCREENSHOTS`) and saved as
+With ``--screenshots DIR``, every scene and tab is also opened from its address
+(the settings of its screenshot in :data:`SCREENSHOTS`, then a click on its tab
+for the Interface and Study tabs) and saved as
 ``DIR/scene_KEY.png`` once computed: the README's screenshots.
 """
 
@@ -51,14 +52,17 @@ ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--n
 FIRST_PAGE, SLIDER = 3.0, 0.3
 #: Study tab drawn (a stored study: "instantly"), Interface tab computed (first run) and from the cache
 STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
-#: scene -> (address query, a plot title the computed scene shows) of the README's screenshots
+#: scene -> (address query, tab clicked after loading or None, a plot title the computed scene shows)
+#: of the README's screenshots
 SCREENSHOTS = {
-    "regimes": ("", "Stick/slip regimes"),
-    "wearmap": ("scene=wearmap&f=0.6&N=3000", "Wear history at 0.6 Hz"),
-    "evolution": ("scene=evolution&fex=6&f=0.95", "Pseudo-FRFs of mass 1"),
-    "cycle": ("scene=cycle&fex=8&f=0.75&N=0", "Hysteresis loop"),
-    "methods": ("scene=methods", "Slow-time methods"),
-    "accuracy": ("scene=accuracy", "vs wall time"),
+    "regimes": ("", None, "Stick/slip regimes"),
+    "wearmap": ("scene=wearmap&f=0.6&N=3000", None, "Wear history at 0.6 Hz"),
+    "evolution": ("scene=evolution&fex=6&f=0.95", None, "Pseudo-FRFs of mass 1"),
+    "cycle": ("scene=cycle&fex=8&f=0.75&N=0", None, "Hysteresis loop"),
+    "methods": ("scene=methods", None, "Slow-time methods"),
+    "accuracy": ("scene=accuracy", None, "vs wall time"),
+    "interface": ("", "Interface", "Interface: FRF of pad_x"),
+    "study": ("", "Study", "Study: wear life"),
 }
 #: the page's text, shadow DOM included (Panel renders into shadow roots)
 TEXT_JS = """
@@ -214,13 +218,16 @@ def tab_times(browser, url: str, tab: str, title: str, repeats: int) -> list[flo
 
 
 def screenshots(browser, url: str, folder: Path) -> list[Path]:
-    """Each scene of :data:`SCREENSHOTS` opened from its address, computed, saved as a PNG."""
+    """Each scene of :data:`SCREENSHOTS` opened from its address (and tab), computed, saved as a PNG."""
     folder.mkdir(parents=True, exist_ok=True)
     written = []
-    for key, (query, title) in SCREENSHOTS.items():
+    for key, (query, tab, title) in SCREENSHOTS.items():
         context = browser.new_context(viewport={"width": 1500, "height": 1100})
         page = context.new_page()
         page.goto(url + (f"?{query}" if query else ""))
+        if tab is not None:
+            page.wait_for_function(shows(["FRF of mass 1"]), timeout=120_000)
+            page.locator(".bk-tab", has_text=tab).click()
         page.wait_for_function(
             f"() => ({TITLES_JS})().some(s => s.includes({title!r}))", polling=200, timeout=300_000
         )

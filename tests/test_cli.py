@@ -11,6 +11,7 @@ import os
 import re
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -369,7 +370,10 @@ def test_figures_command_writes_the_paper_set(tmp_path, capsys):
     argv = ["figures", "--out", str(out), "--harmonics", "3", "--nf", "4", "--ncycles", "5",
             "--cycles", "1e4", "--kw", "1e-9", "--formats", "png,csv", "--width", "4", "--height", "3",
             "--dpi", "50"]  # fmt: skip
-    assert cli.main(argv) == 0
+    with warnings.catch_warnings(record=True) as leaked:  # what Python would print with its source line
+        warnings.simplefilter("always")
+        assert cli.main(argv) == 0
+    assert [str(w.message) for w in leaked] == []
     names = sorted(p.name for p in out.iterdir())
     assert [n for n in names if n.endswith(".png")] == [f"fig{k:02d}.png" for k in range(5, 15)]
     assert {png_size((out / n).read_bytes()) for n in names if n.endswith(".png")} == {(200, 150)}
@@ -470,16 +474,17 @@ def test_figures_bad_format(tmp_path, capsys):
 
 
 def test_wear_warnings_are_lines_that_say_where(tmp_path, capsys):
-    """The two-scale warning of a wear map names its frequency, in the command's format."""
-    code, _, err = run(capsys, "map", "--fmin", "0.5", "--fmax", "0.7", "--nf", "2", "--ncycles", "4",
-                       "--cycles", "1e3", "--harmonics", "3", "--fex", "14", "--mu", "0.8", "--kw", "1e-10",
-                       "--out", str(tmp_path / "m.csv"))  # fmt: skip
-    assert (
-        code == 0
-        and "RuntimeWarning" not in err
-        and all(line.startswith("fretwear map: ") for line in err.splitlines())
-    )
-    assert "fretwear map: warning: 0.5 Hz: wear per cycle at the start is" in err
-    code, _, err = run(capsys, "wear", "--f", "0.5", "--cycles", "1e3", "--harmonics", "3", "--fex", "14",
-                       "--mu", "0.8", "--kw", "1e-10", "--out", str(tmp_path / "w.csv"))  # fmt: skip
-    assert code == 0 and "RuntimeWarning" not in err and err.count("two-scale assumption") == 1
+    """The two-scale warning of a wear map names its frequency, in the command's format (and no Python
+    warning is left for Python to print with its source line)."""
+    with warnings.catch_warnings(record=True) as leaked:
+        warnings.simplefilter("always")
+        code, _, err = run(capsys, "map", "--fmin", "0.5", "--fmax", "0.7", "--nf", "2", "--ncycles", "4",
+                           "--cycles", "1e3", "--harmonics", "3", "--fex", "14", "--mu", "0.8", "--kw",
+                           "1e-10", "--out", str(tmp_path / "m.csv"))  # fmt: skip
+        assert code == 0 and all(line.startswith("fretwear map: ") for line in err.splitlines())
+        assert "fretwear map: warning: 0.5 Hz: wear per cycle at the start is" in err
+        code, _, err = run(capsys, "wear", "--f", "0.5", "--cycles", "1e3", "--harmonics", "3",
+                           "--fex", "14", "--mu", "0.8", "--kw", "1e-10",
+                           "--out", str(tmp_path / "w.csv"))  # fmt: skip
+        assert code == 0 and err.count("two-scale assumption") == 1
+    assert [str(w.message) for w in leaked] == []
