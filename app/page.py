@@ -539,7 +539,17 @@ def _accuracy_controls(scene: AccuracyScene, session: Session) -> pn.Column:
     apply.on_click(click)
     show()
     return pn.Column(
-        pn.Row(quantity, target, pn.pane.Markdown("Ladder", align="end"), ladder, wear),
+        # wraps on a narrow window rather than running off the card
+        pn.FlexBox(
+            quantity,
+            target,
+            pn.pane.Markdown("Ladder", align="end"),
+            ladder,
+            wear,
+            flex_wrap="wrap",
+            align_items="flex-end",
+            sizing_mode="stretch_width",
+        ),
         pn.Row(apply, advice, sizing_mode="stretch_width"),
         sizing_mode="stretch_width",
     )
