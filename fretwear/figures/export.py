@@ -11,6 +11,7 @@ import csv
 import html
 import io
 import math
+import re
 import threading
 import warnings
 from collections.abc import Callable, Mapping
@@ -141,6 +142,34 @@ def _text(caption: Caption, markup: str) -> str:
     return caption(markup) if callable(caption) else (caption or "")
 
 
+def _wrapped(figure, canvas, text: str, size: float) -> str:
+    """``text`` in lines as wide as the figure (less 2 %), broken after its ``", "`` and ``"; "``.
+
+    Each piece is measured once: Matplotlib's own wrapping measures every
+    growing line, each a new mathtext parse (about 1.4 s per exported figure).
+    """
+    renderer = canvas.get_renderer()
+    probe = figure.text(0, 0, "", fontsize=size)
+
+    def width(piece: str) -> float:
+        probe.set_text(piece)
+        return probe.get_window_extent(renderer).width
+
+    space = width("a a") - width("aa")
+    room = 0.98 * figure.get_figwidth() * figure.dpi
+    lines: list[list[str]] = [[]]
+    used = 0.0
+    for piece in re.split(r"(?<=[,;]) ", text):
+        w = width(piece)
+        if lines[-1] and used + space + w > room:
+            lines.append([])
+            used = 0.0
+        used += (space if lines[-1] else 0.0) + w
+        lines[-1].append(piece)
+    probe.remove()
+    return "\n".join(" ".join(line) for line in lines)
+
+
 def _matplotlib_bytes(fig, formats: tuple[str, ...], options: ExportOptions, caption: Caption) -> dict:
     hv = holoviews()
     load_backend("matplotlib")
@@ -165,8 +194,8 @@ def _matplotlib_bytes(fig, formats: tuple[str, ...], options: ExportOptions, cap
         bottom = 0.0
         if caption:
             size = 0.75 * (options.fontsize or 10.0)
-            words = _text(caption, "mathtext")
-            text = figure.text(0.01, 0.01, words, fontsize=size, va="bottom", ha="left", wrap=True)
+            words = _wrapped(figure, canvas, _text(caption, "mathtext"), size)
+            text = figure.text(0.01, 0.01, words, fontsize=size, va="bottom", ha="left")
             text.set_in_layout(False)
             extent = text.get_window_extent(canvas.get_renderer())  # wrapped to the width
             bottom = min(
