@@ -75,3 +75,29 @@ def test_paper_figures_write_the_tables(tmp_path):
     assert any("wrote fig14" in line for line in logs)
     with pytest.raises(ValueError, match="formats must be among"):
         figures.paper_figures(tmp_path, formats=("gif",))
+
+
+def test_captions_break_at_their_separators_within_the_figure_width():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from fretwear.figures.export import _wrapped
+
+    text = figures.caption(
+        {"fex": 10.0, "mu": 1.0, "normal_load": 10.0, "kw": 1e-11, "harmonics": 7, "method": "exact"},
+        markup="mathtext",
+    )
+    for inches in (4.0, 7.0):
+        fig = Figure(figsize=(inches, 3.0), dpi=100)
+        canvas = FigureCanvasAgg(fig)
+        lines = _wrapped(fig, canvas, text, 7.5).split("\n")
+        assert " ".join(lines) == text and len(lines) == (2 if inches == 4.0 else 1)  # nothing lost
+        assert all(line.endswith((",", ";")) for line in lines[:-1])  # broken after a separator only
+        widths = [
+            fig.text(0, 0, line, fontsize=7.5).get_window_extent(canvas.get_renderer()).width
+            for line in lines
+        ]
+        assert max(widths) <= 0.98 * inches * 100
