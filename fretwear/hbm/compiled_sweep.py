@@ -84,7 +84,8 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
     the prediction still holds roughly, so a step crosses up to ``K`` of them
     (found along the line in ``O(samples)`` each, with no factorisation), and
     is kept when the residual falls by half the predicted amount: ``K`` then
-    doubles (up to ``KINKS``), else halves. A full step (``tau = 1``) with no
+    doubles (up to ``KINKS``), else halves (each change located once per
+    direction, kept for the shorter steps). A full step (``tau = 1``) with no
     change of pattern is Newton's own. At least ``min_steps`` steps: from the
     end of a walk, exact up to round-off, one full step lands on the solution
     of its piece. ``cur``, ``trial``: march buffers ``(R, lam, X, state, dep,
@@ -100,6 +101,7 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
     v = v0.copy()
     r = augmented_residual(v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *cur)
     K = KINKS
+    taus = np.empty(KINKS)
     it = 0
     while it < max_iter:
         if r <= target and it >= min_steps:
@@ -124,25 +126,28 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
             cur, trial = trial, cur
             continue
         synthesise = np.bool_(True)
+        for c in range(nc):
+            for s in range(Ns):
+                Ut[c, s] = U[c, s]
+        known, line_end = 0, no  # state changes located along the line (at taus), whether tau = 1 follows
         while True:
-            tau, kinks = 0.0, 0
-            for c in range(nc):
-                for s in range(Ns):
-                    Ut[c, s] = U[c, s]
-            while kinks < K:  # the next state change along the line, from Ut = samples at tau
+            while known < K and not line_end:  # the next state change, from Ut = samples at the last
+                tau = taus[known - 1] if known else 0.0
                 to_change = augmented_boundary(
                     Ut, dv, eps, kinds, limits, PhiT, half_wave, 1.0 - tau, dU, synthesise
                 )
                 synthesise = no
                 if tau + to_change >= 1.0:
-                    tau = 1.0
+                    line_end = np.bool_(True)
                     break
                 step = to_change * (1 + 1e-9) + 1e-13
-                tau += step
+                taus[known] = tau + step
                 for c in range(nc):
                     for s in range(Ns):
                         Ut[c, s] += step * dU[c, s]
-                kinks += 1
+                known += 1
+            kinks = min(K, known)
+            tau = 1.0 if kinks == known and line_end else taus[kinks - 1]
             vt = v + tau * dv
             rt = augmented_residual(vt, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial)
             if rt <= r * (1.0 - 0.5 * tau) or K == 1 or r <= target:

@@ -99,7 +99,7 @@ def _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn):
     X[s0] = (u[s0] - lam[s0]) / eps
     state[s0] = SLIP
     dep[s0] = -1
-    x_prev = X[s0]  # slip variable in the marched (virtual) frame
+    y_prev = u[s0] - lam[s0]  # eps times the slip variable, in the marched (virtual) frame
     last = s0
     last_sign = 1.0
     for v in range(1, n):
@@ -110,7 +110,7 @@ def _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn):
             if half_wave:
                 p = -1.0
         uv = p * u[s]
-        pred = uv - eps * x_prev
+        pred = uv - y_prev  # eps X carried, not X: no division on the march's chain of samples
         if abs(pred) < limit:
             lam_v = pred
             state[s] = STICK
@@ -118,13 +118,13 @@ def _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn):
             sgn[s] = p * last_sign
         else:
             lam_v = limit if pred > 0 else -limit
-            x_prev = (uv - lam_v) / eps
+            y_prev = uv - lam_v
             state[s] = SLIP
             dep[s] = -1
             last = s
             last_sign = p
         lam[s] = p * lam_v
-        X[s] = p * x_prev
+        X[s] = p * (y_prev / eps)
 
 
 @njit(cache=True, nogil=True)
@@ -524,11 +524,20 @@ def forced_march(u, code, kind, limit, eps, half_wave, lam, dep, sgn):
 
 @njit(cache=True, nogil=True)
 def _crossing(pred, dpred, level, tau):
-    """Smallest tau' in [0, tau) with pred + tau' dpred = level, else tau."""
-    if dpred != 0.0:
-        t = (level - pred) / dpred
-        if 0.0 <= t < tau:
-            return t
+    """Smallest tau' in [0, tau) with pred + tau' dpred = level, else tau.
+
+    The division, the costly part of a boundary search, is taken only where
+    the crossing can come before ``tau`` (a test by products with a margin,
+    so that the answer is that of the division alone).
+    """
+    gap = level - pred
+    if dpred == 0.0 or (gap < 0.0) == (dpred > 0.0) and gap != 0.0:
+        return tau  # moving away from the level
+    if abs(gap) > 1.000001 * tau * abs(dpred):
+        return tau
+    t = gap / dpred
+    if 0.0 <= t < tau:
+        return t
     return tau
 
 
@@ -560,8 +569,7 @@ def _friction_boundary(u, du, limit, eps, half_wave, tau):
         return tau
     s0 = big_i
     sign0 = 1.0 if u[s0] > 0 else -1.0
-    x_prev = (u[s0] - sign0 * limit) / eps
-    dx_prev = du[s0] / eps
+    y_prev, dy_prev = u[s0] - sign0 * limit, du[s0]  # eps times the slip variable, as in the march
     for v in range(1, n + 1):  # one full turn, back to s0 to check its own prediction
         s = s0 + v
         p = 1.0
@@ -570,8 +578,8 @@ def _friction_boundary(u, du, limit, eps, half_wave, tau):
             if half_wave:
                 p = -p
         uv, duv = p * u[s], p * du[s]
-        pred = uv - eps * x_prev
-        dpred = duv - eps * dx_prev
+        pred = uv - y_prev
+        dpred = duv - dy_prev
         if abs(pred) < limit:  # stick: leaves the cone at +-limit
             tau = _crossing(pred, dpred, limit, tau)
             tau = _crossing(pred, dpred, -limit, tau)
@@ -579,8 +587,7 @@ def _friction_boundary(u, du, limit, eps, half_wave, tau):
             sg = 1.0 if pred > 0 else -1.0
             if sg * dpred < 0.0:
                 tau = _crossing(pred, dpred, sg * limit, tau)
-            x_prev = (uv - sg * limit) / eps
-            dx_prev = duv / eps
+            y_prev, dy_prev = uv - sg * limit, duv
     return tau
 
 
