@@ -867,6 +867,7 @@ def _compile_notice(args: argparse.Namespace) -> None:
     message = compiled.notice(*groups) if groups else None
     if message:
         print(f"fretwear {args.command}: {message}", file=sys.stderr, flush=True)
+        compiled.compile_ahead(*groups)
 
 
 _COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map, "cost": _cost}

@@ -1,5 +1,6 @@
 """The compile notice: announced when the kernels' machine code is not cached, silent when it is."""
 
+import json
 import os
 import subprocess
 import sys
@@ -83,3 +84,33 @@ def test_warm_in_processes_runs_each_part_in_a_process_of_its_own(monkeypatch):
     assert sorted(name for part in compiled.PARTS for name in part) == sorted(compiled.KERNELS)
     monkeypatch.setattr(compiled, "pending", lambda *names: [])
     assert compiled.warm_in_processes() == []
+
+
+AHEAD = """
+import json, numpy as np, fretwear.compile as c
+from fretwear import paper_model, sweep
+from fretwear.hbm import compiled_sweep as cs
+c.compile_ahead("sweep")
+callees = [kernel for kernel, _ in cs._callee_arguments()]
+signatures = lambda: [len(kernel._cache._cache_file._load_index()) for kernel in callees]
+before = signatures()
+sweep(paper_model(), 2 * np.pi * np.array([0.6, 0.7]), 3)
+print(json.dumps([before, signatures(), c.cached("sweep")]))
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="compile_ahead splits the work over two cores")
+def test_compile_ahead_caches_each_callee_once_for_the_types_the_sweep_passes(tmp_path):
+    """Empty cache: both shares are compiled before the sweep runs, and the sweep compiles no callee anew.
+
+    A callee compiled for other argument types than the sweep passes would
+    leave a second signature in its cache index.
+    """
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    run = subprocess.run([sys.executable, "-c", AHEAD], env=env, cwd=ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    before, after, cached = json.loads(run.stdout)
+    assert before == after == [1] * len(before) and len(before) == 8
+    assert cached

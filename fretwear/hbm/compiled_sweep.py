@@ -33,7 +33,7 @@ from __future__ import annotations
 from functools import cached_property, partial
 
 import numpy as np
-from numba import njit
+from numba import njit, typeof
 
 from ..model import Model
 from . import dlft
@@ -52,7 +52,7 @@ from .dlft import (
 from .problem import EPS_FACTOR, NewtonResult, Problem
 from .solution import PeriodicSolution
 
-__all__ = ["solve", "sweep_kernel"]
+__all__ = ["solve", "sweep_kernel", "compile_callees"]
 
 #: outcome of one frequency (column ``PATH`` of ``status``); ``FALLBACK``: left to the caller
 FALLBACK, STUCK, DLFT, NEWTON_HOMOTOPY, LOAD_HOMOTOPY = -1, 1, 2, 3, 4
@@ -685,6 +685,42 @@ def sweep_kernel(
                 state_code(kinds[c], lam_out[i, c], state_out[i, c], codes[1, c])
             n_prev, n_codes = min(n_prev + 1, 2), min(n_codes + 1, 2)
             before_stuck, after_stuck = after_stuck, st[PATH] == STUCK
+
+
+def _callee_arguments() -> list[tuple]:
+    """The callees of :func:`sweep_kernel`, slowest to compile first, with arguments of its types."""
+    n, nc, Ns, H = 2, 1, 4, 2
+    vec, mat, ivec = np.zeros(n), np.zeros((n, n)), np.zeros(n, np.int64)
+    samples, codes, indices = np.zeros((nc, Ns)), np.zeros((nc, Ns), np.int8), np.zeros((nc, Ns), np.int64)
+    Phi, Psi = np.zeros((Ns, H)), np.zeros((H, Ns))
+    Phi.flags.writeable = Psi.flags.writeable = False  # a HarmonicBasis hands out read-only matrices
+    kinds = np.zeros(nc, np.int64)
+    P, Q = np.zeros((2, H, H)), np.zeros((Ns + 1, H))
+    law = (kinds, np.zeros(nc), Phi, Psi, True, Psi.copy(), Phi.copy(), P, Q, 1)
+    cur = (vec, samples, samples, codes, indices, samples, np.zeros((nc, 2), np.int64), samples)
+    work = (mat, mat, mat, samples, ivec, vec, samples, vec, vec)
+    return [
+        (_pattern_start, (vec, mat, vec, vec, law, codes, cur, work, vec)),
+        (_newton, (vec, mat, vec, vec, law, 0.0, 1, 1, cur, cur, work)),
+        (_walk, (vec, 0.0, 1.0, 1, mat, vec, vec, vec, law, 1, cur, work)),
+        (_predict_pattern, (codes[0], codes[0], 0.0, True, codes[0])),
+        (_penalty_map, (mat, vec, 1, mat, mat, ivec)),
+        (_march_buffers, (1, 1, 1)),
+        (_stuck, (mat, vec, 0.0, kinds, vec, 1, True, vec)),
+        (_to_v, (vec, mat, vec, 0.0, vec, 1, vec)),
+    ]
+
+
+def compile_callees(share: int, shares: int) -> None:
+    """Compile and cache the callees of :func:`sweep_kernel` from the ``share``-th, every ``shares``-th.
+
+    Nothing runs: each is compiled for the argument types the sweep passes.
+    On a cold start two processes compile their shares at once, and
+    :func:`sweep_kernel` then loads its callees from the cache
+    (:func:`fretwear.compile.compile_ahead`).
+    """
+    for kernel, arguments in _callee_arguments()[share::shares]:
+        kernel.compile(tuple(typeof(a) for a in arguments))
 
 
 _PATHS = {
