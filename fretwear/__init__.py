@@ -12,6 +12,7 @@ The layers, bottom up: :mod:`fretwear.model` (structures, model files),
 lives in :mod:`fretwear.figures`, which the numerical layers never import.
 """
 
+from . import _kernel_cache  # noqa: F401 - first, before any kernel: their caches track every kernel source
 from ._version import __version__ as __version__
 from .hbm import PeriodicSolution, continuation, linear_frf, solve_periodic, sweep
 from .model import FrictionContact, Model, NormalContact, jenkins_oscillator, paper_model, read_model

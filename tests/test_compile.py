@@ -2,6 +2,7 @@
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -114,3 +115,43 @@ def test_compile_ahead_caches_each_callee_once_for_the_types_the_sweep_passes(tm
     before, after, cached = json.loads(run.stdout)
     assert before == after == [1] * len(before) and len(before) == 8
     assert cached
+
+
+PROBE = """
+import sys, numpy as np, fretwear.compile as c
+from fretwear.hbm.condensation import condense_loop, condense_sweep
+from fretwear.hbm.problem import Problem
+from fretwear import paper_model
+if sys.argv[1] == "run":
+    p = Problem(paper_model(), 2 * np.pi * 0.7, 3)
+    condense_sweep(p.model, p.B, np.array([4.0, 4.4]), p.basis)
+print(c._in_cache(condense_loop))
+"""
+
+
+@pytest.mark.slow
+def test_an_edit_of_a_callee_module_makes_its_callers_cached_code_stale(tmp_path):
+    """Numba stamps a kernel's cache with its own file; fretwear adds the sources of every kernel module.
+
+    ``condense_loop`` (hbm/condensation.py) calls ``lu_factor`` (hbm/dense.py):
+    an edit of dense.py alone must make its cached machine code stale, an
+    edit of a module without kernels must not.
+    """
+    src = tmp_path / "src"
+    shutil.copytree(ROOT / "fretwear", src / "fretwear", ignore=shutil.ignore_patterns("__pycache__"))
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), "PYTHONPATH": str(src)}
+
+    def probe(*args: str) -> str:
+        run = subprocess.run([sys.executable, "-c", PROBE, *args], env=env, cwd=tmp_path, capture_output=True,
+                             text=True)  # fmt: skip
+        assert run.returncode == 0, run.stderr
+        return run.stdout.strip()
+
+    assert probe("ask") == "False"  # an empty cache
+    assert probe("run") == "True"  # compiled and cached
+    with open(src / "fretwear" / "cli.py", "a") as f:
+        f.write("\n# an edit of a module without kernels\n")
+    assert probe("ask") == "True"
+    with open(src / "fretwear" / "hbm" / "dense.py", "a") as f:
+        f.write("\n# an edit of the callee's module only\n")
+    assert probe("ask") == "False"
