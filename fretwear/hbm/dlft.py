@@ -531,8 +531,8 @@ def _crossing(pred, dpred, level, tau):
     so that the answer is that of the division alone).
     """
     gap = level - pred
-    if dpred == 0.0 or (gap < 0.0) == (dpred > 0.0) and gap != 0.0:
-        return tau  # moving away from the level
+    if dpred == 0.0 or (gap != 0.0 and (gap < 0.0) == (dpred > 0.0)):
+        return tau  # parallel to the level, or moving away from it
     if abs(gap) > 1.000001 * tau * abs(dpred):
         return tau
     t = gap / dpred
