@@ -106,7 +106,7 @@ class InterfaceProblem:
         self.mu = contact.mu
         if self.xref is None:
             self.xref = self._static_state()[1]
-        self.xref = np.asarray(self.xref, dtype=float)
+        self.xref = np.ascontiguousarray(self.xref, dtype=float)  # a column of a history is strided
 
     @property
     def n_pairs(self) -> int:
@@ -147,7 +147,7 @@ class InterfaceProblem:
         new = copy.copy(self)
         new.wear = wear
         new.gap = self.condensation.reduced.contact.gap + wear
-        new.xref = self.xref if xref is None else np.asarray(xref, dtype=float)
+        new.xref = self.xref if xref is None else np.ascontiguousarray(xref, dtype=float)  # one kernel build
         return new
 
     def evaluate(self, x: np.ndarray, jacobian: bool = False):

@@ -8,6 +8,12 @@ the Hertz reference peaks at the benchmark's ``p0`` over its half-width ``a``,
 gross slip widens the worn scar.
 """
 
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -122,3 +128,32 @@ def test_the_papers_two_dof_model_is_a_choice_and_wears_like_the_single_contact(
     assert len(last) == 2 and np.all(last.dimension_values(1) == r["wear"][-1, 0] * 1e6)
     scene.model = GROSS  # back to the benchmark's settings
     assert (scene.frequency, scene.kw) == (50.0, 1e-14)
+
+
+WARMED_RUN = """
+import json, fretwear.compile as c
+from numba.core import event
+from app.interface_scene import InterfaceSettings, compute_interface
+c.warm("interface")
+compiled = event.RecordingListener()
+event.register("numba:compile", compiled)
+compute_interface(InterfaceSettings(), lambda done, stage: None, lambda: False)
+print(json.dumps(sorted({e.data["dispatcher"].py_func.__qualname__ for _, e in compiled.buffer})))
+"""
+
+
+@pytest.mark.slow
+def test_the_warm_up_compiles_every_kernel_the_scene_runs(tmp_path):
+    """Empty Numba cache: after ``warm("interface")`` the scene's run compiles nothing more.
+
+    A kernel called with other argument types than the warm-up's (a strided
+    column of a history where the warm-up passes a contiguous array) compiled
+    a second version, 5 s, in the first run of the tab after a server's warm-up.
+    """
+    root = Path(__file__).resolve().parents[2]
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(root), env.get("PYTHONPATH")]))
+    command = [sys.executable, "-c", WARMED_RUN]
+    run = subprocess.run(command, env=env, cwd=root, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout.splitlines()[-1]) == []
