@@ -112,7 +112,9 @@ def _run_polynomial() -> None:
     from .model import paper_model
     from .wear.history import wear_history
 
-    wear_history(paper_model(), 2 * np.pi * 0.7, "polynomial", kw=1e-11, cycles=20.0, harmonics=3)
+    model, omega = paper_model(), 2 * np.pi * 0.7
+    for basis in ("saturating", "legendre"):  # the default basis, and the paper's Galerkin system (_galerkin)
+        wear_history(model, omega, "polynomial", kw=1e-11, cycles=20.0, harmonics=3, basis=basis)
 
 
 def _run_exact() -> None:
@@ -179,7 +181,6 @@ KERNELS: dict[str, Kernel] = {
             (
                 "fretwear.time.kernels:solve",
                 "fretwear.time.kernels:newton",
-                "fretwear.time.kernels:settle",
                 "fretwear.time.kernels:march",
                 "fretwear.time.kernels:orbit",
                 "fretwear.wear.sliding:_invert",

@@ -155,3 +155,25 @@ def test_an_edit_of_a_callee_module_makes_its_callers_cached_code_stale(tmp_path
     with open(src / "fretwear" / "hbm" / "dense.py", "a") as f:
         f.write("\n# an edit of the callee's module only\n")
     assert probe("ask") == "False"
+
+
+EVERY_GROUP = """
+import json, fretwear.compile as c
+missed = {}
+for name, kernel in c.KERNELS.items():
+    kernel.run()
+    missed[name] = [e for e in kernel.entry_points if not c._dispatcher(e).overloads]
+print(json.dumps(missed))
+"""
+
+
+def test_each_groups_run_calls_every_entry_point_it_lists():
+    """A new process: after each group's run, each of its entry points has machine code (compiled or
+    loaded). An entry point the run never calls would stay uncached after a warm-up, its group's
+    notice shown at every first run, and its compilation left to the user's first computation."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    command = [sys.executable, "-c", EVERY_GROUP]
+    run = subprocess.run(command, env=env, cwd=ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout.splitlines()[-1]) == dict.fromkeys(compiled.KERNELS, [])
