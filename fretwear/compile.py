@@ -304,7 +304,10 @@ def compile_ahead(*names: str) -> None:
         root = str(Path(__file__).resolve().parents[1])  # the process imports this fretwear
         env["PYTHONPATH"] = os.pathsep.join(filter(None, [root, env.get("PYTHONPATH")]))
         other = subprocess.Popen([sys.executable, "-W", "ignore", "-c", code, name], env=env)
-        kernel.share(0)
+        try:
+            kernel.share(0)
+        except Exception:  # noqa: BLE001 - this share then compiles on first use, as without the split
+            pass
         other.wait()
 
 
