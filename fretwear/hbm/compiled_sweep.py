@@ -38,7 +38,7 @@ from numba import njit, typeof
 from ..model import Model
 from . import dlft
 from .condensation import Condensed, condense_sweep, recover
-from .dense import lu_factor, lu_solve
+from .dense import FASTMATH, lu_factor, lu_solve
 from .dlft import (
     FRICTION,
     augmented_boundary,
@@ -71,7 +71,7 @@ GUESS_STEPS, HOMOTOPY_PIECES, KINKS = 40, 500, 8
 BLOCK_SUMS_SIZE = 4_000_000
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
     """Newton's method: the full step if it lowers the residual, else cut at its ``K``-th change of pattern.
 
@@ -162,7 +162,7 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
     return v, False, it, r, 3
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _walk(v0, p0, p_end, mode, M, F, r0, eps, law, max_pieces, cur, work):
     """The walk of :func:`fretwear.hbm.kernels.walk_kernel` in the augmented variables, no records.
 
@@ -233,7 +233,7 @@ def _walk(v0, p0, p_end, mode, M, F, r0, eps, law, max_pieces, cur, work):
     return v, p, max_pieces, False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _boundaries(code, half_wave, pos, frm, to):
     """Run boundaries of a state code over the full period: ``pos[k]`` starts a run of ``to[k]`` after
     one of ``frm[k]``; a half-wave code continues antiperiodically. Returns their number."""
@@ -250,7 +250,7 @@ def _boundaries(code, half_wave, pos, frm, to):
     return L
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _predict_pattern(c0, c1, a, half_wave, out):
     """Extrapolate the stick/slip runs of one contact to the next frequency: the secant of the runs.
 
@@ -308,7 +308,7 @@ def _predict_pattern(c0, c1, a, half_wave, out):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _pattern_start(v, M, F, eps, law, code, cur, work, vp):
     """Solve the DLFT equations with the pattern ``code`` (nc, Ns) prescribed, from ``v``, into ``vp``.
 
@@ -348,7 +348,7 @@ def _pattern_start(v, M, F, eps, law, code, cur, work, vp):
     return finite
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _stuck(Z, F, scale, kinds, limits, H, half_wave, x):
     """The stuck start of :class:`~fretwear.hbm.problem.Problem` at load ``scale``, in ``x``.
 
@@ -382,7 +382,7 @@ def _stuck(Z, F, scale, kinds, limits, H, half_wave, x):
             x[a * H] = b[a]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _to_v(x, Z, F, scale, eps, H, v):
     """Augmented variables ``v = scale F + (E - Z) x`` (N) of the unknowns ``x`` (m)."""
     n = x.shape[0]
@@ -393,7 +393,7 @@ def _to_v(x, Z, F, scale, eps, H, v):
         v[i] = acc
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _penalty_map(Z, eps, H, Winv, M, piv):
     """``W^-1`` and ``M = Z W^-1 = E W^-1 - I`` for ``W = E - Z``; False if ``W`` is nearly singular."""
     n = Z.shape[0]
@@ -424,7 +424,7 @@ def _penalty_map(Z, eps, H, Winv, M, piv):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _march_buffers(n, nc, Ns):
     """Work arrays of one DLFT march: unknowns, then forces and states per contact and sample."""
     return (
@@ -439,7 +439,7 @@ def _march_buffers(n, nc, Ns):
     )
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def sweep_kernel(
     omegas,
     Zs,

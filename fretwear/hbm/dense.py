@@ -11,10 +11,15 @@ from __future__ import annotations
 
 from numba import njit
 
-__all__ = ["lu_factor", "lu_solve"]
+__all__ = ["lu_factor", "lu_solve", "FASTMATH"]
+
+#: Numba's floating-point licences for the harmonic-balance kernels: reassociation (sums vectorised) and
+#: fused multiply-adds, worth 10 % on a sweep at the same answers to 3e-14. Not "nnan" or "ninf": the
+#: kernels test for non-finite values and report them.
+FASTMATH = {"reassoc", "contract"}
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def lu_factor(a, piv):
     """LU factorisation of the square ``a`` with partial pivoting, in place.
 
@@ -48,7 +53,7 @@ def lu_factor(a, piv):
     return sign
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def lu_solve(a, piv, b):
     """Solve ``a y = b`` in place in the vector ``b`` from the factors of :func:`lu_factor`."""
     n = a.shape[0]

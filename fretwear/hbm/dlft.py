@@ -37,6 +37,7 @@ import numpy as np
 from numba import njit
 
 from ..model.structure import OPEN, SLIP, STICK
+from .dense import FASTMATH
 
 __all__ = [
     "FRICTION", "UNILATERAL", "STICK", "SLIP", "OPEN", "evaluate", "jacobian_from_blocks", "augmented_march",
@@ -47,7 +48,7 @@ __all__ = [
 FRICTION, UNILATERAL = 0, 1  # contact kinds
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn):
     """Friction march on one contact. Fills lam, X, state; dep/sgn encode d lam / d u.
 
@@ -127,7 +128,7 @@ def _march_friction(u, limit, eps, half_wave, lam, X, state, dep, sgn):
         X[s] = p * (y_prev / eps)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _march_unilateral(u, gap, eps, lam, X, state, dep):
     n = u.shape[0]
     for s in range(n):
@@ -144,7 +145,7 @@ def _march_unilateral(u, gap, eps, lam, X, state, dep):
             dep[s] = -1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _block(Phi, Psi, dep, sgn, hi_i, lo_i, A):
     """A = Psi @ (d lam / d u) @ Phi for one contact, exploiting the sparse rows."""
     H = Phi.shape[1]
@@ -201,7 +202,7 @@ def _block(Phi, Psi, dep, sgn, hi_i, lo_i, A):
                 A[i, j] -= tot * w
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A, lam, X, state):
     """DLFT residual of eq. 12 and the per-contact derivative blocks.
 
@@ -240,7 +241,7 @@ def evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A
     R += Z @ x
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def jacobian_from_blocks(Z, eps, A, J):
     """J = Z + blockdiag(A_c) (diag(eps) - Z): exact derivative of the residual."""
     nc, H = A.shape[0], A.shape[1]
@@ -254,7 +255,7 @@ def jacobian_from_blocks(Z, eps, A, J):
                 J[r0 + i, r0 + j] += eps[c] * A[c, i, j]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _synthesise(v, PhiT, U):
     """Samples ``U[c] = Phi v_c`` of every contact from the transposed iDFT ``PhiT`` (H, Ns)."""
     H, Ns = PhiT.shape
@@ -267,7 +268,7 @@ def _synthesise(v, PhiT, U):
                 u[s] += vj * PhiT[j, s]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, sgn, hilo, U):
     """The march of :func:`evaluate` from the augmented Lagrangian harmonics ``v`` (N) directly.
 
@@ -296,7 +297,7 @@ def augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, 
             _march_unilateral(u, limits[c], eps[c], lam[c], X[c], state[c], dep[c])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def augmented_residual(
     v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, R, lam, X, state, dep, sgn, hilo, U
 ):
@@ -342,7 +343,7 @@ def augmented_residual(
     return r
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def block_sums(Phi, Psi, stride):
     """Prefix sums ``P[m] = sum_{s < m stride} Psi[:, s] Phi[s, :]`` and ``Q[s] = sum_{s' < s} Psi[:, s']``.
 
@@ -368,7 +369,7 @@ def block_sums(Phi, Psi, stride):
     return P, Q
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _add_range(P, stride, Phi, Psi, a, b, A):
     """``A += sum_{a <= s < b} Psi[:, s] Phi[s, :]`` from the strided prefix sums of :func:`block_sums`."""
     H = Phi.shape[1]
@@ -388,7 +389,7 @@ def _add_range(P, stride, Phi, Psi, a, b, A):
                 A[i, j] -= ps * Phi[s, j]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def augmented_jacobian(M, dep, sgn, hilo, Phi, Psi, P, Q, stride, A, J):
     """Exact Jacobian ``dR/dv = M + blockdiag(A_c)`` of :func:`augmented_residual` at its last march.
 
@@ -448,7 +449,7 @@ def augmented_jacobian(M, dep, sgn, hilo, Phi, Psi, P, Q, stride, A, J):
                 J[r0 + i, r0 + j] += A[i, j]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def augmented_boundary(U, dv, eps, kinds, limits, PhiT, half_wave, tau_max, dU, synthesise):
     """:func:`boundary_distance` from the samples ``U`` (nc, Ns) of ``lambda_u`` and a direction ``dv``.
 
@@ -463,7 +464,7 @@ def augmented_boundary(U, dv, eps, kinds, limits, PhiT, half_wave, tau_max, dU, 
     return tau
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _contact_boundary(kind, u, du, limit, eps, half_wave, tau):
     """First pattern change of one contact along ``u + t du`` before ``tau`` (its samples ``u``, ``du``)."""
     if kind == FRICTION:
@@ -473,7 +474,7 @@ def _contact_boundary(kind, u, du, limit, eps, half_wave, tau):
     return tau
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def state_code(kind, lam, state, code):
     """Signed state of every sample of one contact (int8): friction ``0`` stick, ``+-1`` slip in the
     direction of the force; unilateral ``1`` closed, ``0`` open. The pattern :func:`forced_march` imposes."""
@@ -484,7 +485,7 @@ def state_code(kind, lam, state, code):
             code[s] = 1 if state[s] == STICK else 0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def forced_march(u, code, kind, limit, eps, half_wave, lam, dep, sgn):
     """The contact force of a prescribed pattern ``code`` (:func:`state_code`), affine in ``u``.
 
@@ -522,7 +523,7 @@ def forced_march(u, code, kind, limit, eps, half_wave, lam, dep, sgn):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _crossing(pred, dpred, level, tau):
     """Smallest tau' in [0, tau) with pred + tau' dpred = level, else tau.
 
@@ -541,7 +542,7 @@ def _crossing(pred, dpred, level, tau):
     return tau
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _friction_boundary(u, du, limit, eps, half_wave, tau):
     """Distance along ``u + tau du`` to the first change of a friction stick/slip pattern."""
     n = u.shape[0]
@@ -591,7 +592,7 @@ def _friction_boundary(u, du, limit, eps, half_wave, tau):
     return tau
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max):
     """Largest step ``tau <= tau_max`` along ``lambda_u + tau d lambda_u`` keeping every sample's state.
 
@@ -614,7 +615,7 @@ def boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max):
     return tau
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def friction_sensitivity(u, limit, eps, half_wave, lam, X, state, dlam_dL, ds_du):
     """Friction march with the derivatives the slow-time (wear) equations need.
 

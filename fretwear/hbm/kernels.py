@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .dense import lu_factor, lu_solve
+from .dense import FASTMATH, lu_factor, lu_solve
 from .dlft import boundary_distance, evaluate, jacobian_from_blocks
 
 __all__ = ["newton_kernel", "walk_kernel"]
@@ -20,7 +20,7 @@ LOAD, NEWTON = 0, 1  # walk modes: load factor, global Newton homotopy
 SINGULAR = 4  # code of newton_kernel: a singular Jacobian
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _residual(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, R, A, J, lam, X, state):
     # a run-time True: a literal would compile another version of evaluate
     evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, np.bool_(True), R, A, lam, X, state)
@@ -28,7 +28,7 @@ def _residual(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, R, A, J, lam, X,
     return np.abs(R).max()
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def newton_kernel(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, max_iter):
     """Non-monotone Newton with a damped fallback from the best iterate.
 
@@ -100,7 +100,7 @@ def newton_kernel(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, max
     return x, False, it, r, 3
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _tangent(J, dR, row, orientation, aug, piv):
     """Unit tangent of ``[J dR]`` oriented as ``orientation`` (sign of ``det [J dR; t]``), and that sign.
 
@@ -124,7 +124,7 @@ def _tangent(J, dR, row, orientation, aug, piv):
     return t, sign
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, half_wave, max_pieces,
                 rec_x, rec_p, rec_s):  # fmt: skip
     """Follow the piecewise-linear solution curve from ``(x0, p0)`` to ``p = p_end``.
@@ -203,7 +203,7 @@ def walk_kernel(x0, p0, p_end, mode, Z, F, r0, eps, kinds, limits, Phi, Psi, hal
     return x, p, max_pieces, False, k
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _slid(X, half_wave):
     """Distance slid per period from the slip variable of the march (m)."""
     n = X.shape[0]
