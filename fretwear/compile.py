@@ -283,6 +283,14 @@ def warm(*names: str, progress: Callable[[str, int, int], object] | None = None)
     return times
 
 
+def _child_env(env: Mapping[str, str] | None = None) -> dict[str, str]:
+    """``env`` (default: this process's environment) for a new Python process that imports this fretwear."""
+    env = dict(os.environ if env is None else env)
+    root = str(Path(__file__).resolve().parents[1])
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [root, env.get("PYTHONPATH")]))
+    return env
+
+
 def compile_ahead(*names: str) -> None:
     """Before a first run, compile the pending groups ``names`` that split in two, on two cores at once.
 
@@ -300,10 +308,10 @@ def compile_ahead(*names: str) -> None:
         if kernel.share is None:
             continue
         code = "import sys, fretwear.compile as c; c.KERNELS[sys.argv[1]].share(1)"
-        env = dict(os.environ)
-        root = str(Path(__file__).resolve().parents[1])  # the process imports this fretwear
-        env["PYTHONPATH"] = os.pathsep.join(filter(None, [root, env.get("PYTHONPATH")]))
-        other = subprocess.Popen([sys.executable, "-W", "ignore", "-c", code, name], env=env)
+        try:
+            other = subprocess.Popen([sys.executable, "-W", "ignore", "-c", code, name], env=_child_env())
+        except OSError:  # no second process: everything compiles on first use
+            return
         try:
             kernel.share(0)
         except Exception:  # noqa: BLE001 - this share then compiles on first use, as without the split
@@ -330,9 +338,7 @@ def warm_in_processes(
     """
     todo = [[name for name in part if name in pending(*part)] for part in parts]
     todo = [part for part in todo if part]
-    root = str(Path(__file__).resolve().parents[1])  # the processes import this fretwear
-    env = dict(os.environ if env is None else env)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [root, env.get("PYTHONPATH")]))
+    env = _child_env(env)
     code = "import sys, fretwear.compile as c; c.warm(*sys.argv[1:])"
     runs = [subprocess.Popen([sys.executable, "-W", "ignore", "-c", code, *part], env=env) for part in todo]
     return [(part, run.wait() == 0) for part, run in zip(todo, runs, strict=True)]
