@@ -855,8 +855,9 @@ dashed: the exact method on the exact (event-driven) dynamics, no harmonic trunc
 below say how far each method is from it. Right: the exact
 load path with 1, 3, 7, 15 and 21 harmonics, so that only the harmonic truncation differs (paper
 Fig. 10). Below: the polynomial method at the selected degree in its three slow-time bases, the
-paper's monomials and Legendre polynomials and the saturating basis (the cycle count a polynomial of
-z = -ln(1 - w/u₀), so that w stays below u₀), against the same exact reference.
+paper's monomials and Legendre polynomials and the saturating basis (in z = -ln(1 - w/u₀), so that w
+stays below u₀; the cycle count a polynomial of the life fraction, the sliding distance sampled along
+the wear until resolved), against the same exact reference.
 
 **Try.** The paper's case: F<sub>ex</sub> = 10 N, f = 0.7 Hz, {term("Nh")} = 3, degree 4. Raise the
 degree when the polynomial curve misses the plateau; loosen the {term("tolerance")} to see stepping

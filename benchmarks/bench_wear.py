@@ -6,7 +6,7 @@ their ratio:
 
 1. Cycles to 0.5 u0 and 0.9 u0 by the polynomial slow-time DLFT (degree 4) with each basis, against
    the exact load path with the same dynamics (``Nh``, samples), on the paper's cases (6, 10, 14 N at
-   0.5-1.0 Hz where the contact slips, K_w = 1e-11, a horizon of 1.25 x the exact cycles to 0.9 u0).
+   0.5-1.0 Hz where the contact slips, with 0.55 and 0.85 Hz near the stick limit, K_w = 1e-11, a horizon of 1.25 x the exact cycles to 0.9 u0).
    Target: within 2 %.
 2. The polynomial wear map (saturating basis, degree 4) against the stepping wear map with the
    loosest tolerance whose cycles to 0.5 and 0.9 u0 are within 2 % at every frequency of the map,
@@ -107,12 +107,12 @@ def bench_map_speed(freqs, fex: float, nh: int, repeat: int) -> None:
           f"(all beyond: {'yes' if np.all(flagged[e_poly > TARGET_ERROR]) else 'no'}); "
           f"error where not flagged {e_poly[~flagged].max(initial=0):.1%}")  # fmt: skip
     steps = {}
-    for tol in (1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4):
+    for tol in (1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5):
         t, step = timed(lambda tol=tol: wear_map(model, freqs, cycles, method="stepping", harmonics=nh,
                                                  tol=tol, workers=1), repeat)  # fmt: skip
         steps[tol] = (t, map_errors(step, refs))
         print(f"  stepping tol {tol:6.0e}:           {t * 1e3:7.1f} ms, error {steps[tol][1].max():.1%}")
-        if steps[tol][1].max() <= TARGET_ERROR:
+        if steps[tol][1].max() <= min(TARGET_ERROR, e_poly.max()):  # both comparisons below are made
             break
 
     def ratio(label, ok):
@@ -189,12 +189,12 @@ def main() -> None:
     args = parser.parse_args()
     wear_polynomial(paper_model(fex=10), TWO_PI * 0.7, kw=KW, cycles=1e4)  # compile the kernels
     if args.quick:
-        bench_bases((3,), (6, 10, 14), (0.6, 0.7, 0.9))
+        bench_bases((3,), (6, 10, 14), (0.55, 0.6, 0.7, 0.85, 0.9))
         bench_many_harmonics(("saturating",))
         bench_map_speed(np.linspace(0.5, 1.0, 11), 10.0, 3, repeat=1)
         print("3, 4: the stepping wear map at Nh = 21 and time integration run without --quick")
     else:
-        bench_bases((3, 7, 21), (6, 10, 14), (0.5, 0.6, 0.7, 0.8, 0.9, 1.0))
+        bench_bases((3, 7, 21), (6, 10, 14), (0.5, 0.55, 0.6, 0.7, 0.8, 0.85, 0.9, 1.0))
         bench_many_harmonics(BASES)
         for fex in (6.0, 10.0, 14.0):
             bench_map_speed(np.linspace(0.5, 1.0, 26), fex, 3, repeat=3)

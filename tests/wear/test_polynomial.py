@@ -43,14 +43,22 @@ def test_saturating_basis_is_exact_at_degree_one_when_the_sliding_distance_does_
     assert not hist.info["poor_fit"]
 
 
-@pytest.mark.parametrize("fex,f", [(10, 0.6), (10, 0.7), (14, 0.6), (6, 0.9)])
-def test_saturating_basis_follows_the_exact_load_path(fex, f):
-    """The paper's cases at its Nh = 3, degree 4: cycles to 0.5 and 0.9 u0 within 2.5 % (measured 2.1 %)."""
-    ref = exact(fex, f)
-    hist = wear_polynomial(paper_model(fex=fex), TWO_PI * f, kw=KW, cycles=1.25 * ref.cycles_to(0.9))
-    assert hist.converged and hist.status == "horizon" and hist.info["basis"] == "saturating"
+@pytest.mark.parametrize(
+    "fex,f,nh",
+    [(10, 0.6, 3), (10, 0.7, 3), (14, 0.6, 3), (6, 0.9, 3), (10, 0.55, 7), (6, 0.85, 7), (14, 0.55, 21)],
+)
+def test_saturating_basis_follows_the_exact_load_path(fex, f, nh):
+    """The paper's cases at degree 4, with the cases near the stick limit that a single map missed by 4-29 %:
+    cycles to 0.5 and 0.9 u0 within 1 % (issue target 2 %; measured 0.7 % at worst on 6, 10, 14 N x 0.5-1 Hz,
+    Nh = 3, 7, 21)."""
+    ref = exact(fex, f, nh)
+    horizon = 1.25 * ref.cycles_to(0.9)
+    hist = wear_polynomial(paper_model(fex=fex), TWO_PI * f, kw=KW, harmonics=nh, cycles=horizon)
+    assert hist.converged and hist.info["basis"] == "saturating"
+    assert hist.status == ("worn" if ref.cycles_to(0.99) < horizon else "horizon")
+    assert hist.info["settled"] and not hist.info["poor_fit"] and not hist.warnings
     for fraction in (0.5, 0.9):
-        assert abs(cycles_error(hist, ref, fraction)) < 0.025
+        assert abs(cycles_error(hist, ref, fraction)) < 0.01
 
 
 def test_the_papers_bases_miss_the_wear_curve_that_the_saturating_basis_follows():
@@ -84,28 +92,36 @@ def test_wear_stays_in_zero_u0_and_grows(basis):
         assert hist.cycles_to(0.99) == pytest.approx(exact(10, 0.7).cycles_to(0.99), rel=0.02)
 
 
-def test_poor_fit_is_flagged_with_frequency_and_misfit_and_a_higher_degree_fixes_it():
-    ref = exact(14, 0.6)
+def test_an_unresolved_fit_is_flagged_with_frequency_and_misfit(monkeypatch):
+    """Without refinement (the first map's nodes only) the 10 N, 0.7 Hz history is several % off: flagged."""
+    ref = exact(10, 0.7)
     horizon = 1.25 * ref.cycles_to(0.9)
-    low = wear_polynomial(paper_model(fex=14), TWO_PI * 0.6, kw=KW, cycles=horizon, degree=2)
-    assert low.info["misfit"] > MISFIT_LIMIT and low.info["poor_fit"]
+    fractions = np.linspace(0.1, 0.9, 9)
+    monkeypatch.setattr(polynomial, "MAX_ROUNDS", 0)
+    low = wear_polynomial(paper_model(fex=10), TWO_PI * 0.7, kw=KW, cycles=horizon)
+    assert not low.info["settled"] and low.info["misfit"] > MISFIT_LIMIT and low.info["poor_fit"]
     (note,) = [n for n in low.warnings if "Archard" in n]
-    assert "0.6 Hz" in note and f"{low.info['misfit']:.1%}" in note
-    # the misfit measures the error: cycles to 10-90 % of u0 off by about as much
-    errors = [abs(cycles_error(low, ref, q)) for q in np.linspace(0.1, 0.9, 9)]
-    assert 0.3 < max(errors) / low.info["misfit"] < 3
-    high = wear_polynomial(paper_model(fex=14), TWO_PI * 0.6, kw=KW, cycles=horizon, degree=8)
-    assert high.info["misfit"] < MISFIT_LIMIT and not any("Archard" in n for n in high.warnings)
-    assert max(abs(cycles_error(high, ref, q)) for q in np.linspace(0.1, 0.9, 9)) < 0.02
+    assert "0.7 Hz" in note and f"{low.info['misfit']:.1%}" in note and "exact method" in note
+    # the misfit measures the error: cycles to 10-90 % of u0 off by about as much (measured 7.6 and 7.6 %)
+    errors = [abs(cycles_error(low, ref, q)) for q in fractions]
+    assert max(errors) > MISFIT_LIMIT and 0.3 < max(errors) / low.info["misfit"] < 3
+    monkeypatch.undo()
+    refined = wear_polynomial(paper_model(fex=10), TWO_PI * 0.7, kw=KW, cycles=horizon)
+    assert refined.info["settled"] and not refined.info["poor_fit"] and not refined.warnings
+    assert refined.info["rounds"] > 0 and refined.solves > low.solves
+    assert max(abs(cycles_error(refined, ref, q)) for q in fractions) < 0.01
 
 
-def test_near_the_stick_limit_the_density_stays_positive_and_the_miss_is_reported():
-    """10 N at 0.55 Hz: the sliding distance grows 770-fold along the history; no degree-4 fit follows it."""
+def test_near_the_stick_limit_the_refinement_follows_a_770_fold_growth_of_the_sliding_distance():
+    """10 N at 0.55 Hz: s grows 770-fold along the history (x8 within z < 0.02, where 70 % of the life is
+    spent, then jumps); a single map of the slow variable missed the cycles by 29 % at degree 4."""
+    ref = exact(10, 0.55)
     hist = wear_polynomial(paper_model(fex=10), TWO_PI * 0.55, kw=KW, cycles=1e5)
     dense = hist.at(np.linspace(0, 1e5, 4001))["wear"][:, 0]
-    assert hist.info["sliding_ratio"] > 100 and hist.info["log_density"]
+    assert hist.info["sliding_ratio"] > 100 and hist.info["settled"] and not hist.info["poor_fit"]
     assert np.all(np.diff(dense) >= 0) and np.all(dense < hist.u0[0]) and hist.status == "worn"
-    assert hist.info["poor_fit"] and any("0.55 Hz" in n for n in hist.warnings)
+    for fraction in (0.1, 0.5, 0.9, 0.99):
+        assert abs(cycles_error(hist, ref, fraction)) < 0.01
 
 
 def test_many_harmonics_converge():
