@@ -183,7 +183,7 @@ def extrema(coeffs: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.nda
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.clip(np.where(d2 != 0, d1 / d2, 0.0), -np.pi / N, np.pi / N)  # stay within the cell
         theta = theta - step
-        if np.all(np.abs(step) <= 1e-15 * np.pi):  # converged to round-off
+        if np.all(np.abs(step) <= 1e-7):  # quadratic convergence: the next step would be < 1e-13
             break
     kt = np.outer(theta, k)
     value = c2[:, 0] + np.sum(a * np.cos(kt) + b * np.sin(kt), axis=1)

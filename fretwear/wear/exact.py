@@ -15,15 +15,9 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from ..hbm.condensation import recover
-from ..hbm.harmonics import amplitude, extrema, full_synthesis
 from ..hbm.periodic import LOAD, Problem, solve_problem, walk
 from ..model import Model
-from .common import (
-    WearHistory,
-    check_wear_inputs,
-    two_scale_warning,
-)
+from .common import WearHistory, check_wear_inputs, observables, two_scale_warning
 from .sliding import cached_solves, sliding_table, unit_forcing
 
 __all__ = ["wear_exact", "exact_path_applies", "exact_wear_map"]
@@ -90,7 +84,8 @@ def wear_exact(
         raise RuntimeError(f"the periodic solve of the unworn structure failed: {sol0.message}")
     arrays = dict(u0=np.array([u0]), kn=np.array([kn]), kw=kw)
     if sol0.path in ("linear-stuck", "linear-open") or sol0.sliding_distance[0] == 0:
-        rows = _observables(problem, np.repeat(sol0.unknowns[None], 2, axis=0), np.ones(2))
+        lam0 = problem.F - problem.Z @ sol0.unknowns
+        rows = observables(problem, np.repeat(lam0[None], 2, axis=0))
         load0 = np.full((2, 1), contact.normal_load())
         return WearHistory(omega, "exact", np.array([0.0, cycles]), np.zeros((2, 1)), load0,
                            np.zeros((2, 1)), np.zeros((2, 1)), *rows, **arrays, status="stuck", solves=1,
@@ -134,7 +129,7 @@ def wear_exact(
     s_w = slid / sig  # homogeneity: distance slid at the actual load
     rate = kw * load * s_w
     notes = two_scale_warning(rate[:1], np.array([u0]))
-    rows = _observables(problem, xs, sig)
+    rows = observables(problem, problem.F[None, :] - (xs / sig[:, None]) @ problem.Z.T)  # x / sigma: unscaled
     return WearHistory(omega, "exact", N, wear[:, None], load[:, None], rate[:, None], s_w[:, None], *rows,
                        **arrays, status=status, solves=1, wall_time=time.perf_counter() - start,
                        warnings=notes,
@@ -160,35 +155,6 @@ def _spread(w: np.ndarray, count: int) -> np.ndarray:
     targets = np.linspace(w[0], w[-1], count)
     idx = np.unique(np.clip(np.searchsorted(w, targets), 0, len(w) - 1))
     return np.unique(np.concatenate([[0], idx, [len(w) - 1]]))
-
-
-def _observables(problem: Problem, xs: np.ndarray, sigma: np.ndarray):
-    """Amplitudes of every DOF and relative displacements at path points ``xs`` (load factors ``sigma``).
-
-    The actual response is ``xs / sigma`` under the unscaled forces; the DOF
-    harmonics are affine in the contact-force harmonics ``Lambda = F_r - Z_r x``,
-    so one linear map recovers all points at once.
-    """
-    model, b = problem.model, problem.basis
-    nh, n_slots = b.harmonics, b.size
-    x = xs / sigma[:, None]
-    lam = problem.F[None, :] - x @ problem.Z.T  # (K, nc H)
-    zero = np.zeros((problem.n_active, 2 * nh + 1))
-    base = recover(model, problem.B, problem.omega, nh, zero)
-    unit = np.stack([recover(model, problem.B, problem.omega, nh, b.to_full(e.reshape(-1, n_slots))) - base
-                     for e in np.eye(problem.size)])  # fmt: skip
-    U = base[None] + np.einsum("kj,jnm->knm", lam, unit)  # (K, n, 2 Nh + 1)
-    K = len(sigma)
-    grid = full_synthesis(nh, 8 * nh + 8)  # a start for the exact extrema: 4 samples per shortest period
-    dof = U.reshape(-1, U.shape[-1])
-    hi, lo = extrema(dof, dof @ grid.T)
-    rel = np.einsum("cn,knm->kcm", model.relative_map(), U).reshape(-1, U.shape[-1])
-    rhi, rlo = extrema(rel, rel @ grid.T)
-    return (
-        amplitude(U),
-        ((hi - lo) / 2).reshape(K, -1),
-        ((rhi - rlo) / 2).reshape(K, -1),
-    )
 
 
 def _wear_on_table(

@@ -72,13 +72,11 @@ import numpy as np
 from numba import njit
 
 from ..hbm import dlft
-from ..hbm.condensation import recover
-from ..hbm.harmonics import amplitude, extrema, full_synthesis
 from ..hbm.kernels import NEWTON, newton_kernel, walk_kernel
 from ..hbm.periodic import solve_problem
 from ..hbm.problem import Problem
 from ..model import Model
-from .common import Recorder, WearHistory, check_wear_inputs, two_scale_warning
+from .common import Recorder, WearHistory, check_wear_inputs, observables, two_scale_warning
 
 __all__ = ["wear_polynomial", "BASES", "FIT_FRACTION", "MISFIT_LIMIT"]
 
@@ -93,6 +91,9 @@ REFINE_TOLERANCE = 0.005
 
 #: refinement rounds of the saturating basis over one slow interval, at most
 MAX_ROUNDS = 12
+
+#: Galerkin passes of the saturating basis, at most: the nodes of a pass that contradict the profile refine it
+GALERKIN_PASSES = 3
 
 #: a fit whose cycles to reach its own wear miss its own Archard law by more than this is flagged
 MISFIT_LIMIT = 0.02
@@ -286,20 +287,22 @@ def _slid(x, Z, F, eps, limits, Phi, half_wave, s, dsdL):
 
 @njit(cache=True, nogil=True)
 def _chain(limits, x0, Z, F, eps, kinds, Phi, Psi, half_wave, target, X, S):
-    """Periodic solutions at the friction limits ``limits[k]`` (K, nc), each from the previous one.
+    """Periodic solutions at the friction limits ``limits[k]`` (K, nc), the first from ``x0``, each next
+    from the one before.
 
-    Fills ``X`` (K, n) and the sliding distances ``S`` (K, nc); False when a solve fails.
+    Fills ``X`` (K, n) and the sliding distances ``S`` (K, nc); returns the
+    number of solves before the first that fails (K: none).
     """
     nc = limits.shape[1]
     dsdL = np.empty(nc)
-    x = x0.copy()
+    x = x0
     for k in range(limits.shape[0]):
         x, ok = _node_solve(x, Z, F, eps, kinds, limits[k], Phi, Psi, half_wave, target)
         if not ok:
-            return False
+            return k
         X[k] = x
         _slid(x, Z, F, eps, limits[k], Phi, half_wave, S[k], dsdL)
-    return True
+    return limits.shape[0]
 
 
 @njit(cache=True, nogil=True)
@@ -450,22 +453,29 @@ class _Slow:
         self.solves = 0
 
     def _chain(self, limits: np.ndarray, x0: np.ndarray):
-        """Periodic solutions (compiled, warm-started in turn) at friction limits (K, nc); the library's
-        solver where the kernel fails."""
+        """Periodic solutions at friction limits (K, nc) by the kernel :func:`_chain` from ``x0``; the
+        library's solver (stuck start, exact load continuation) where the kernel fails, the chain going on
+        from there."""
         limits = np.ascontiguousarray(limits)
-        X, S = np.empty((len(limits), self.nx)), np.empty((len(limits), self.nc))
+        K = len(limits)
+        X, S = np.empty((K, self.nx)), np.empty((K, self.nc))
         Z, F, eps, kinds, Phi, Psi, half_wave = self.dyn
-        self.solves += len(limits)
-        try:
-            if _chain(limits, x0, Z, F, eps, kinds, Phi, Psi, half_wave, self.target, X, S):
-                return X, S
-        except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
-            pass
-        for k, L in enumerate(limits):  # stuck start and exact load continuation
-            sol = solve_problem(self.p.with_wear(self.u0 * np.maximum(1 - L / self.L0, 0.0)))
+        self.solves += K
+        k, x = 0, np.ascontiguousarray(x0)
+        while k < K:
+            try:
+                k += _chain(limits[k:], x, Z, F, eps, kinds, Phi, Psi, half_wave, self.target, X[k:], S[k:])
+            except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
+                pass
+            if k == K:
+                break
+            sol = solve_problem(self.p.with_wear(self.u0 * np.maximum(1 - limits[k] / self.L0, 0.0)))
             if not sol.converged:
-                raise RuntimeError(f"the periodic solve at friction limits {L} N failed: {sol.message}")
+                raise RuntimeError(
+                    f"the periodic solve at friction limits {limits[k]} N failed: {sol.message}"
+                )
             X[k], S[k] = sol.unknowns, sol.sliding_distance
+            k, x = k + 1, X[k]
         return X, S
 
     # -- saturating basis: the wear variable as the slow variable ----------------------------------
@@ -478,15 +488,15 @@ class _Slow:
         z_stop = -np.log1p(-stop_fraction)
         z_end = -np.log1p(-min(FIT_FRACTION, stop_fraction))
         samples = _Samples(x0, s0)
-        s_end = self._sample(samples, np.array([z_end]), x0)[0]
+        s_end = self._sample(samples, np.array([z_end]))[0]
         ramp = _Ramp(c, s0, s1, s_end, z_end)
         tau = _quadrature("legendre", self.m)[0]
-        self._sample(samples, ramp.z((tau + 1) / 2 * ramp.N_end), x0)  # the nodes in the ramp's map
-        fit, rounds = self._fit(samples, z_end, x0)
+        self._sample(samples, ramp.z((tau + 1) / 2 * ramp.N_end))  # the nodes in the ramp's map
+        fit, rounds = self._fit(samples, z_end)
         if cycles < fit.N_end * (1 - 1e-9):  # the horizon comes first: the slow interval ends there
             z_end = float(fit.z(np.array([cycles]))[0])
-            s_end = self._sample(samples, np.array([z_end]), x0)[0]
-            fit, more = self._fit(samples, z_end, x0)
+            s_end = self._sample(samples, np.array([z_end]))[0]
+            fit, more = self._fit(samples, z_end)
             rounds += more
         profile, density = fit.profile, fit.density
         # records on the polynomial's interval
@@ -521,33 +531,37 @@ class _Slow:
                 "rounds": rounds, "change": fit.change}  # fmt: skip
         return self._history(N, w, dw, Xr, slid, status, info)
 
-    def _sample(self, samples: _Samples, z: np.ndarray, x0: np.ndarray) -> np.ndarray:
+    def _sample(self, samples: _Samples, z: np.ndarray) -> np.ndarray:
         """Periodic solutions at the wear variables ``z`` (increasing), kept in ``samples``; their sliding
         distances."""
-        X, S = self._chain(self.L0 * np.exp(-z[:, None]), x0)
+        X, S = self._chain(self.L0 * np.exp(-z[:, None]), samples.start(z[0]))
         if np.any(S[:, 0] <= 0):
             raise RuntimeError(f"the contact sticks at wear {self.u0[0] * -np.expm1(-z[S[:, 0] <= 0])} m")
         samples.add(z, X, S)
         return S[:, 0]
 
-    def _fit(self, samples: _Samples, z_end: float, x0: np.ndarray) -> tuple[_Fit, int]:
+    def _fit(self, samples: _Samples, z_end: float) -> tuple[_Fit, int]:
         """The fit on ``0 <= z <= z_end``: the profile of ``s`` refined until every piece is settled (at most
         :data:`MAX_ROUNDS` rounds), then the Galerkin projection in its map (see the module docstring).
 
         Returns the fit and the number of refinement rounds.
         """
         c = float(self.kw * self.kn[0])
-        profile, rounds = samples.profile(c, z_end), 0
-        while (coarse := profile.coarse(REFINE_TOLERANCE)).size and rounds < MAX_ROUNDS:
-            rounds += 1
-            self._sample(samples, 0.5 * (profile.z[coarse] + profile.z[coarse + 1]), x0)  # halve them
-            profile = samples.profile(c, z_end)
         tau, wq, Vq, _, _ = _quadrature("legendre", self.m)
-        zk = profile.z_at(0.5 * (tau + 1) * profile.N_end)
-        f = profile.N_end * profile.s(zk) / self._sample(samples, zk, x0)  # dN/dv at the nodes
-        fit = _Fit(profile, _Density(f, wq, Vq[:, : self.m]), f, tau, wq)  # projection on degree m - 1
-        fit.settled = not coarse.size
-        fit.change = fit.difference(profile, z_end)
+        rounds = 0
+        for _ in range(GALERKIN_PASSES):
+            profile = samples.profile(c, z_end)
+            while (coarse := profile.coarse(REFINE_TOLERANCE)).size and rounds < MAX_ROUNDS:
+                rounds += 1
+                self._sample(samples, 0.5 * (profile.z[coarse] + profile.z[coarse + 1]))  # halve them
+                profile = samples.profile(c, z_end)
+            zk = profile.z_at(0.5 * (tau + 1) * profile.N_end)
+            f = profile.N_end * profile.s(zk) / self._sample(samples, zk)  # dN/dv at the nodes
+            fit = _Fit(profile, _Density(f, wq, Vq[:, : self.m]), f, tau, wq)  # projection on degree m - 1
+            fit.settled = not coarse.size
+            fit.change = fit.difference(profile, z_end)
+            if fit.change <= REFINE_TOLERANCE:  # the nodes confirm the profile
+                break
         return fit, rounds
 
     # -- legendre, monomial: the paper's Galerkin system in N -----------------------------------------
@@ -640,7 +654,8 @@ class _Slow:
     # -- records -----------------------------------------------------------------------------------
     def _history(self, N, w, dw, X, slid, status, info) -> WearHistory:
         rows, index = np.unique(X, axis=0, return_inverse=True)  # the tail repeats the end state
-        amp, hp2p, rel = (o[index.ravel()] for o in _observables(self.p, np.ascontiguousarray(rows)))
+        lam = self.p.F[None, :] - rows @ self.p.Z.T
+        amp, hp2p, rel = (o[index.ravel()] for o in observables(self.p, lam))
         return WearHistory(
             0.0, "polynomial", N, w, self.kn * (self.u0 - w), _monotone_slopes(N, w, dw), slid, amp, hp2p,
             rel, u0=self.u0, kn=self.kn, kw=self.kw, status=status, info=info,
@@ -691,37 +706,39 @@ class _Profile:
 
     ``log s`` is interpolated in ``z`` by a monotone cubic (PCHIP) through the
     samples; ``N(z)``, the cycles Archard's law takes with it, by the trapezoidal
-    rule on 16 steps per piece, ``z_at(N)`` its inverse. A piece is *coarse*
+    rule on 32 steps per piece, ``z_at(N)`` its inverse. A piece is *coarse*
     when the cycles it takes with the cubic and with ``log s`` linear differ by
     more than a fraction ``tol`` of them (and of ``tol / 100`` of the whole):
     the samples have not resolved ``s`` there.
     """
 
-    _STEPS = 16
+    _STEPS = 32
 
     def __init__(self, c: float, z: np.ndarray, s: np.ndarray):
         self.c, self.z, self._l = c, z, np.log(s)
         self._h = np.diff(z)
         self._m = _pchip_slopes(self._h, self._l)
-        t = np.arange(self._STEPS) / self._STEPS
-        piece = np.append(np.repeat(np.arange(len(z) - 1), self._STEPS), len(z) - 2)
-        frac = np.append(np.tile(t, len(z) - 1), 1.0)
-        self.grid = z[piece] + self._h[piece] * frac
-        self.N_grid = self._cycles(np.exp(-self._hermite(piece, frac)))
-        self.N_end = float(self.N_grid[-1])
-        linear = self._cycles(np.exp(-np.interp(self.grid, z, self._l)))
-        self._pieces = np.diff(self.N_grid[:: self._STEPS])
-        self._misses = np.abs(self._pieces - np.diff(linear[:: self._STEPS]))
+        t = np.arange(self._STEPS + 1) / self._STEPS  # both ends of every piece
+        grid = z[:-1, None] + self._h[:, None] * t
+        cubic = self._cycles(grid, np.exp(-self._hermite(np.arange(len(self._h))[:, None], t)))
+        linear = self._cycles(grid, np.exp(-(self._l[:-1, None] + np.diff(self._l)[:, None] * t)))
+        self._pieces = cubic[:, -1]
+        self._misses = np.abs(cubic[:, -1] - linear[:, -1])
+        start = np.concatenate([[0.0], np.cumsum(self._pieces)])
+        self.grid = np.append(grid[:, :-1].ravel(), z[-1])
+        self.N_grid = np.append((start[:-1, None] + cubic[:, :-1]).ravel(), start[-1])
+        self.N_end = float(start[-1])
 
-    def _hermite(self, i: np.ndarray, t: np.ndarray) -> np.ndarray:
+    def _hermite(self, i, t):
         """``log s`` at the fraction ``t`` of piece ``i`` (cubic Hermite)."""
         rise, h = self._l[i + 1] - self._l[i], self._h[i]
         m0, m1 = h * self._m[i], h * self._m[i + 1]
         return self._l[i] + t * (m0 + t * ((3 * rise - 2 * m0 - m1) + t * (m0 + m1 - 2 * rise)))
 
-    def _cycles(self, inverse_s: np.ndarray) -> np.ndarray:
-        steps = 0.5 * np.diff(self.grid) * (inverse_s[1:] + inverse_s[:-1]) / self.c
-        return np.concatenate([[0.0], np.cumsum(steps)])
+    def _cycles(self, grid: np.ndarray, inverse_s: np.ndarray) -> np.ndarray:
+        """Cycles from the start of each piece (rows) to each point of ``grid``: the trapezoidal rule."""
+        steps = 0.5 * np.diff(grid, axis=1) * (inverse_s[:, 1:] + inverse_s[:, :-1]) / self.c
+        return np.concatenate([np.zeros((len(grid), 1)), np.cumsum(steps, axis=1)], axis=1)
 
     def s(self, z):
         i = np.clip(np.searchsorted(self.z, z, side="right") - 1, 0, len(self._h) - 1)
@@ -775,6 +792,13 @@ class _Samples:
         """The profile through the samples up to ``z_end``."""
         keep = self.z <= z_end
         return _Profile(c, self.z[keep], self.s[keep])
+
+    def start(self, z: float) -> np.ndarray:
+        """Start of a chain of solves from ``z`` on: the sample at the largest wear variable up to ``z``.
+
+        (Measured: solves chained from there are faster than solves each from its nearest sample.)
+        """
+        return self.X[max(np.searchsorted(self.z, z, side="right") - 1, 0)]
 
     def harmonics(self, z: np.ndarray) -> np.ndarray:
         """Unknowns at ``z``, linear in the load fraction ``exp(-z)`` between the samples."""
@@ -890,24 +914,3 @@ def _monotone_slopes(N, w, dw):
     left, right = np.vstack([secant[:1], secant]), np.vstack([secant, secant[-1:]])
     d = np.where((left * right <= 0) | (dw * right < 0), 0.0, dw)
     return np.sign(d) * np.minimum(np.abs(d), 3 * np.minimum(np.abs(left), np.abs(right)))
-
-
-def _observables(problem: Problem, xs: np.ndarray):
-    """Amplitude and half peak-to-peak of every DOF, and relative half peak-to-peak, at unknowns ``xs``.
-
-    The DOF harmonics are affine in the contact-force harmonics ``Lambda = F_r - Z_r x``.
-    """
-    model, b = problem.model, problem.basis
-    nh = b.harmonics
-    lam = problem.F[None, :] - xs @ problem.Z.T
-    base = recover(model, problem.B, problem.omega, nh, np.zeros((problem.n_active, 2 * nh + 1)))
-    unit = np.stack([recover(model, problem.B, problem.omega, nh, b.to_full(e.reshape(-1, b.size))) - base
-                     for e in np.eye(problem.size)])  # fmt: skip
-    U = base[None] + np.einsum("kj,jnm->knm", lam, unit)
-    K = len(xs)
-    grid = full_synthesis(nh, 8 * nh + 8)
-    dof = U.reshape(-1, U.shape[-1])
-    hi, lo = extrema(dof, dof @ grid.T)
-    rel = np.einsum("cn,knm->kcm", model.relative_map(), U).reshape(-1, U.shape[-1])
-    rhi, rlo = extrema(rel, rel @ grid.T)
-    return amplitude(U), ((hi - lo) / 2).reshape(K, -1), ((rhi - rlo) / 2).reshape(K, -1)
