@@ -6,8 +6,8 @@ their ratio:
 
 1. Cycles to 0.5 u0 and 0.9 u0 by the polynomial slow-time DLFT (degree 4) with each basis, against
    the exact load path with the same dynamics (``Nh``, samples), on the paper's cases (6, 10, 14 N at
-   0.5-1.0 Hz where the contact slips, with 0.55 and 0.85 Hz near the stick limit, K_w = 1e-11, a horizon of 1.25 x the exact cycles to 0.9 u0).
-   Target: within 2 %.
+   0.5-1.0 Hz where the contact slips, with 0.55 and 0.85 Hz near the stick limit, K_w = 1e-11, a
+   horizon of 1.25 x the exact cycles to 0.9 u0). Target: within 2 %.
 2. The polynomial wear map (saturating basis, degree 4) against the stepping wear map with the
    loosest tolerance whose cycles to 0.5 and 0.9 u0 are within 2 % at every frequency of the map,
    with the polynomial's worst error, and where the polynomial's misfit does not flag its fit.
