@@ -395,28 +395,75 @@ def _to_v(x, Z, F, scale, eps, H, v):
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _penalty_map(Z, eps, H, Winv, M, piv):
-    """``W^-1`` and ``M = Z W^-1 = E W^-1 - I`` for ``W = E - Z``; False if ``W`` is nearly singular."""
+    """``W^-1`` and ``M = Z W^-1 = E W^-1 - I`` for ``W = E - Z``; False if ``W`` is nearly singular.
+
+    ``Z`` of a linear structure couples the slots of one harmonic only (across
+    contacts): ``W`` is then inverted harmonic by harmonic (blocks of ``nc`` or
+    ``2 nc``), else as a whole. The test for a nearly singular ``W`` is the
+    same either way (the pivots of its LU factors).
+    """
     n = Z.shape[0]
-    W = np.empty((n, n))
+    first = H % 2  # 1: slot 0 is the mean, then (cos, sin) pairs; 0: pairs only (half-wave basis)
+    blocks = True
     for i in range(n):
+        gi = (i % H + first) // 2
         for j in range(n):
-            W[i, j] = -Z[i, j]
-        W[i, i] += eps[i // H]
-    if lu_factor(W, piv) == 0:
-        return False
+            if Z[i, j] != 0.0 and (j % H + first) // 2 != gi:
+                blocks = False
     lo, hi = np.inf, 0.0
-    for k in range(n):
-        lo, hi = min(lo, abs(W[k, k])), max(hi, abs(W[k, k]))
-    if not lo > 1e-12 * hi:
-        return False
-    col = np.empty(n)
-    for j in range(n):
+    if blocks:
+        nc = n // H
+        idx = np.empty(2 * nc, dtype=np.int64)
         for i in range(n):
-            col[i] = 0.0
-        col[j] = 1.0
-        lu_solve(W, piv, col)
+            for j in range(n):
+                Winv[i, j] = 0.0
+        for g in range((H + first) // 2):
+            s0 = 2 * g - first if g else 0
+            size = 1 if first and g == 0 else 2
+            m = 0
+            for c in range(nc):
+                for k in range(size):
+                    idx[m] = c * H + s0 + k
+                    m += 1
+            W, pv = np.empty((m, m)), np.empty(m, dtype=np.int64)
+            for a in range(m):
+                for b in range(m):
+                    W[a, b] = -Z[idx[a], idx[b]]
+                W[a, a] += eps[idx[a] // H]
+            if lu_factor(W, pv) == 0:
+                return False
+            for k in range(m):
+                lo, hi = min(lo, abs(W[k, k])), max(hi, abs(W[k, k]))
+            col = np.empty(m)
+            for b in range(m):
+                for a in range(m):
+                    col[a] = 0.0
+                col[b] = 1.0
+                lu_solve(W, pv, col)
+                for a in range(m):
+                    Winv[idx[a], idx[b]] = col[a]
+        if not lo > 1e-12 * hi:
+            return False
+    else:
+        W = np.empty((n, n))
         for i in range(n):
-            Winv[i, j] = col[i]
+            for j in range(n):
+                W[i, j] = -Z[i, j]
+            W[i, i] += eps[i // H]
+        if lu_factor(W, piv) == 0:
+            return False
+        for k in range(n):
+            lo, hi = min(lo, abs(W[k, k])), max(hi, abs(W[k, k]))
+        if not lo > 1e-12 * hi:
+            return False
+        col = np.empty(n)
+        for j in range(n):
+            for i in range(n):
+                col[i] = 0.0
+            col[j] = 1.0
+            lu_solve(W, piv, col)
+            for i in range(n):
+                Winv[i, j] = col[i]
     for i in range(n):
         for j in range(n):
             M[i, j] = eps[i // H] * Winv[i, j]

@@ -204,3 +204,21 @@ def test_pattern_prediction_moves_the_runs_by_their_secant():
     extra = c1.copy()
     extra[18:20] = 1  # a new run
     assert not compiled_sweep._predict_pattern(c0, extra, 1.0, False, out)
+
+
+@pytest.mark.parametrize("half_wave", [True, False])
+@pytest.mark.parametrize("model", [paper_model(fex=10.0), two_contact_model()], ids=["paper", "two-contact"])
+def test_penalty_map_by_harmonic_blocks_is_the_inverse(model, half_wave):
+    """``W = E - Z`` inverted harmonic by harmonic, and as a whole where ``Z`` couples harmonics."""
+    problem = Problem(model, TWO_PI * 0.7, 7, half_wave=half_wave if len(model.friction) == 1 else False)
+    Z, eps, H = problem.Z, problem.eps, problem.basis.size
+    n = len(Z)
+    for coupled in (False, True):
+        if coupled:  # a slot of the first harmonic coupled to the last slot: no longer by blocks
+            Z = Z.copy()
+            Z[1, H - 1] += 0.3 * np.abs(Z).max()
+        Winv, M, piv = np.empty((n, n)), np.empty((n, n)), np.empty(n, dtype=np.int64)
+        assert compiled_sweep._penalty_map(Z, eps, H, Winv, M, piv)
+        ref = np.linalg.inv(np.diag(np.repeat(eps, H)) - Z)
+        np.testing.assert_allclose(Winv, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+        np.testing.assert_allclose(M, Z @ ref, rtol=0, atol=1e-10 * np.abs(Z @ ref).max())
