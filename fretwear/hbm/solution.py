@@ -194,7 +194,7 @@ class PeriodicSolution:
         """First-harmonic amplitude of every DOF (m), shape (n,)."""
         return amplitude(self.dof_harmonics)
 
-    @property
+    @cached_property
     def half_peak_to_peak(self) -> np.ndarray:
         """Half peak-to-peak displacement of every DOF (m), shape (n): exact extrema of the series."""
         hi, lo = extrema(self.dof_harmonics, self.displacement)
@@ -210,7 +210,7 @@ class PeriodicSolution:
         """First-harmonic amplitude of every contact's relative displacement (m)."""
         return amplitude(self.relative_harmonics)
 
-    @property
+    @cached_property
     def relative_half_peak_to_peak(self) -> np.ndarray:
         """Half peak-to-peak relative displacement of every contact (m): exact extrema of the series."""
         hi, lo = extrema(self.relative_harmonics, self.relative_displacement)
