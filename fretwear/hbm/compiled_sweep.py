@@ -67,12 +67,13 @@ GUESS, HOMOTOPY, COLD, ZERO_LOAD_START, LOAD_CONTINUATION, DONE = 0, 1, 2, 3, 4,
 #: Newton steps from a prediction before the walk takes over; pieces of that walk; most state changes
 #: crossed by one Newton step (:func:`_newton`)
 GUESS_STEPS, HOMOTOPY_PIECES, KINKS = 40, 500, 8
+STALL_STEPS = 16
 #: block sums (:func:`fretwear.hbm.dlft.block_sums`) up to this many numbers (32 MB), then every 2nd, 4th...
 BLOCK_SUMS_SIZE = 4_000_000
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
+def _newton(v0, M, F, eps, law, target, max_iter, min_steps, stall, r_start, cur, trial, work):
     """Newton's method: the full step if it lowers the residual, else cut at its ``K``-th change of pattern.
 
     Newton's own full step is tried first and kept whenever it lowers the
@@ -88,28 +89,39 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
     direction, kept for the shorter steps). A full step (``tau = 1``) with no
     change of pattern is Newton's own. At least ``min_steps`` steps: from the
     end of a walk, exact up to round-off, one full step lands on the solution
-    of its piece. ``cur``, ``trial``: march buffers ``(R, lam, X, state, dep,
-    sgn, hilo, U)``; ``work``: ``(J, A, aug, dU, piv, dv, Ut, t, dR)``.
+    of its piece. ``stall`` (0: never): give up when that many steps have not
+    halved the residual (the caller's walk is then cheaper). ``r_start``: the
+    residual at ``v0`` when ``cur`` already holds its march, else negative.
+    ``cur``, ``trial``: march buffers ``(R, lam, X, state, dep, sgn, hilo,
+    U)``; ``work``: ``(J, A, aug, dU, piv, dv, Ut, t, dR)``.
 
-    Returns ``(v, converged, iterations, max|R|, code)``: code 0, 1 non-finite
-    step, 3 no convergence in ``max_iter`` steps, ``SINGULAR``.
+    Returns ``(v, converged, iterations, max|R|, code, buffers)``: code 0, 1
+    non-finite step, 3 no convergence in ``max_iter`` steps, ``SINGULAR``;
+    ``buffers`` (``cur`` or ``trial``) hold the march and residual at ``v``.
     """
     kinds, limits, Phi, Psi, half_wave, PhiT, PsiT, P, Q, stride = law
     J, A, aug, dU, piv, dv, Ut, t, dR = work
     n, (nc, Ns) = v0.shape[0], Ut.shape
     no = np.bool_(False)
     v = v0.copy()
-    r = augmented_residual(v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *cur)
+    r = r_start
+    if r < 0:
+        r = augmented_residual(v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *cur)
     K = KINKS
     taus = np.empty(KINKS)
     it = 0
+    r_mark, it_mark = r, 0  # the last iterate that halved the residual
     while it < max_iter:
         if r <= target and it >= min_steps:
-            return v, True, it, r, 0
+            return v, True, it, r, 0, cur
+        if r <= 0.5 * r_mark:
+            r_mark, it_mark = r, it
+        elif stall and it - it_mark >= stall:
+            return v, False, it, r, 3, cur
         R, lam, X, state, dep, sgn, hilo, U = cur
         augmented_jacobian(M, dep, sgn, hilo, Phi, Psi, P, Q, stride, A, J)
         if lu_factor(J, piv) == 0:
-            return v, False, it, r, SINGULAR
+            return v, False, it, r, SINGULAR, cur
         finite = True
         for i in range(n):
             dv[i] = -R[i]
@@ -117,7 +129,7 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
         for i in range(n):
             finite = finite and abs(dv[i]) < np.inf
         if not finite:
-            return v, False, it, r, 1
+            return v, False, it, r, 1, cur
         it += 1
         vt = v + dv  # Newton's own full step first: exact once the pattern is right
         rt = augmented_residual(vt, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial)
@@ -158,8 +170,8 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, cur, trial, work):
                 break
             K = max(1, K // 2)
     if r <= target:
-        return v, True, it, r, 0
-    return v, False, it, r, 3
+        return v, True, it, r, 0, cur
+    return v, False, it, r, 3, cur
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -579,7 +591,12 @@ def sweep_kernel(
         np.int64(HOMOTOPY_PIECES),
         np.int64(100_000),
     )
-    polish_iter, zero_steps, one_step = np.int64(20), np.int64(0), np.int64(1)
+    polish_iter, zero_steps, one_step, stall_steps = (
+        np.int64(20),
+        np.int64(0),
+        np.int64(1),
+        np.int64(STALL_STEPS),
+    )
     newton_mode, load_mode = np.int64(NEWTON), np.int64(LOAD)
     for i in range(nw):
         Z, F, eps = Zs[i], Fs[i], eps_out[i]
@@ -616,12 +633,13 @@ def sweep_kernel(
         if st[PATH] == 0 and not _penalty_map(Z, eps, H, Winv, M, piv):
             st[PATH] = FALLBACK
             continue
-        stage, carry = (GUESS if n_prev else COLD) if st[PATH] == 0 else DONE, 0
+        stage, carry, last = (GUESS if n_prev else COLD) if st[PATH] == 0 else DONE, 0, cur
         if stage == GUESS and after_stuck:  # slip sets in: the exact load path from the stuck solution
             stage = LOAD_CONTINUATION
         while stage != DONE:  # the stages of solve_problem; each: a start, a walk or not, then Newton
             walk_mode, p0, max_pieces, Fn, target_n = -1, 0.0, homotopy_pieces, F, target
-            budget, min_steps = max_iter, one_step
+            budget, min_steps, stall = max_iter, one_step, zero_steps
+            r_start, first, second = -1.0, cur, trial  # the residual at the start, if known (in first)
             if stage == GUESS:  # from the better of the secant and the pattern predictions
                 a = 0.0  # the secant, but not through a stuck solution: slip has just set in
                 if n_prev == 2 and not before_stuck:
@@ -635,10 +653,14 @@ def sweep_kernel(
                             code[c, s_] = codes[1, c, s_]
                 if n_codes and _pattern_start(v, M, F, eps, law, code, cur, work, vp):
                     rp = augmented_residual(vp, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *cur)
-                    if rp < augmented_residual(v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial):
+                    rv = augmented_residual(v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial)
+                    if rp < rv:  # Newton starts from the better one, its march at hand
+                        r_start = rp
                         for k in range(n):
                             v[k] = vp[k]
-                budget = guess_steps
+                    else:
+                        r_start, first, second = rv, trial, cur
+                budget, stall = guess_steps, stall_steps
             elif stage == HOMOTOPY:  # the global Newton homotopy from the best iterate, then a polish
                 augmented_residual(vn, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, r0, *cur[1:])
                 for k in range(n):
@@ -668,7 +690,9 @@ def sweep_kernel(
                 )
                 for k in range(n):
                     v[k] = v_walk[k]
-            vn, ok, it, r, flag = _newton(v, M, Fn, eps, law, target_n, budget, min_steps, cur, trial, work)
+            vn, ok, it, r, flag, last = _newton(
+                v, M, Fn, eps, law, target_n, budget, min_steps, stall, r_start, first, second, work
+            )
             st[PIECES] = pieces
             if stage == GUESS:
                 st[PATH], st[ITERATIONS], carry = DLFT, it, it
@@ -694,26 +718,36 @@ def sweep_kernel(
             reals[i, 0] = r / scale
             for k in range(n):
                 v[k] = vn[k]
-        if st[PATH] != STUCK:
-            for k in range(n):  # x = W^-1 (v - F)
+        if st[PATH] == STUCK:  # the march and the residual R = Z x - F + Psi lam, as the Problem has them
+            _to_v(x, Z, F, 1.0, eps, H, v)
+            R, lam, X, state, dep, sgn, hilo, U = cur
+            augmented_march(
+                v, eps, kinds, limits, PhiT, half_wave, lam_out[i], X_out[i], state_out[i], dep, sgn, hilo, U
+            )
+            for k in range(n):
+                acc = -F[k]
+                for j in range(n):
+                    acc += Z[k, j] * x[j]
+                c, slot = k // H, k % H
+                for s_ in range(Ns):
+                    acc += Psi[slot, s_] * lam_out[i, c, s_]
+                R_out[i, k] = acc
+        else:  # x = W^-1 (v - F); the march and R = M (v - F) - F + Psi lam (= Z x - F ...): the last step's
+            R, lam, X, state = last[0], last[1], last[2], last[3]
+            for k in range(n):
                 acc = 0.0
                 for j in range(n):
                     acc += Winv[k, j] * (v[j] - F[j])
                 x[k] = acc
-        # the march and the residual R = Z x - F + Psi lam at the solution, as the Problem evaluates them
-        _to_v(x, Z, F, 1.0, eps, H, v)
-        R, lam, X, state, dep, sgn, hilo, U = cur
-        augmented_march(
-            v, eps, kinds, limits, PhiT, half_wave, lam_out[i], X_out[i], state_out[i], dep, sgn, hilo, U
-        )
+                R_out[i, k] = R[k]
+            for c in range(nc):
+                for s_ in range(Ns):
+                    lam_out[i, c, s_], X_out[i, c, s_], state_out[i, c, s_] = (
+                        lam[c, s_],
+                        X[c, s_],
+                        state[c, s_],
+                    )
         for k in range(n):
-            acc = -F[k]
-            for j in range(n):
-                acc += Z[k, j] * x[j]
-            c, slot = k // H, k % H
-            for s_ in range(Ns):
-                acc += Psi[slot, s_] * lam_out[i, c, s_]
-            R_out[i, k] = acc
             x_out[i, k] = x[k]
         if st[CONVERGED]:
             if from_start:
@@ -748,7 +782,7 @@ def _callee_arguments() -> list[tuple]:
     work = (mat, mat, mat, samples, ivec, vec, samples, vec, vec)
     return [
         (_pattern_start, (vec, mat, vec, vec, law, codes, cur, work, vec)),
-        (_newton, (vec, mat, vec, vec, law, 0.0, 1, 1, cur, cur, work)),
+        (_newton, (vec, mat, vec, vec, law, 0.0, 1, 1, 1, 0.0, cur, cur, work)),
         (_walk, (vec, 0.0, 1.0, 1, mat, vec, vec, vec, law, 1, cur, work)),
         (_predict_pattern, (codes[0], codes[0], 0.0, True, codes[0])),
         (_penalty_map, (mat, vec, 1, mat, mat, ivec)),
