@@ -47,6 +47,7 @@ from .dlft import (
     augmented_residual,
     block_sums,
     forced_march,
+    sampled_residual,
     state_code,
 )
 from .problem import EPS_FACTOR, NewtonResult, Problem
@@ -83,8 +84,10 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, stall, r_start, cur
     step cut there (``K = 1``) is the global Newton homotopy restarted at each
     piece (:func:`_walk`), sure to lower the residual. Past a few such changes
     the prediction still holds roughly, so a step crosses up to ``K`` of them
-    (found along the line in ``O(samples)`` each, with no factorisation), and
-    is kept when the residual falls by half the predicted amount: ``K`` then
+    (found along the line in ``O(samples)`` each, with no factorisation; the
+    samples of the cut step are those of ``v`` plus ``tau`` times those of
+    ``d``, no synthesis), and is kept when the residual falls by half the
+    predicted amount: ``K`` then
     doubles (up to ``KINKS``), else halves (each change located once per
     direction, kept for the shorter steps). A full step (``tau = 1``) with no
     change of pattern is Newton's own. At least ``min_steps`` steps: from the
@@ -161,7 +164,11 @@ def _newton(v0, M, F, eps, law, target, max_iter, min_steps, stall, r_start, cur
             kinks = min(K, known)
             tau = 1.0 if kinks == known and line_end else taus[kinks - 1]
             vt = v + tau * dv
-            rt = augmented_residual(vt, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial)
+            Uc, Ut_ = cur[7], trial[7]  # the samples of vt from those of v and dv (dU)
+            for c in range(nc):
+                for s in range(Ns):
+                    Ut_[c, s] = Uc[c, s] + tau * dU[c, s]
+            rt = sampled_residual(vt, M, F, eps, kinds, limits, PsiT, half_wave, *trial)
             if rt <= r * (1.0 - 0.5 * tau) or K == 1 or r <= target:
                 v, r = vt, rt
                 cur, trial = trial, cur
@@ -321,20 +328,22 @@ def _predict_pattern(c0, c1, a, half_wave, out):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def _pattern_start(v, M, F, eps, law, code, cur, work, vp):
+def _pattern_start(v, M, F, eps, law, code, at_v, cur, work, vp):
     """Solve the DLFT equations with the pattern ``code`` (nc, Ns) prescribed, from ``v``, into ``vp``.
 
     With the pattern fixed the residual is affine in ``v``
     (:func:`fretwear.hbm.dlft.forced_march`), so one Newton step solves it.
-    False if the pattern cannot be prescribed.
+    ``at_v``: march buffers holding the (free) march at ``v``, whose samples
+    are reused; ``cur``: buffers for the forced march. False if the pattern
+    cannot be prescribed.
     """
     kinds, limits, Phi, Psi, half_wave, PhiT, PsiT, P, Q, stride = law
     J, A, aug, dU, piv, dv, Ut, t, dR = work
     R, lam, X, state, dep, sgn, hilo, U = cur
+    U, hilo = at_v[7], at_v[6]  # the samples of v and their extremes
     nc = kinds.shape[0]
     Ns, H = Phi.shape
     n = v.shape[0]
-    augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, sgn, hilo, U)
     for c in range(nc):
         if not forced_march(U[c], code[c], kinds[c], limits[c], eps[c], half_wave, lam[c], dep[c], sgn[c]):
             return False
@@ -651,15 +660,14 @@ def sweep_kernel(
                     if n_codes < 2 or not _predict_pattern(codes[0, c], codes[1, c], a, half_wave, code[c]):
                         for s_ in range(Ns):
                             code[c, s_] = codes[1, c, s_]
-                if n_codes and _pattern_start(v, M, F, eps, law, code, cur, work, vp):
+                rv = augmented_residual(v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial)
+                r_start, first, second = rv, trial, cur  # Newton from the better start, its march in first
+                if n_codes and _pattern_start(v, M, F, eps, law, code, trial, cur, work, vp):
                     rp = augmented_residual(vp, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *cur)
-                    rv = augmented_residual(v, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, *trial)
-                    if rp < rv:  # Newton starts from the better one, its march at hand
-                        r_start = rp
+                    if rp < rv:
+                        r_start, first, second = rp, cur, trial
                         for k in range(n):
                             v[k] = vp[k]
-                    else:
-                        r_start, first, second = rv, trial, cur
                 budget, stall = guess_steps, stall_steps
             elif stage == HOMOTOPY:  # the global Newton homotopy from the best iterate, then a polish
                 augmented_residual(vn, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, r0, *cur[1:])
@@ -781,7 +789,7 @@ def _callee_arguments() -> list[tuple]:
     cur = (vec, samples, samples, codes, indices, samples, np.zeros((nc, 2), np.int64), samples)
     work = (mat, mat, mat, samples, ivec, vec, samples, vec, vec)
     return [
-        (_pattern_start, (vec, mat, vec, vec, law, codes, cur, work, vec)),
+        (_pattern_start, (vec, mat, vec, vec, law, codes, cur, cur, work, vec)),
         (_newton, (vec, mat, vec, vec, law, 0.0, 1, 1, 1, 0.0, cur, cur, work)),
         (_walk, (vec, 0.0, 1.0, 1, mat, vec, vec, vec, law, 1, cur, work)),
         (_predict_pattern, (codes[0], codes[0], 0.0, True, codes[0])),

@@ -41,8 +41,8 @@ from .dense import FASTMATH
 
 __all__ = [
     "FRICTION", "UNILATERAL", "STICK", "SLIP", "OPEN", "evaluate", "jacobian_from_blocks", "augmented_march",
-    "augmented_residual", "augmented_jacobian", "augmented_boundary", "block_sums", "state_code",
-    "forced_march",
+    "sampled_march", "augmented_residual", "sampled_residual", "augmented_jacobian", "augmented_boundary",
+    "block_sums", "state_code", "forced_march",
 ]  # fmt: skip
 
 FRICTION, UNILATERAL = 0, 1  # contact kinds
@@ -279,9 +279,17 @@ def augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, 
     and signs ``sgn`` (nc, Ns) and the samples of largest and smallest
     ``lambda_u``, ``hilo`` (nc, 2) int64.
     """
-    nc = kinds.shape[0]
-    Ns = PhiT.shape[1]
     _synthesise(v, PhiT, U)
+    sampled_march(eps, kinds, limits, half_wave, lam, X, state, dep, sgn, hilo, U)
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def sampled_march(eps, kinds, limits, half_wave, lam, X, state, dep, sgn, hilo, U):
+    """:func:`augmented_march` from the samples ``U`` (nc, Ns) of ``lambda_u`` at hand (no synthesis).
+
+    A walk along ``v + t dv`` updates them as ``U + t dU``, ``dU`` the samples of ``dv``.
+    """
+    nc, Ns = U.shape
     for c in range(nc):
         u = U[c]
         hi_i, lo_i = 0, 0
@@ -320,10 +328,17 @@ def augmented_residual(
 
     Returns ``max |R|`` (N), ``inf`` if not finite.
     """
+    _synthesise(v, PhiT, U)
+    return sampled_residual(v, M, F, eps, kinds, limits, PsiT, half_wave, R, lam, X, state, dep, sgn, hilo, U)
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def sampled_residual(v, M, F, eps, kinds, limits, PsiT, half_wave, R, lam, X, state, dep, sgn, hilo, U):
+    """:func:`augmented_residual` with ``U`` holding the samples of ``v`` already (:func:`sampled_march`)."""
     nc = kinds.shape[0]
     Ns, H = PsiT.shape
     n = v.shape[0]
-    augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, sgn, hilo, U)
+    sampled_march(eps, kinds, limits, half_wave, lam, X, state, dep, sgn, hilo, U)
     for i in range(n):
         acc = -F[i]
         for j in range(n):
