@@ -668,6 +668,8 @@ def sweep_kernel(
                         r_start, first, second = rp, cur, trial
                         for k in range(n):
                             v[k] = vp[k]
+                        if rp <= target:  # the pattern's solve was the full Newton step on the final piece
+                            min_steps = zero_steps
                 budget, stall = guess_steps, stall_steps
             elif stage == HOMOTOPY:  # the global Newton homotopy from the best iterate, then a polish
                 augmented_residual(vn, M, F, eps, kinds, limits, PhiT, PsiT, half_wave, r0, *cur[1:])
