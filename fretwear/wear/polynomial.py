@@ -72,7 +72,7 @@ import numpy as np
 from numba import njit
 
 from ..hbm import dlft
-from ..hbm.kernels import NEWTON, newton_kernel, walk_kernel
+from ..hbm.kernels import LOAD, NEWTON, newton_kernel, walk_kernel
 from ..hbm.periodic import solve_problem
 from ..hbm.problem import Problem
 from ..model import Model
@@ -242,16 +242,20 @@ def wear_polynomial(
 # Counts and flags passed to the solver's kernels as NumPy scalars: a Python literal (``12``, ``True``)
 # would make Numba compile one more specialisation of the callee per literal value (seconds each).
 _NEWTON_ITER, _POLISH_ITER, _MAX_PIECES = np.int64(12), np.int64(20), np.int64(5000)
-_WALK_MODE = np.int64(NEWTON)
+_WALK_MODE, _LOAD_MODE = np.int64(NEWTON), np.int64(LOAD)
 _JACOBIAN, _NO_JACOBIAN = np.bool_(True), np.bool_(False)
 
 
 @njit(cache=True, nogil=True)
-def _node_solve(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target):
-    """Periodic DLFT solution from ``x0``: Newton, then the global Newton homotopy and a polish.
+def _node_solve(x0, L0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target):
+    """Periodic DLFT solution at friction limits ``limits`` from the solution ``x0`` at limits ``L0``.
 
-    The residual is piecewise linear: far from the start, Newton alone can jump
-    between stick/slip patterns; the homotopy follows the pieces exactly.
+    Newton first; then the exact path from ``x0`` (the DLFT equations are
+    positively homogeneous in the unknowns, forces and limits together, so
+    ``x0 p0`` solves them at the limits ``limits`` under the forces ``p0 F``,
+    ``p0 = limits / L0``: the load walk from ``p0`` to 1 crosses exactly the
+    stick/slip changes between the two states); then the global Newton
+    homotopy from Newton's iterate; each with a polish.
     """
     x, ok, it, r, code = newton_kernel(
         x0.copy(), Z, F, eps, kinds, limits, Phi, Psi, half_wave, target, _NEWTON_ITER
@@ -260,12 +264,25 @@ def _node_solve(x0, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target):
         return x, True
     n, nc = x0.shape[0], kinds.shape[0]
     Ns, H = Phi.shape
+    none = np.empty((0, n))
+    p0 = limits[0] / L0[0]
+    same = 0.0 < p0 <= 1.0
+    for c in range(nc):
+        same = same and abs(limits[c] / L0[c] - p0) <= 1e-12 * p0
+    if same:
+        xw, p, pieces, arrived, k = walk_kernel(x0 * p0, p0, 1.0, _LOAD_MODE, Z, F, np.zeros(n), eps, kinds,
+                                                limits, Phi, Psi, half_wave, _MAX_PIECES, none, np.empty(0),
+                                                np.empty(0))  # fmt: skip
+        if arrived:
+            xp, ok, it, r, code = newton_kernel(xw, Z, F, eps, kinds, limits, Phi, Psi, half_wave, target,
+                                                _POLISH_ITER)  # fmt: skip
+            if ok:
+                return xp, True
     R = np.empty(n)
     A = np.empty((nc, H, H))
     lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
     state = np.empty((nc, Ns), dtype=np.int8)
     dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, _NO_JACOBIAN, R, A, lam, X, state)
-    none = np.empty((0, n))
     x, p, pieces, arrived, k = walk_kernel(x, 0.0, 1.0, _WALK_MODE, Z, F, R, eps, kinds, limits, Phi, Psi,
                                            half_wave, _MAX_PIECES, none, np.empty(0),
                                            np.empty(0))  # fmt: skip
@@ -286,21 +303,21 @@ def _slid(x, Z, F, eps, limits, Phi, half_wave, s, dsdL):
 
 
 @njit(cache=True, nogil=True)
-def _chain(limits, x0, Z, F, eps, kinds, Phi, Psi, half_wave, target, X, S):
-    """Periodic solutions at the friction limits ``limits[k]`` (K, nc), the first from ``x0``, each next
-    from the one before.
+def _chain(limits, x0, L0, Z, F, eps, kinds, Phi, Psi, half_wave, target, X, S):
+    """Periodic solutions at the friction limits ``limits[k]`` (K, nc), the first from the solution ``x0``
+    at limits ``L0``, each next from the one before (:func:`_node_solve`).
 
     Fills ``X`` (K, n) and the sliding distances ``S`` (K, nc); returns the
     number of solves before the first that fails (K: none).
     """
     nc = limits.shape[1]
     dsdL = np.empty(nc)
-    x = x0
+    x, L = x0, L0
     for k in range(limits.shape[0]):
-        x, ok = _node_solve(x, Z, F, eps, kinds, limits[k], Phi, Psi, half_wave, target)
+        x, ok = _node_solve(x, L, Z, F, eps, kinds, limits[k], Phi, Psi, half_wave, target)
         if not ok:
             return k
-        X[k] = x
+        X[k], L = x, limits[k]
         _slid(x, Z, F, eps, limits[k], Phi, half_wave, S[k], dsdL)
     return limits.shape[0]
 
@@ -452,19 +469,21 @@ class _Slow:
         self.dyn = (problem.Z, problem.F, problem.eps, problem.kinds, b.synthesis, b.analysis, b.half_wave)
         self.solves = 0
 
-    def _chain(self, limits: np.ndarray, x0: np.ndarray):
-        """Periodic solutions at friction limits (K, nc) by the kernel :func:`_chain` from ``x0``; the
-        library's solver (stuck start, exact load continuation) where the kernel fails, the chain going on
-        from there."""
+    def _chain(self, limits: np.ndarray, x0: np.ndarray, L0: np.ndarray):
+        """Periodic solutions at friction limits (K, nc) by the kernel :func:`_chain` from the solution
+        ``x0`` at limits ``L0``; the library's solver (stuck start, exact load continuation) where the
+        kernel fails, the chain going on from there."""
         limits = np.ascontiguousarray(limits)
         K = len(limits)
         X, S = np.empty((K, self.nx)), np.empty((K, self.nc))
         Z, F, eps, kinds, Phi, Psi, half_wave = self.dyn
         self.solves += K
-        k, x = 0, np.ascontiguousarray(x0)
+        k, x, L = 0, np.ascontiguousarray(x0), np.ascontiguousarray(L0, dtype=float)
         while k < K:
             try:
-                k += _chain(limits[k:], x, Z, F, eps, kinds, Phi, Psi, half_wave, self.target, X[k:], S[k:])
+                k += _chain(
+                    limits[k:], x, L, Z, F, eps, kinds, Phi, Psi, half_wave, self.target, X[k:], S[k:]
+                )
             except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
                 pass
             if k == K:
@@ -475,7 +494,7 @@ class _Slow:
                     f"the periodic solve at friction limits {limits[k]} N failed: {sol.message}"
                 )
             X[k], S[k] = sol.unknowns, sol.sliding_distance
-            k, x = k + 1, X[k]
+            k, x, L = k + 1, X[k], limits[k]
         return X, S
 
     # -- saturating basis: the wear variable as the slow variable ----------------------------------
@@ -534,7 +553,8 @@ class _Slow:
     def _sample(self, samples: _Samples, z: np.ndarray) -> np.ndarray:
         """Periodic solutions at the wear variables ``z`` (increasing), kept in ``samples``; their sliding
         distances."""
-        X, S = self._chain(self.L0 * np.exp(-z[:, None]), samples.start(z[0]))
+        x0, z0 = samples.start(z[0])
+        X, S = self._chain(self.L0 * np.exp(-z[:, None]), x0, self.L0 * np.exp(-z0))
         if np.any(S[:, 0] <= 0):
             raise RuntimeError(f"the contact sticks at wear {self.u0[0] * -np.expm1(-z[S[:, 0] <= 0])} m")
         samples.add(z, X, S)
@@ -591,7 +611,7 @@ class _Slow:
         """Archard's law integrated on a coarse grid of wear levels with exact periodic solutions there;
         its ``z(N)`` and harmonics, fitted at the nodes of ``[0, cycles]``."""
         levels = -np.log1p(-stop_fraction) * np.linspace(0.0, 1.0, 9) ** 2  # finer where wear is slowest
-        Xg, S = self._chain(self.L0 * np.exp(-levels[:, None]), x0)
+        Xg, S = self._chain(self.L0 * np.exp(-levels[:, None]), x0, self.L0)
         rate = np.mean(self.kw * self.kn * S, axis=1)  # dz/dN
         Ng = np.concatenate([[0.0], np.cumsum(np.diff(levels) * 0.5 * (1 / rate[1:] + 1 / rate[:-1]))])
         zk = np.interp((tau + 1) / 2 * cycles, Ng, levels)
@@ -793,12 +813,12 @@ class _Samples:
         keep = self.z <= z_end
         return _Profile(c, self.z[keep], self.s[keep])
 
-    def start(self, z: float) -> np.ndarray:
-        """Start of a chain of solves from ``z`` on: the sample at the largest wear variable up to ``z``.
-
-        (Measured: solves chained from there are faster than solves each from its nearest sample.)
-        """
-        return self.X[max(np.searchsorted(self.z, z, side="right") - 1, 0)]
+    def start(self, z: float) -> tuple[np.ndarray, float]:
+        """Start of a chain of solves from ``z`` on: the sample at the largest wear variable up to ``z``, and
+        that variable. (Measured: solves chained from there are faster than solves each from its nearest
+        sample.)"""
+        k = max(np.searchsorted(self.z, z, side="right") - 1, 0)
+        return self.X[k], float(self.z[k])
 
     def harmonics(self, z: np.ndarray) -> np.ndarray:
         """Unknowns at ``z``, linear in the load fraction ``exp(-z)`` between the samples."""
