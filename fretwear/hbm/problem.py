@@ -18,7 +18,7 @@ import numpy as np
 
 from ..model import Model
 from . import dlft
-from .condensation import Condensed, condense
+from .condensation import Condensed, condense, condense_sweep
 from .harmonics import HarmonicBasis, default_samples
 
 __all__ = ["Problem", "NewtonResult", "EPS_FACTOR"]
@@ -116,8 +116,11 @@ class Problem:
         self.B = m.relative_map(self.active)
         if self.active:
             cond = self.condensed
-            if cond is None:
-                cond = condense(m, self.B, self.omega, self.basis, self.derivative)
+            if cond is None and self.derivative:
+                cond = condense(m, self.B, self.omega, self.basis, True)
+            elif cond is None:  # the compiled loop of sweeps, for one frequency
+                batch = condense_sweep(m, self.B, np.array([float(self.omega)]), self.basis)
+                cond = Condensed(batch.Z[0], batch.F[0])
             elif callable(cond):
                 cond = cond(self.B, self.basis)
             self.Z, self.F0, self.dZ, self.dF0 = cond.Z, cond.F, cond.dZ, cond.dF
