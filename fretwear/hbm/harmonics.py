@@ -149,7 +149,7 @@ def amplitude(coeffs: np.ndarray, order: int = 1) -> np.ndarray:
     return np.hypot(coeffs[..., 2 * order - 1], coeffs[..., 2 * order])
 
 
-def extrema(coeffs: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def extrema(coeffs: np.ndarray, samples: np.ndarray, atol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Exact maximum and minimum over the period of each truncated Fourier series.
 
     Starts from the extreme samples of ``samples`` (the series on a uniform
@@ -162,6 +162,11 @@ def extrema(coeffs: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.nda
         Full coefficients of ``m`` signals.
     samples : ndarray, shape (m, N)
         The same signals on ``N`` uniform samples of the period.
+    atol : float
+        Signals whose harmonics sum to at most ``atol`` in magnitude keep their
+        sampled extremes (refining them would change them by less than
+        ``atol``): round-off, such as the relative motion of a stuck contact,
+        where Newton's method only chases noise.
 
     Returns
     -------
@@ -169,11 +174,15 @@ def extrema(coeffs: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.nda
         Maxima and minima, shape (m,).
     """
     m, N = samples.shape
+    hi, lo = samples.max(axis=1), samples.min(axis=1)
+    rows = np.flatnonzero(np.sum(np.abs(coeffs[:, 1:]), axis=1) > atol)
+    if rows.size == 0:
+        return hi, lo
+    coeffs, samples = coeffs[rows], samples[rows]
     k = np.arange(1, (coeffs.shape[1] - 1) // 2 + 1)
     c2 = np.concatenate([coeffs, coeffs])  # maxima then minima, refined together
     a, b = c2[:, 1::2], c2[:, 2::2]
     idx = np.concatenate([np.argmax(samples, axis=1), np.argmin(samples, axis=1)])
-    best = np.concatenate([samples, samples])[np.arange(2 * m), idx]
     theta = 2 * np.pi * idx / N
     for _ in range(8):
         kt = np.outer(theta, k)
@@ -187,4 +196,6 @@ def extrema(coeffs: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.nda
             break
     kt = np.outer(theta, k)
     value = c2[:, 0] + np.sum(a * np.cos(kt) + b * np.sin(kt), axis=1)
-    return np.maximum(value[:m], best[:m]), np.minimum(value[m:], best[m:])
+    n = len(rows)
+    hi[rows], lo[rows] = np.maximum(value[:n], hi[rows]), np.minimum(value[n:], lo[rows])
+    return hi, lo

@@ -213,7 +213,8 @@ class PeriodicSolution:
     @cached_property
     def relative_half_peak_to_peak(self) -> np.ndarray:
         """Half peak-to-peak relative displacement of every contact (m): exact extrema of the series."""
-        hi, lo = extrema(self.relative_harmonics, self.relative_displacement)
+        noise = 1e-12 * np.abs(self.dof_harmonics).max(initial=0.0)  # a difference of DOF motions: round-off
+        hi, lo = extrema(self.relative_harmonics, self.relative_displacement, noise)
         return (hi - lo) / 2
 
     # -- per-period quantities ------------------------------------------------

@@ -318,6 +318,7 @@ def observables(problem: Problem, lam: np.ndarray):
     K, n = U.shape[:2]
     rel = np.einsum("cn,knm->kcm", model.relative_map(), U)
     rows = np.concatenate([U.reshape(-1, U.shape[-1]), rel.reshape(-1, U.shape[-1])])
-    hi, lo = extrema(rows, rows @ full_synthesis(nh, 8 * nh + 8).T)
+    noise = 1e-12 * np.abs(U).max(initial=0.0)  # relative motions are differences of DOF motions: round-off
+    hi, lo = extrema(rows, rows @ full_synthesis(nh, 8 * nh + 8).T, noise)
     half = (hi - lo) / 2
     return amplitude(U), half[: K * n].reshape(K, n), half[K * n :].reshape(K, -1)

@@ -45,6 +45,22 @@ def test_extrema_are_exact_whatever_the_grid():
     assert np.all(hi >= coarse.max(axis=1)) and np.any(hi > coarse.max(axis=1) + 1e-6)
 
 
+def test_extrema_leave_round_off_rows_at_their_samples():
+    """Rows whose harmonics sum to at most ``atol`` keep their sampled extremes; the others are refined."""
+    rng = np.random.default_rng(1)
+    c = rng.normal(size=(4, 2 * 5 + 1))
+    c[1:3] *= 1e-17  # the relative motion of a stuck contact: round-off
+    coarse = c @ full_synthesis(5, 24).T
+    hi, lo = extrema(c, coarse, atol=1e-12)
+    exact_hi, exact_lo = extrema(c, coarse)
+    np.testing.assert_array_equal(hi[1:3], coarse[1:3].max(axis=1))
+    np.testing.assert_array_equal(lo[1:3], coarse[1:3].min(axis=1))
+    np.testing.assert_array_equal(hi[[0, 3]], exact_hi[[0, 3]])
+    np.testing.assert_array_equal(lo[[0, 3]], exact_lo[[0, 3]])
+    assert np.all(hi[[0, 3]] > coarse[[0, 3]].max(axis=1) + 1e-6)  # refined beyond the grid
+    assert np.all(np.abs(hi[1:3] - exact_hi[1:3]) < 1e-16)  # what the refinement would have moved
+
+
 def test_sizes():
     assert default_samples(7) == 128 and default_samples(21) == 512 and default_samples(1) == 16
     with pytest.raises(ValueError, match="harmonics"):
