@@ -164,6 +164,7 @@ KERNELS: dict[str, Kernel] = {
                 "fretwear.hbm.kernels:walk_kernel",
                 "fretwear.hbm.dlft:evaluate",
                 "fretwear.hbm.dlft:jacobian_from_blocks",
+                "fretwear.hbm.condensation:condense_loop",  # every Problem condenses with it
             ),  # fmt: skip
             20.0,
             _run_solver,
