@@ -48,11 +48,15 @@ any degree. The first samples are the Gauss nodes of the map of the ramp
 at the start and the exact end value); then every piece of the profile whose
 cycles differ, with the cubic and with ``log s`` linear, by more than
 :data:`REFINE_TOLERANCE` of them is halved, for at most :data:`MAX_ROUNDS`
-rounds. Refinement is what a single map cannot do: at a finite ``Nh`` the
-sliding distance has kinks and jumps where the stick/slip pattern changes, and
-near the stick limit it grows 770-fold along the history (8-fold within the
-first 2 % of ``z``, where 70 % of the life is spent: 10 N, 0.55 Hz, ``Nh = 3``);
-the Gauss nodes of one map missed such histories by up to 29 % at degree 4.
+rounds; the Galerkin nodes in the profile's map then test it, and nodes that
+contradict it (fit and profile more than :data:`REFINE_TOLERANCE` apart) refine
+it in turn, for at most :data:`GALERKIN_PASSES` passes. A profile still coarse
+after that is flagged. Refinement is what a single map cannot do: at a finite
+``Nh`` the sliding distance has kinks and jumps where the stick/slip pattern
+changes, and near the stick limit it grows 770-fold along the history (8-fold
+within the first 2 % of ``z``, where 70 % of the life is spent: 10 N, 0.55 Hz,
+``Nh = 3``); the Gauss nodes of one map missed such histories by up to 29 % at
+degree 4.
 Solves along the wear are warm-started and cheap (tens of microseconds at
 ``Nh = 3``): 35-90 samples cost less than the records.
 
@@ -545,9 +549,8 @@ class _Slow:
             slid = np.vstack([slid, np.full((len(Nt), 1), s_end)])
             Xr = np.vstack([Xr, np.repeat(Xr[-1:], len(Nt), axis=0)])
         info = {"misfit": misfit, "wear_defect": defect, "poor_fit": misfit > MISFIT_LIMIT or not fit.settled,
-                "settled": fit.settled,
-                "end": N[-1], "log_density": density.log, "sliding_ratio": float(s_end / s0),
-                "rounds": rounds, "change": fit.change}  # fmt: skip
+                "settled": fit.settled, "rounds": rounds, "change": fit.change, "end": N[-1],
+                "log_density": density.log, "sliding_ratio": float(s_end / s0)}  # fmt: skip
         return self._history(N, w, dw, Xr, slid, status, info)
 
     def _sample(self, samples: _Samples, z: np.ndarray) -> np.ndarray:
@@ -562,7 +565,9 @@ class _Slow:
 
     def _fit(self, samples: _Samples, z_end: float) -> tuple[_Fit, int]:
         """The fit on ``0 <= z <= z_end``: the profile of ``s`` refined until every piece is settled (at most
-        :data:`MAX_ROUNDS` rounds), then the Galerkin projection in its map (see the module docstring).
+        :data:`MAX_ROUNDS` rounds), then the Galerkin projection in its map; again with the nodes among the
+        samples while fit and profile disagree (at most :data:`GALERKIN_PASSES` passes). See the module
+        docstring.
 
         Returns the fit and the number of refinement rounds.
         """
