@@ -339,8 +339,8 @@ def _pattern_start(v, M, F, eps, law, code, at_v, cur, work, vp):
     """
     kinds, limits, Phi, Psi, half_wave, PhiT, PsiT, P, Q, stride = law
     J, A, aug, dU, piv, dv, Ut, t, dR = work
-    R, lam, X, state, dep, sgn, hilo, U = cur
-    U, hilo = at_v[7], at_v[6]  # the samples of v and their extremes
+    R, lam, dep, sgn = cur[0], cur[1], cur[4], cur[5]
+    hilo, U = at_v[6], at_v[7]  # the samples of v and their extremes
     nc = kinds.shape[0]
     Ns, H = Phi.shape
     n = v.shape[0]
