@@ -415,7 +415,7 @@ def _to_v(x, Z, F, scale, eps, H, v):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def _penalty_map(Z, eps, H, Winv, M, piv):
+def _penalty_map(Z, eps, H, Winv, M):
     """``W^-1`` and ``M = Z W^-1 = E W^-1 - I`` for ``W = E - Z``; False if ``W`` is nearly singular.
 
     ``Z`` of a linear structure couples the slots of one harmonic only (across
@@ -434,62 +434,55 @@ def _penalty_map(Z, eps, H, Winv, M, piv):
     lo, hi = np.inf, 0.0
     if blocks:
         nc = n // H
-        idx = np.empty(2 * nc, dtype=np.int64)
         for i in range(n):
             for j in range(n):
                 Winv[i, j] = 0.0
         for g in range((H + first) // 2):
             s0 = 2 * g - first if g else 0
             size = 1 if first and g == 0 else 2
-            m = 0
+            idx = np.empty(nc * size, dtype=np.int64)
             for c in range(nc):
                 for k in range(size):
-                    idx[m] = c * H + s0 + k
-                    m += 1
-            W, pv = np.empty((m, m)), np.empty(m, dtype=np.int64)
-            for a in range(m):
-                for b in range(m):
-                    W[a, b] = -Z[idx[a], idx[b]]
-                W[a, a] += eps[idx[a] // H]
-            if lu_factor(W, pv) == 0:
-                return False
-            for k in range(m):
-                lo, hi = min(lo, abs(W[k, k])), max(hi, abs(W[k, k]))
-            col = np.empty(m)
-            for b in range(m):
-                for a in range(m):
-                    col[a] = 0.0
-                col[b] = 1.0
-                lu_solve(W, pv, col)
-                for a in range(m):
-                    Winv[idx[a], idx[b]] = col[a]
-        if not lo > 1e-12 * hi:
-            return False
+                    idx[c * size + k] = c * H + s0 + k
+            b_lo, b_hi = _invert_block(Z, eps, H, idx, Winv)
+            lo, hi = min(lo, b_lo), max(hi, b_hi)
     else:
-        W = np.empty((n, n))
-        for i in range(n):
-            for j in range(n):
-                W[i, j] = -Z[i, j]
-            W[i, i] += eps[i // H]
-        if lu_factor(W, piv) == 0:
-            return False
-        for k in range(n):
-            lo, hi = min(lo, abs(W[k, k])), max(hi, abs(W[k, k]))
-        if not lo > 1e-12 * hi:
-            return False
-        col = np.empty(n)
-        for j in range(n):
-            for i in range(n):
-                col[i] = 0.0
-            col[j] = 1.0
-            lu_solve(W, piv, col)
-            for i in range(n):
-                Winv[i, j] = col[i]
+        lo, hi = _invert_block(Z, eps, H, np.arange(n), Winv)
+    if not lo > 1e-12 * hi:  # also a zero pivot (lo = -1)
+        return False
     for i in range(n):
         for j in range(n):
             M[i, j] = eps[i // H] * Winv[i, j]
         M[i, i] -= 1.0
     return True
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _invert_block(Z, eps, H, idx, Winv):
+    """``Winv[idx, idx] = W^-1`` of the rows and columns ``idx`` of ``W = E - Z``.
+
+    Returns the smallest and largest magnitude of the LU pivots, ``(-1, 0)``
+    for a zero pivot.
+    """
+    m = idx.shape[0]
+    W, piv, col = np.empty((m, m)), np.empty(m, dtype=np.int64), np.empty(m)
+    for a in range(m):
+        for b in range(m):
+            W[a, b] = -Z[idx[a], idx[b]]
+        W[a, a] += eps[idx[a] // H]
+    if lu_factor(W, piv) == 0:
+        return -1.0, 0.0
+    lo, hi = np.inf, 0.0
+    for k in range(m):
+        lo, hi = min(lo, abs(W[k, k])), max(hi, abs(W[k, k]))
+    for b in range(m):
+        for a in range(m):
+            col[a] = 0.0
+        col[b] = 1.0
+        lu_solve(W, piv, col)
+        for a in range(m):
+            Winv[idx[a], idx[b]] = col[a]
+    return lo, hi
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -583,7 +576,6 @@ def sweep_kernel(
         np.empty(n),
     )
     Winv, M = np.empty((n, n)), np.empty((n, n))
-    piv = np.empty(n, dtype=np.int64)
     x, v, vp, vn, r0, zero = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.zeros(n)
     w_prev, x_prev = np.zeros(2), np.zeros((2, n))  # zeros: a lone predecessor is read with a = 0
     codes, code = np.empty((2, nc, Ns), dtype=np.int8), np.empty((nc, Ns), dtype=np.int8)
@@ -639,7 +631,7 @@ def sweep_kernel(
             if ratio < 1.0:
                 _stuck(Z, F, 1.0, kinds, limits, H, half_wave, x)
                 st[PATH], st[CONVERGED] = STUCK, 1
-        if st[PATH] == 0 and not _penalty_map(Z, eps, H, Winv, M, piv):
+        if st[PATH] == 0 and not _penalty_map(Z, eps, H, Winv, M):
             st[PATH] = FALLBACK
             continue
         stage, carry, last = (GUESS if n_prev else COLD) if st[PATH] == 0 else DONE, 0, cur
@@ -795,7 +787,7 @@ def _callee_arguments() -> list[tuple]:
         (_newton, (vec, mat, vec, vec, law, 0.0, 1, 1, 1, 0.0, cur, cur, work)),
         (_walk, (vec, 0.0, 1.0, 1, mat, vec, vec, vec, law, 1, cur, work)),
         (_predict_pattern, (codes[0], codes[0], 0.0, True, codes[0])),
-        (_penalty_map, (mat, vec, 1, mat, mat, ivec)),
+        (_penalty_map, (mat, vec, 1, mat, mat)),
         (_march_buffers, (1, 1, 1)),
         (_stuck, (mat, vec, 0.0, kinds, vec, 1, True, vec)),
         (_to_v, (vec, mat, vec, 0.0, vec, 1, vec)),
