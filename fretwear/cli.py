@@ -67,8 +67,17 @@ from .model.modelfile import example_names, example_path, read_model_file
 from .studies import study as study_command
 from .studies import wear_map
 from .studies.accuracy import QUANTITIES, cost_ladder
+from .studies.maps import LazyHistories
 from .time import ShootingSolution, shooting, shooting_sweep
-from .wear import METHODS, cycle_grid, method_options, resolve_method, wear_history
+from .wear import (
+    DYNAMICS,
+    METHODS,
+    cycle_grid,
+    exact_answer_applies,
+    method_options,
+    resolve_method,
+    wear_history,
+)
 from .wear.polynomial import BASES
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USAGE", "EXIT_NOT_CONVERGED"]
@@ -119,14 +128,17 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _add_solver_options(parser: argparse.ArgumentParser) -> None:
-    """``--harmonics`` and ``--samples``."""
+def _add_solver_options(parser: argparse.ArgumentParser, default: int | None = 7) -> None:
+    """``--harmonics`` and ``--samples`` (``default``: of ``--harmonics``; None: the exact dynamics)."""
     parser.add_argument(
         "--harmonics",
         type=number(1, integer=True),
-        default=7,
+        default=default,
         metavar="NH",
-        help="highest harmonic Nh (-), >= 1; default 7",
+        help="highest harmonic Nh (-), >= 1; default 7"
+        if default
+        else "highest harmonic Nh (-), >= 1, of the DLFT dynamics (giving it asks for them); "
+        "default: the exact dynamics where they apply, else Nh = 21 (polynomial: 3)",
     )
     parser.add_argument(
         "--samples",
@@ -449,9 +461,12 @@ def _add_wear_options(parser: argparse.ArgumentParser) -> None:
                         help="slow-time method: "
                         + "; ".join(f"{m.name}: {m.title}" for m in METHODS.values())
                         + "; auto (default): exact when it applies, else stepping")  # fmt: skip
-    parser.add_argument("--dynamics", choices=("dlft", "shooting"),
-                        help="periodic solver of stepping: HBM + DLFT (default) or shooting")  # fmt: skip
-    _add_solver_options(parser)
+    parser.add_argument("--dynamics", choices=DYNAMICS,
+                        help="periodic dynamics of the exact and stepping methods: shooting (the exact "
+                        "event-driven dynamics) or dlft (HBM + DLFT, an approximation); auto (default): "
+                        "shooting where it applies (friction contacts only) unless --harmonics or "
+                        "--samples ask for harmonic balance")  # fmt: skip
+    _add_solver_options(parser, default=None)
     parser.add_argument("--degree", type=number(1, integer=True),
                         help="degree m of the polynomial method (-), in [1, 12]; default 4")  # fmt: skip
     parser.add_argument("--basis", choices=BASES,
@@ -650,7 +665,7 @@ def _wear_options(args: argparse.Namespace, model: Model) -> tuple[str, dict]:
         raise UsageError(f"argument --degree: must be an integer in [1, 12], got {args.degree}")
     if args.tol is not None and not 0 < args.tol < 1:
         raise UsageError(f"argument --tol: must be in (0, 1), got {args.tol:g}")
-    method = resolve_method(model, args.method, args.dynamics or "dlft", args.fixed_step)
+    method = resolve_method(model, args.method, args.fixed_step)
     given = {k: getattr(args, k) for k in _METHOD_OPTIONS if getattr(args, k) is not None}
     from_file = getattr(args, "from_settings", ())
     given = {k: v for k, v in given.items() if k in METHODS[method].options or k not in from_file}
@@ -706,6 +721,11 @@ def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         hist = wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
+    if hist.label != "exact" and args.kw > 0 and exact_answer_applies(model):  # an approximation
+        with warnings.catch_warnings():  # the reference's warnings repeat those of the approximation
+            warnings.simplefilter("ignore")
+            exact = wear_history(model, 2 * np.pi * args.f, "exact", kw=args.kw, cycles=args.cycles)
+        hist.warnings.insert(0, hist.error_note(exact) or "its error against the exact answer is unknown")
     _say_warnings("wear", hist.warnings, caught)
     if args.out.lower().endswith(_FIGURE_SUFFIXES):
         from .figures import line_figure, load_backend, wear_curve
@@ -718,10 +738,10 @@ def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
             ylabel="w / u₀",
             logx=True,
             padding=0.05,
-            title=f"Wear history at {args.f:.4g} Hz ({hist.method})",
+            title=f"Wear history at {args.f:.4g} Hz ({hist.label})",
         )
         _write_figure(fig, args, hist.method, options, f=args.f)
-        print(f"fretwear wear: {hist.method}, status {hist.status}; wrote {args.out}", file=sys.stderr)
+        print(f"fretwear wear: {hist.label}, status {hist.status}; wrote {args.out}", file=sys.stderr)
         return EXIT_OK if hist.converged else EXIT_NOT_CONVERGED
     rows = []
     for k, N in enumerate(hist.cycles):
@@ -739,7 +759,7 @@ def _wear(args: argparse.Namespace, model: Model, names: _Names) -> int:
             row[f"{name}_half_p2p"] = float(hist.relative_half_peak_to_peak[k, j])
         rows.append(row)
     _write_csv(rows, args.out)
-    print(f"fretwear wear: {hist.method}, {len(rows)} records to N = {hist.cycles[-1]:g}, "
+    print(f"fretwear wear: {hist.label}, {len(rows)} records to N = {hist.cycles[-1]:g}, "
           f"status {hist.status}, "
           f"{hist.solves} solves, {hist.wall_time:.2f} s; wrote {args.out}", file=sys.stderr)  # fmt: skip
     return EXIT_OK if hist.converged else EXIT_NOT_CONVERGED
@@ -753,13 +773,20 @@ def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
-    _say_warnings("map", (f"{h.frequency:.4g} Hz: {w}" for h in wmap.histories for w in h.warnings), caught)
+    notes = [] if isinstance(wmap.histories, LazyHistories) else [
+        f"{h.frequency:.4g} Hz: {w}" for h in wmap.histories for w in h.warnings]  # fmt: skip
+    if wmap.label != "exact" and args.kw > 0 and exact_answer_applies(model):  # an approximation
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            exact = wear_map(model, freqs, cycles, method="exact", kw=args.kw)
+            notes.insert(0, wmap.error_note(exact) or "its error against the exact answer is unknown")
+    _say_warnings("map", notes, caught)
     if args.out.lower().endswith(_FIGURE_SUFFIXES):
         from .figures import load_backend, wear_map_figure
 
         load_backend("bokeh" if args.out.lower().endswith(".html") else "matplotlib")
-        fig = wear_map_figure(freqs, cycles, wmap.wear_fraction[:, :, 0],
-                              title=f"Wear map ({method}, wear coefficient {args.kw:.3g} 1/Pa)")  # fmt: skip
+        title = f"Wear map ({wmap.label}, wear coefficient {args.kw:.3g} 1/N)"
+        fig = wear_map_figure(freqs, cycles, wmap.wear_fraction[:, :, 0], title=title)
         _write_figure(fig, args, method, options)
     elif args.out.endswith(".npz"):
         np.savez_compressed(args.out, frequency_hz=wmap.frequency, cycles=wmap.cycles, wear=wmap.wear,
@@ -771,7 +798,7 @@ def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
         keys = list(table)
         _write_csv(({k: float(table[k][r]) for k in keys} for r in range(len(table["f_hz"]))), args.out)
     failed = int(np.sum(~wmap.converged))
-    print(f"fretwear map: {method}, {args.nf} frequencies x {args.ncycles} cycle counts, "
+    print(f"fretwear map: {wmap.label}, {args.nf} frequencies x {args.ncycles} cycle counts, "
           f"{failed} incomplete; wrote {args.out}", file=sys.stderr)  # fmt: skip
     return EXIT_OK if not failed else EXIT_NOT_CONVERGED
 

@@ -392,10 +392,15 @@ def png_size(data: bytes) -> tuple[int, int]:
 
 
 def test_wear_reports_the_method_it_ran(tmp_path, capsys):
-    """``auto`` is not a method: the message names the one that ran."""
-    code, _, err = run(capsys, "wear", "--f", "0.7", "--cycles", "1e3", "--harmonics", "3", "--out",
-                       str(tmp_path / "w.csv"))  # fmt: skip
+    """``auto`` is not a method: the message names the scheme and the dynamics that ran; with no
+    options they are the exact ones, and an approximation comes with its error against them."""
+    code, _, err = run(capsys, "wear", "--f", "0.7", "--cycles", "1e4", "--out", str(tmp_path / "w.csv"))
     assert code == 0 and err.startswith("fretwear wear: exact, ") and "auto" not in err
+    assert "warning" not in err and "DLFT" not in err
+    code, _, err = run(capsys, "wear", "--f", "0.7", "--cycles", "1e4", "--harmonics", "3", "--out",
+                       str(tmp_path / "w3.csv"))  # fmt: skip
+    assert code == 0 and "fretwear wear: exact slow time on DLFT, Nh = 3, " in err
+    assert "against the exact answer: cycles to 50% of u₀ are " in err
 
 
 def test_polynomial_bases_from_the_command_line(tmp_path, capsys):

@@ -16,7 +16,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Model
-from ..wear import METHODS, WearHistory, check_wear_inputs, resolve_method, wear_history
+from ..wear import (
+    METHODS,
+    WearHistory,
+    check_wear_inputs,
+    describe,
+    resolve_dynamics,
+    resolve_method,
+    wear_history,
+)
 from ..wear.exact import exact_wear_map
 
 __all__ = ["WearMap", "wear_map", "LazyHistories"]
@@ -80,6 +88,8 @@ class WearMap:
     histories : sequence of WearHistory
         The per-frequency results (status, solves, warnings); a :class:`LazyHistories`
         for maps on the exact dynamics.
+    label : str
+        What ran, slow-time scheme and dynamics apart (:func:`fretwear.wear.describe`).
     """
 
     frequency: np.ndarray
@@ -90,6 +100,7 @@ class WearMap:
     relative_half_peak_to_peak: np.ndarray
     u0: np.ndarray
     histories: Sequence[WearHistory]
+    label: str = ""
 
     @property
     def wear_fraction(self) -> np.ndarray:
@@ -115,6 +126,24 @@ class WearMap:
         t = ((c - self.cycles[k]) / (self.cycles[k + 1] - self.cycles[k]))[:, None, None]
         a = np.moveaxis(self.amplitude, 1, 0)  # (nN, nf, n)
         return (1 - t) * a[k] + t * a[k + 1]
+
+    def error_note(self, exact: WearMap, fraction: float = 0.5) -> str | None:
+        """How far this map's cycles to ``fraction u0`` are from those of the ``exact`` map, in one
+        sentence (None when neither reaches it anywhere)."""
+        ours = np.array([h.cycles_to(fraction) if h.converged else np.nan for h in self.histories])
+        ref = np.array([h.cycles_to(fraction) for h in exact.histories])
+        err = ours / ref - 1
+        both = np.isfinite(err)
+        if not both.any():
+            return None
+        k = int(np.nanargmax(np.abs(err)))
+        worst = f"{abs(err[k]):.1%} {'early' if err[k] < 0 else 'late'} at {self.frequency[k]:.4g} Hz"
+        return (
+            f"{self.label} over the band: cycles to {fraction:.0%} of u₀ up to {worst} against the exact "
+            f"answer (median |error| {np.nanmedian(np.abs(err)):.1%} over the {int(both.sum())} frequencies "
+            f"where both reach it; the exact answer reaches it at {int(np.isfinite(ref).sum())} of "
+            f"{len(ref)})."
+        )
 
     def long_table(self) -> dict[str, np.ndarray]:
         """Columns of the long-format table (one row per frequency and cycle count)."""
@@ -168,14 +197,20 @@ def wear_map(
         return wear_history(model, 2 * np.pi * f, method, kw=kw, cycles=horizon, **options)
 
     u0 = np.array([c.u0 for c in model.friction])
-    name = resolve_method(model, method, options.get("dynamics", "dlft"), options.get("fixed_step"))
-    if name == "exact" and options.get("dynamics") == "shooting" and kw > 0:
+    name = resolve_method(model, method, options.get("fixed_step"))
+    dynamics = options.get("dynamics", "auto")
+    on_tables = name == "exact" and kw > 0  # the exact method on the exact dynamics reads sliding tables
+    if (
+        on_tables
+        and resolve_dynamics(model, dynamics, options.get("harmonics"), options.get("samples")) == "shooting"
+    ):
         extra = sorted(k for k, v in options.items() if k not in METHODS[name].options and v is not None)
         if extra and method != "auto":
             raise ValueError(f"method {name!r} takes no option {', '.join(map(repr, extra))}")
         arrays = exact_wear_map(model, 2 * np.pi * frequencies, cycles, kw=kw, workers=workers)
         arrays.pop("stuck")
-        return WearMap(frequencies, cycles, **arrays, u0=u0, histories=LazyHistories(frequencies, one))
+        return WearMap(frequencies, cycles, **arrays, u0=u0, histories=LazyHistories(frequencies, one),
+                       label=describe("exact", "shooting"))  # fmt: skip
     if workers > 1 and len(frequencies) > 1:
         with ThreadPoolExecutor(max_workers=workers) as pool:
             histories = list(pool.map(one, frequencies))
@@ -191,4 +226,5 @@ def wear_map(
         relative_half_peak_to_peak=np.stack([s["relative_half_peak_to_peak"] for s in samples]),
         u0=u0,
         histories=histories,
+        label=histories[0].label,
     )

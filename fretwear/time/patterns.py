@@ -42,7 +42,7 @@ from numba import njit
 
 from ..model import Model
 
-__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "Table", "matmul_into", "structure"]
+__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "Table", "matmul_into", "structure", "unsupported"]
 
 #: terms of the Taylor series of a step (polynomial degree)
 TAYLOR_ORDER = 30
@@ -58,6 +58,32 @@ def _null_space(A: np.ndarray) -> np.ndarray:
     return vh[rank:].T
 
 
+def unsupported(model: Model) -> str | None:
+    """Why the event-driven integrator cannot run ``model`` (``None`` when it can).
+
+    It needs friction contacts only, a positive definite ``M`` and linearly
+    independent contacts; the exact dynamics (:func:`fretwear.shooting`) apply
+    exactly where it runs.
+    """
+    if model.normal:
+        return (
+            "supports friction contacts only: unilateral normal contacts "
+            f"(model.normal, {len(model.normal)} given) are not implemented"
+        )
+    M = model.M
+    if np.linalg.eigvalsh(M).min() <= 1e-12 * np.abs(M).max():
+        return (
+            "requires a positive definite mass matrix M: "
+            "massless DOFs (singular M) are not supported; condense them out first"
+        )
+    if model.friction and np.linalg.matrix_rank(model.relative_map(model.friction)) < len(model.friction):
+        return (
+            "requires linearly independent friction contacts (relative map B of full row rank): "
+            "redundant contacts make the stuck forces indeterminate"
+        )
+    return None
+
+
 class Structure:
     """What the stick patterns of one model share at every frequency.
 
@@ -67,27 +93,14 @@ class Structure:
     """
 
     def __init__(self, model: Model) -> None:
-        if model.normal:
-            raise ValueError(
-                "the time integrator supports friction contacts only: unilateral normal contacts "
-                f"(model.normal, {len(model.normal)} given) are not implemented"
-            )
-        M = model.M
-        if np.linalg.eigvalsh(M).min() <= 1e-12 * np.abs(M).max():
-            raise ValueError(
-                "the time integrator requires a positive definite mass matrix M: "
-                "massless DOFs (singular M) are not supported; condense them out first"
-            )
+        reason = unsupported(model)
+        if reason:
+            raise ValueError(f"the time integrator {reason}")
         self.model = model
         self.n, self.nf = model.n_dofs, len(model.friction)
         self.dim = 2 * self.n + self.nf + 3
         self.B = model.relative_map(model.friction)
-        if self.nf and np.linalg.matrix_rank(self.B) < self.nf:
-            raise ValueError(
-                "friction contacts must be linearly independent (relative map B of full row rank): "
-                "redundant contacts make the stuck forces indeterminate"
-            )
-        Minv = np.linalg.inv(M)
+        Minv = np.linalg.inv(model.M)
         self.Minv = (Minv + Minv.T) / 2
         self.C, self.K = model.C, model.K
         self.forces = np.column_stack([model.force_static, model.force_cos, model.force_sin])

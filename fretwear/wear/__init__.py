@@ -7,24 +7,37 @@ slow-time methods, one module each (:mod:`~fretwear.wear.exact`,
 Archard's law, the input checks and the result type :class:`WearHistory`.
 """
 
-from .common import TWO_SCALE_LIMIT, WearHistory, check_wear_inputs, cycle_grid, snapshot_cycles
+from .common import (
+    DYNAMICS,
+    TWO_SCALE_LIMIT,
+    WearHistory,
+    check_wear_inputs,
+    cycle_grid,
+    describe,
+    resolve_dynamics,
+    snapshot_cycles,
+)
 from .exact import exact_path_applies, wear_exact
-from .history import METHODS, Method, method_options, resolve_method, wear_history
+from .history import METHODS, Method, exact_answer_applies, method_options, resolve_method, wear_history
 from .polynomial import wear_polynomial
 from .stepping import wear_stepping
 from .time_integration import integrate_wear
 
 __all__ = [
+    "DYNAMICS",
     "METHODS",
     "Method",
     "TWO_SCALE_LIMIT",
     "WearHistory",
     "check_wear_inputs",
     "cycle_grid",
+    "exact_answer_applies",
+    "describe",
     "snapshot_cycles",
     "exact_path_applies",
     "integrate_wear",
     "method_options",
+    "resolve_dynamics",
     "resolve_method",
     "wear_exact",
     "wear_history",

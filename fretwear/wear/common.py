@@ -39,6 +39,7 @@ from ..hbm.harmonics import amplitude, extrema, full_synthesis
 from ..hbm.periodic import Problem, follow_normal_load, newton, solve_problem
 from ..hbm.solution import PeriodicSolution
 from ..model import Model
+from ..time.patterns import unsupported
 from ..time.shooting import shooting
 
 __all__ = [
@@ -52,6 +53,10 @@ __all__ = [
     "snapshot_cycles",
     "observables",
     "TWO_SCALE_LIMIT",
+    "DYNAMICS",
+    "DEFAULT_HARMONICS",
+    "resolve_dynamics",
+    "describe",
 ]
 
 #: wear per cycle, as a fraction of u0, above which the two-scale assumption is flagged
@@ -80,7 +85,13 @@ class WearHistory:
     u0, kn : ndarray, shape (n_friction,)
         Initial interference (m) and normal stiffness (N/m) of each friction contact.
     kw : float
-        Archard coefficient (1/Pa).
+        Archard coefficient (1/N).
+    dynamics : str
+        The periodic dynamics the slow time ran on: ``"shooting"`` (the exact
+        event-driven dynamics), ``"dlft"`` (harmonic balance, truncated at
+        ``harmonics``) or ``"time"`` (direct time integration, no periodic solve).
+    harmonics : int or None
+        ``Nh`` of the DLFT dynamics (``None`` on the exact dynamics).
     converged : bool
         False when a periodic solve failed and the curve stops early.
     status : str
@@ -106,6 +117,8 @@ class WearHistory:
     u0: np.ndarray
     kn: np.ndarray
     kw: float
+    dynamics: str = "dlft"
+    harmonics: int | None = None
     converged: bool = True
     status: str = "horizon"
     solves: int = 0
@@ -117,6 +130,11 @@ class WearHistory:
     def frequency(self) -> float:
         """Excitation frequency (Hz)."""
         return self.omega / (2 * np.pi)
+
+    @property
+    def label(self) -> str:
+        """What ran, slow-time scheme and dynamics apart (:func:`describe`)."""
+        return describe(self.method, self.dynamics, self.harmonics)
 
     @property
     def wear_fraction(self) -> np.ndarray:
@@ -163,6 +181,19 @@ class WearHistory:
         for f in fractions:
             out[f"cycles_to_{f:g}"] = self.cycles_to(f, contact) / reference.cycles_to(f, contact) - 1.0
         return out
+
+    def error_note(self, reference: WearHistory, fractions: tuple[float, ...] = (0.5, 0.9)) -> str | None:
+        """This history's error against the exact ``reference``, in one sentence (None if either failed)."""
+        if not (self.converged and reference.converged):
+            return None
+        e = self.error_against(reference, fractions)
+        parts = []
+        for f in fractions:
+            c = e[f"cycles_to_{f:g}"]
+            if np.isfinite(c):
+                parts.append(f"cycles to {f:.0%} of u₀ are {abs(c):.2%} {'early' if c < 0 else 'late'}")
+        parts.append(f"w(N) is off by up to {e['wear']:.2%} of u₀")
+        return f"{self.label} at {self.frequency:.4g} Hz against the exact answer: {', '.join(parts)}."
 
     def cycles_to(self, fraction: float, contact: int = 0) -> float:
         """Cycles at which contact ``contact`` reaches ``fraction * u0`` (nan if it does not)."""
@@ -223,18 +254,65 @@ def check_wear_inputs(model: Model, kw: float, cycles: float, degree: int | None
 
 # -- periodic dynamics at a wear state ---------------------------------------------
 
+#: the periodic dynamics a slow-time method can run on (``dynamics=``)
+DYNAMICS = ("auto", "shooting", "dlft")
+#: ``Nh`` of the DLFT dynamics when ``dynamics="dlft"`` is asked for without ``harmonics``
+DEFAULT_HARMONICS = 21
+
+
+def resolve_dynamics(model: Model, dynamics: str = "auto", harmonics: int | None = None,
+                     samples: int | None = None) -> str:  # fmt: skip
+    """The dynamics that ``dynamics`` names for ``model``: ``"shooting"`` or ``"dlft"``.
+
+    ``"auto"`` is the exact event-driven dynamics (``"shooting"``) wherever they
+    apply (friction contacts only, ``M`` positive definite, independent
+    contacts), unless harmonic-balance settings (``harmonics``, ``samples``) are
+    given: asking for ``Nh`` asks for the DLFT approximation. ``"shooting"``
+    on a model it does not apply to, or with those settings, is a ``ValueError``.
+    """
+    if dynamics not in DYNAMICS:
+        raise ValueError(f"dynamics must be one of {', '.join(map(repr, DYNAMICS))}, got {dynamics!r}")
+    dlft_settings = harmonics is not None or samples is not None
+    if dynamics == "auto":
+        return "dlft" if dlft_settings or unsupported(model) else "shooting"
+    if dynamics == "shooting":
+        if reason := unsupported(model):
+            raise ValueError(
+                f"dynamics='shooting' does not apply to this model: the time integrator {reason}"
+            )
+        if dlft_settings:
+            raise ValueError("harmonics and samples are settings of the DLFT dynamics: "
+                             "dynamics='shooting' (exact, event-driven) takes neither")  # fmt: skip
+    return dynamics
+
+
+def describe(method: str, dynamics: str, harmonics: int | None = None) -> str:
+    """A label of what ran, the slow-time scheme and the dynamics apart.
+
+    Only the exact slow time on the exact dynamics is called ``"exact"``; every
+    label with a truncation error says so (``"exact slow time on DLFT, Nh = 7"``).
+    """
+    if method == "time":
+        return "time integration (event-driven, cycle jumps)"
+    scheme = {"exact": "exact slow time", "stepping": "stepping", "polynomial": "polynomial"}.get(
+        method, method
+    )
+    if dynamics == "shooting":
+        return "exact" if method == "exact" else f"{scheme} on the exact dynamics"
+    return f"{scheme} on DLFT, Nh = {harmonics}"
+
 
 class Dynamics:
     """Periodic response at a wear state, warm-started from the previous call (DLFT or shooting)."""
 
     def __init__(self, model, omega, harmonics, samples, kw, dynamics):
-        self.model, self.omega, self.kw, self.kind = model, omega, kw, dynamics
+        self.model, self.omega, self.kw = model, omega, kw
+        self.kind = resolve_dynamics(model, dynamics, harmonics, samples)
+        self.harmonics = (harmonics or DEFAULT_HARMONICS) if self.kind == "dlft" else None
         self.solves = 0
         self.guess = None
-        if dynamics == "dlft":
-            self.problem = Problem(model, omega, harmonics, samples)
-        elif dynamics != "shooting":
-            raise ValueError(f"dynamics must be 'dlft' or 'shooting', got {dynamics!r}")
+        if self.kind == "dlft":
+            self.problem = Problem(model, omega, self.harmonics, samples)
 
     def _solve(self, problem: Problem) -> PeriodicSolution:
         """Warm start: Newton from the last solution, then the exact normal-load walk, then cold."""

@@ -17,7 +17,14 @@ import numpy as np
 
 from ..hbm.periodic import LOAD, Problem, solve_problem, walk
 from ..model import Model
-from .common import WearHistory, check_wear_inputs, observables, two_scale_warning
+from .common import (
+    DEFAULT_HARMONICS,
+    WearHistory,
+    check_wear_inputs,
+    observables,
+    resolve_dynamics,
+    two_scale_warning,
+)
 from .sliding import cached_solves, sliding_table, unit_forcing
 
 __all__ = ["wear_exact", "exact_path_applies", "exact_wear_map"]
@@ -34,18 +41,21 @@ def wear_exact(
     *,
     kw: float = 1e-11,
     cycles: float = 1e5,
-    harmonics: int = 21,
+    harmonics: int | None = None,
     samples: int | None = None,
-    dynamics: str = "dlft",
+    dynamics: str = "auto",
     stop_fraction: float = 0.99,
     max_records: int = 100,
 ) -> WearHistory:
     """Wear evolution with no slow-time discretisation error, for one friction contact.
 
-    ``dynamics="shooting"`` integrates Archard's law on the exact sliding
+    ``dynamics="shooting"`` (what ``"auto"`` runs unless ``harmonics`` or
+    ``samples`` are given) integrates Archard's law on the exact sliding
     distance of the event-driven dynamics (:func:`fretwear.wear.sliding.sliding_table`):
     no harmonic truncation and no slow-time error, the reference of every
-    other method. ``dynamics="dlft"`` follows the DLFT load path (below).
+    other method. ``dynamics="dlft"`` follows the DLFT load path (below): an
+    exact slow time on approximate dynamics (truncated at ``Nh = harmonics``,
+    default 21).
 
     With one friction contact and no unilateral contact the DLFT equations are
     positively homogeneous in the forces and the friction limit, so the
@@ -71,10 +81,11 @@ def wear_exact(
         raise ValueError("wear_exact needs exactly one friction contact and no unilateral contact")
     if not 0 < stop_fraction < 1:
         raise ValueError(f"stop_fraction must be in (0, 1), got {stop_fraction!r}")
-    if dynamics == "shooting":
-        return _wear_on_table(model, omega, kw, cycles, stop_fraction, max_records)
-    if dynamics != "dlft":
-        raise ValueError(f"dynamics must be 'dlft' or 'shooting', got {dynamics!r}")
+    if resolve_dynamics(model, dynamics, harmonics, samples) == "shooting":
+        hist = _wear_on_table(model, omega, kw, cycles, stop_fraction, max_records)
+        hist.dynamics = "shooting"
+        return hist
+    harmonics = harmonics or DEFAULT_HARMONICS
     start = time.perf_counter()
     contact = model.friction[0]
     u0, kn = contact.u0, contact.kn
@@ -82,7 +93,7 @@ def wear_exact(
     sol0 = solve_problem(problem)
     if not sol0.converged:
         raise RuntimeError(f"the periodic solve of the unworn structure failed: {sol0.message}")
-    arrays = dict(u0=np.array([u0]), kn=np.array([kn]), kw=kw)
+    arrays = dict(u0=np.array([u0]), kn=np.array([kn]), kw=kw, dynamics="dlft", harmonics=harmonics)
     if sol0.path in ("linear-stuck", "linear-open") or sol0.sliding_distance[0] == 0:
         lam0 = problem.F - problem.Z @ sol0.unknowns
         rows = observables(problem, np.repeat(lam0[None], 2, axis=0))

@@ -9,7 +9,7 @@ keeping their own lists:
 ========== ============================================== =====================================
 method     module                                         options
 ========== ============================================== =====================================
-exact      :mod:`fretwear.wear.exact` (load path)         harmonics, samples, dynamics
+exact      :mod:`fretwear.wear.exact` (load path)         dynamics, harmonics, samples
 stepping   :mod:`fretwear.wear.stepping` (eq. 24, RK23)   harmonics, samples, tol, dynamics,
                                                           fixed_step
 polynomial :mod:`fretwear.wear.polynomial` (eq. 25-29)    harmonics, samples, degree, basis
@@ -27,13 +27,13 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..model import Model
-from .common import WearHistory
+from .common import WearHistory, resolve_dynamics
 from .exact import exact_path_applies, wear_exact
 from .polynomial import wear_polynomial
 from .stepping import wear_stepping
 from .time_integration import integrate_wear
 
-__all__ = ["Method", "METHODS", "wear_history", "resolve_method", "method_options"]
+__all__ = ["Method", "METHODS", "wear_history", "resolve_method", "method_options", "exact_answer_applies"]
 
 
 @dataclass(frozen=True)
@@ -79,17 +79,25 @@ METHODS: Mapping[str, Method] = {
 }
 
 
-def resolve_method(model: Model, method: str = "auto", dynamics: str = "dlft", fixed_step=None) -> str:
+def resolve_method(model: Model, method: str = "auto", fixed_step=None) -> str:
     """The method that ``method`` names for ``model``: ``"auto"`` is ``"exact"`` where it applies.
 
     ``"auto"`` falls back to ``"stepping"`` for several contacts or unilateral
-    contacts, and for a fixed step (an option only stepping takes).
+    contacts, and for a fixed step (an option only stepping takes). The
+    dynamics the method runs on are resolved apart
+    (:func:`~fretwear.wear.common.resolve_dynamics`): with no options, the exact
+    ones wherever they apply.
     """
     if method == "auto":
         return "exact" if METHODS["exact"].applies(model) and not fixed_step else "stepping"
     if method not in METHODS:
         raise ValueError(f"method must be 'auto' or one of {', '.join(map(repr, METHODS))}, got {method!r}")
     return method
+
+
+def exact_answer_applies(model: Model) -> bool:
+    """Whether the exact answer exists for ``model``: the exact method on the exact dynamics."""
+    return METHODS["exact"].applies(model) and resolve_dynamics(model) == "shooting"
 
 
 def method_options(method: str, settings: Mapping[str, Any]) -> dict[str, Any]:
@@ -111,14 +119,17 @@ def wear_history(
         Excitation frequency (rad/s), > 0.
     method : {"auto", "exact", "stepping", "polynomial", "time"}
         See the module docstring; ``"auto"`` is :func:`resolve_method`.
+        With no options, ``"auto"`` runs the exact method on the exact
+        event-driven dynamics wherever they apply: the reference.
     kw : float
-        Archard coefficient ``K_w`` (1/Pa), >= 0.
+        Archard coefficient ``K_w`` (1/N: m of wear per N of load and m slid), >= 0.
     cycles : float
         Horizon (cycles), > 0.
     **options
         The method's options (:data:`METHODS`): ``harmonics`` (``Nh``), ``samples``
         (per period), ``tol`` (local error on ``w / u0``, or of the cycle jumps),
-        ``dynamics`` (``"dlft"`` or ``"shooting"``), ``fixed_step`` (cycles),
+        ``dynamics`` (``"auto"``, ``"shooting"`` or ``"dlft"``: see
+        :func:`~fretwear.wear.common.resolve_dynamics`), ``fixed_step`` (cycles),
         ``degree`` and ``basis`` (polynomial). An option the method does not
         take raises ``ValueError``, except with ``"auto"``, which uses those of
         the method it picks.
@@ -126,9 +137,9 @@ def wear_history(
     Returns
     -------
     WearHistory
-        Its ``method`` is the method that ran.
+        Its ``method`` and ``dynamics`` are those that ran, ``label`` says both.
     """
-    name = resolve_method(model, method, options.get("dynamics", "dlft"), options.get("fixed_step"))
+    name = resolve_method(model, method, options.get("fixed_step"))
     entry = METHODS[name]
     if method == "auto":  # "pick for me": the options of the other methods are not errors
         options = {k: v for k, v in options.items() if k in entry.options}

@@ -218,6 +218,7 @@ def wear_polynomial(
         for N in (0.0, float(cycles)):
             rec.add(N, np.zeros_like(u0), rate0, slid0, sol0, model)
         return rec.history(omega, "polynomial", model, kw, status="stuck", solves=1, info=info,
+                           dynamics="dlft", harmonics=harmonics,
                            wall_time=time.perf_counter() - start)  # fmt: skip
     if problem.n_active != len(model.friction) or np.any(problem.kinds != dlft.FRICTION):
         raise ValueError("wear_polynomial needs every contact to be a loaded friction contact")
@@ -683,7 +684,8 @@ class _Slow:
         amp, hp2p, rel = (o[index.ravel()] for o in observables(self.p, lam))
         return WearHistory(
             0.0, "polynomial", N, w, self.kn * (self.u0 - w), _monotone_slopes(N, w, dw), slid, amp, hp2p,
-            rel, u0=self.u0, kn=self.kn, kw=self.kw, status=status, info=info,
+            rel, u0=self.u0, kn=self.kn, kw=self.kw, dynamics="dlft", harmonics=self.p.harmonics,
+            status=status, info=info,
         )  # fmt: skip
 
 

@@ -33,11 +33,11 @@ def wear_stepping(
     *,
     kw: float = 1e-11,
     cycles: float = 1e5,
-    harmonics: int = 21,
+    harmonics: int | None = None,
     samples: int | None = None,
     tol: float = 1e-3,
     fixed_step: float | None = None,
-    dynamics: Literal["dlft", "shooting"] = "dlft",
+    dynamics: Literal["auto", "dlft", "shooting"] = "auto",
     stop_fraction: float = 0.99,
     max_steps: int = 100_000,
 ) -> WearHistory:
@@ -49,18 +49,20 @@ def wear_stepping(
     omega : float
         Excitation frequency (rad/s).
     kw : float
-        Archard coefficient (1/Pa), >= 0.
+        Archard coefficient (1/N), >= 0.
     cycles : float
         Horizon (cycles), > 0.
-    harmonics, samples : int
-        Harmonic balance settings of the DLFT periodic solves.
+    harmonics, samples : int, optional
+        Harmonic balance settings of the DLFT periodic solves (``Nh`` default 21);
+        giving either makes ``dynamics="auto"`` the DLFT dynamics.
     tol : float
         Local error tolerance on ``w`` per step, as a fraction of ``u0``.
     fixed_step : float, optional
         Explicit Euler with this step (cycles) instead of the adaptive pair;
         ``fixed_step=1`` is the paper's per-period update (eq. 24).
-    dynamics : {"dlft", "shooting"}
-        Periodic solver: HBM + DLFT, or exact shooting in the time domain.
+    dynamics : {"auto", "dlft", "shooting"}
+        Periodic solver: exact shooting on the event-driven dynamics, or HBM + DLFT
+        (an approximation); ``"auto"``: :func:`~fretwear.wear.common.resolve_dynamics`.
     stop_fraction : float
         Stop when every contact reaches ``stop_fraction * u0``.
     max_steps : int
@@ -84,8 +86,9 @@ def wear_stepping(
     method = "stepping"
 
     def done(**kw_):
-        return rec.history(omega, method, model, kw, solves=dyn.solves,
-                           wall_time=time.perf_counter() - start, warnings=notes, **kw_)  # fmt: skip
+        return rec.history(omega, method, model, kw, dynamics=dyn.kind, harmonics=dyn.harmonics,
+                           solves=dyn.solves, wall_time=time.perf_counter() - start, warnings=notes,
+                           **kw_)  # fmt: skip
 
     if not np.any(g > 0):
         notes = []

@@ -219,6 +219,7 @@ class _Run:
             u0=self.u0,
             kn=np.array([c.kn for c in self.model.friction]),
             kw=self.kw,
+            dynamics="time",
             converged=converged,
             status=status,
             solves=self.solves,
