@@ -33,10 +33,15 @@ Format
 
 Parameters (:data:`PARAMETERS`): ``frequency`` (Hz), ``fex`` (N, paper model),
 ``force_scale`` (-, model files: scales every external force), ``mu`` (-),
-``normal_load`` (N) or ``u0`` (m), ``kn`` (N/m), ``kw`` (1/Pa), ``cycles``
-(horizon), ``harmonics`` (``Nh``), ``method`` (``"auto"`` or a key of
-:data:`fretwear.METHODS`), ``dynamics`` (``"dlft"``, ``"shooting"``) and
-``tol`` (slow-time tolerance of the methods that take one). Distributions:
+``normal_load`` (N) or ``u0`` (m), ``kn`` (N/m), ``kw`` (1/N), ``cycles``
+(horizon), ``harmonics`` (``Nh`` of the DLFT dynamics: of the ``frf``
+quantity, default 21; for the wear quantities, giving it asks for the DLFT
+dynamics), ``method`` (``"auto"`` or a key of :data:`fretwear.METHODS`),
+``dynamics`` (``"auto"``, ``"shooting"``, ``"dlft"``) and ``tol`` (slow-time
+tolerance of the methods that take one). ``method`` and ``dynamics`` mean
+what they mean to :func:`fretwear.wear_history` and ``fretwear wear``: with
+neither given, the exact method on the exact event-driven dynamics wherever
+they apply (:func:`fretwear.wear.resolve_dynamics`). Distributions:
 ``uniform`` (``low``, ``high``), ``loguniform`` (``low``, ``high``), ``normal``
 (``mean``, ``std``) and ``lognormal`` (``median``, ``sigma`` of the logarithm).
 
@@ -65,9 +70,10 @@ import numpy as np
 
 from .._version import __version__
 from ..model import paper_model, read_model
-from ..wear import METHODS
+from ..wear import DYNAMICS, METHODS
 
 __all__ = [
+    "FRF_HARMONICS",
     "PARAMETERS",
     "QUANTITIES",
     "Distribution",
@@ -139,16 +145,16 @@ PARAMETERS: Mapping[str, Parameter] = {
         Parameter("normal_load", "N", "initial normal load F_N", low=0.0),
         Parameter("u0", "m", "initial normal interference u0", low=0.0),
         Parameter("kn", "N/m", "normal contact stiffness", low=0.0, strict=True),
-        Parameter("kw", "1/Pa", "Archard wear coefficient K_w", low=0.0),
+        Parameter("kw", "1/N", "Archard wear coefficient K_w", low=0.0),
         Parameter("cycles", "cycles", "wear horizon", low=0.0, strict=True),
         Parameter("harmonics", "-", "highest harmonic Nh", kind=int, low=1, high=256, random=False),
         Parameter("method", "", "slow-time method", kind=str, choices=("auto", *METHODS), random=False),
         Parameter(
             "dynamics",
             "",
-            "periodic dynamics of stepping",
+            "periodic dynamics of the exact and stepping methods",
             kind=str,
-            choices=("dlft", "shooting"),
+            choices=DYNAMICS,
             random=False,
         ),
         Parameter("tol", "-", "slow-time tolerance", low=0.0, strict=True, high=1.0, random=False),
@@ -162,8 +168,11 @@ QUANTITIES: Mapping[str, tuple[str, ...]] = {
     "wear": tuple(PARAMETERS),
 }
 
-#: values of the parameters a spec leaves out (the paper model's are those of section 2.1)
-DEFAULTS: Mapping[str, Any] = {"harmonics": 21, "kw": 1e-11, "method": "auto", "dynamics": "dlft"}
+#: values of the parameters a spec leaves out (the paper model's are those of section 2.1); ``harmonics``
+#: has none: the wear quantities then run on the exact dynamics, the ``frf`` on :data:`FRF_HARMONICS`
+DEFAULTS: Mapping[str, Any] = {"kw": 1e-11, "method": "auto", "dynamics": "auto"}
+#: ``Nh`` of the ``frf`` quantity when the spec gives no ``harmonics``
+FRF_HARMONICS = 21
 PAPER_DEFAULTS: Mapping[str, float] = {"fex": 10.0, "mu": 1.0, "normal_load": 10.0, "kn": 1e7}
 
 #: model names that a spec may give and that this version does not provide
@@ -551,9 +560,9 @@ def _value(key: str, param: Parameter, value: Any) -> tuple[str, Any]:
 
 
 def _stepping(fixed: Mapping[str, Any], grid: Mapping[str, np.ndarray]) -> bool:
-    """Whether some point may run a method that takes ``dynamics`` (stepping, or auto)."""
+    """Whether some point may run a method that takes ``dynamics`` (exact, stepping, or auto)."""
     methods = grid["method"].tolist() if "method" in grid else [fixed.get("method", "auto")]
-    return any(m in ("auto", "stepping") for m in methods)
+    return any(m == "auto" or "dynamics" in METHODS[m].options for m in methods)
 
 
 def _wear_checks(quantities, params, fixed, grid) -> None:
@@ -574,7 +583,9 @@ def _wear_checks(quantities, params, fixed, grid) -> None:
                 f"parameters.{name}", "must be > 0 for the wear quantities (a contact that wears)"
             )
     if "dynamics" in params and not _stepping(fixed, grid):
-        raise SpecError("parameters.dynamics", "only the method 'stepping' (or 'auto') takes dynamics")
+        raise SpecError(
+            "parameters.dynamics", "only the methods 'exact' and 'stepping' (or 'auto') take dynamics"
+        )
     if "tol" in params:
         methods = grid["method"].tolist() if "method" in grid else [fixed.get("method", "auto")]
         if not any(m in ("auto", "stepping", "time") for m in methods):

@@ -76,8 +76,8 @@ import numpy as np
 from .._version import __version__
 from ..hbm import sweep
 from ..model import paper_model
-from ..wear import METHODS, wear_history
-from .spec import PARAMETERS, SpecError, StudySpec, read_spec
+from ..wear import METHODS, resolve_dynamics, resolve_method, wear_history
+from .spec import FRF_HARMONICS, PARAMETERS, SpecError, StudySpec, read_spec
 
 __all__ = [
     "STATUS",
@@ -101,8 +101,11 @@ STATUS = ("not_computed", "ok", "stuck", "horizon", "not_converged", "invalid", 
 NOT_COMPUTED, OK, STUCK, HORIZON, NOT_CONVERGED, INVALID, ERROR = range(len(STATUS))
 FAILED = (NOT_CONVERGED, INVALID, ERROR)
 
-#: estimated compute time of one point (s) by quantity and slow-time method, at Nh = 21, to size tasks
-POINT_SECONDS = {"frf": 1e-3, "exact": 0.08, "stepping": 1.0, "polynomial": 2.0, "time": 10.0}
+#: estimated compute time of one point (s) by quantity and slow-time method, at Nh = 21 on the DLFT
+#: dynamics, to size tasks; "-shooting": on the exact dynamics (exact: 1.5 ms a point once the sliding
+#: table of the frequency is built, about 1 s, once per worker)
+POINT_SECONDS = {"frf": 1e-3, "exact": 0.08, "exact-shooting": 0.01, "stepping": 1.0,
+                 "stepping-shooting": 0.05, "polynomial": 2.0, "time": 10.0}  # fmt: skip
 #: target compute time of one task (s): Dask's overhead is a few ms per task
 TASK_SECONDS = 2.0
 #: tasks a study is cut into at least (when it has that many points): load balance and progress
@@ -138,14 +141,20 @@ class Layout:
 
 def _point_seconds(spec: StudySpec) -> float:
     """Estimated compute time of one point (s), from the quantities, methods and ``Nh``."""
-    nh = np.max(spec.grid.get("harmonics", [spec.fixed.get("harmonics", 21)]))
+    nh = np.max(spec.grid.get("harmonics", [spec.fixed.get("harmonics", FRF_HARMONICS)]))
     seconds = POINT_SECONDS["frf"] * max(1.0, nh / 7) if "frf" in spec.quantities else 0.0
     if spec.wear:
         methods = spec.grid["method"].tolist() if "method" in spec.grid else [spec.fixed["method"]]
-        exact = METHODS["exact"].applies(spec.model) and spec.fixed.get("dynamics", "dlft") == "dlft"
-        names = [("exact" if exact else "stepping") if m == "auto" else m for m in methods]
-        seconds += np.mean([POINT_SECONDS[m] for m in names]) * max(0.25, nh / 21)
+        p = {**spec.fixed, "harmonics": spec.fixed.get("harmonics", spec.grid.get("harmonics", [None])[0])}
+        runs = [_method(spec.model, {**p, "method": m}) for m in methods]
+        seconds += np.mean([POINT_SECONDS[_cost_key(n, o)] * max(0.25, o.get("harmonics", 21) / 21)
+                            for n, o in runs])  # fmt: skip
     return float(seconds)
+
+
+def _cost_key(name: str, options: Mapping[str, Any]) -> str:
+    """The key of :data:`POINT_SECONDS` of a method run with ``options``."""
+    return f"{name}-shooting" if options.get("dynamics") == "shooting" else name
 
 
 def layout(spec: StudySpec) -> Layout:
@@ -234,13 +243,16 @@ def _model(work: Work, p: Mapping[str, Any]):
 
 
 def _method(model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
-    """The slow-time method that runs at a point and the options it takes (``auto``: exact if it applies)."""
-    name = p["method"]
-    if name == "auto":
-        dlft = p.get("dynamics", "dlft") == "dlft"
-        name = "exact" if METHODS["exact"].applies(model) and dlft else "stepping"
+    """The slow-time method that runs at a point and the options it takes, as :func:`wear_history`
+    and ``fretwear wear`` resolve them (``auto``: the exact method where it applies)."""
+    name = resolve_method(model, p["method"])
     taken = METHODS[name].options
-    return name, {k: p[k] for k in ("harmonics", "tol", "dynamics") if k in p and k in taken}
+    options = {k: p[k] for k in ("harmonics", "tol", "dynamics") if p.get(k) is not None and k in taken}
+    if "dynamics" in taken:  # the dynamics that ran, not "auto"
+        options["dynamics"] = resolve_dynamics(
+            model, options.get("dynamics", "auto"), options.get("harmonics")
+        )
+    return name, options
 
 
 def _wear_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i: int) -> int:
@@ -274,7 +286,7 @@ def _frf_points(work: Work, params: Mapping[str, np.ndarray], idx: np.ndarray, o
     p = {k: v[idx[0]] for k, v in params.items()}
     try:
         model = _model(work, p)
-        swept = sweep(model, 2 * np.pi * params["frequency"][idx], int(p["harmonics"]))
+        swept = sweep(model, 2 * np.pi * params["frequency"][idx], int(p.get("harmonics", FRF_HARMONICS)))
     except Exception as exc:  # noqa: BLE001 - a failed point is recorded, never an aborted study
         code = INVALID if isinstance(exc, ValueError) else ERROR
         status[idx] = np.maximum(status[idx], code)
