@@ -435,3 +435,37 @@ def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
         xr.testing.assert_identical(result[name], _data(local_run[1])[name])
     assert study.main(args) == study.EXIT_NOT_CONVERGED  # no cluster needed: nothing left
     assert "nothing to compute" in capsys.readouterr().err
+
+
+def test_the_shipped_study_computes_the_exact_answer():
+    """``wear_life.toml`` with no method options: every point is the exact answer (exact slow time on the
+    exact dynamics), as ``fw.wear_history`` gives it with no options, and the draws' cycles to 0.5 u0
+    agree with direct time integration with wear within 1e-3."""
+    spec = study_spec.read_spec(DATA / "wear_life.toml", samples=3)
+    assert spec.fixed["dynamics"] == "auto" and "harmonics" not in spec.fixed
+    draws = spec.draws()
+    out = study.compute_block(study.Work.of(spec), draws)
+    assert np.all(out["status"] == study.OK)
+    for i in range(3):
+        model = fw.paper_model(fex=draws["fex"][i], mu=draws["mu"][i])
+        omega = 2 * np.pi * 0.7
+        exact = fw.wear_history(model, omega, kw=1e-11, cycles=1e7)
+        assert exact.label == "exact"
+        np.testing.assert_allclose(out["cycles_to"][i], [exact.cycles_to(f) for f in (0.1, 0.5, 0.9)],
+                                   rtol=1e-12)  # fmt: skip
+        ref = fw.wear_history(model, omega, "time", kw=1e-11, cycles=1e7, tol=1e-4)
+        assert abs(out["cycles_to"][i, 1] / ref.cycles_to(0.5) - 1) < 1e-3
+
+
+@pytest.mark.parametrize(
+    ("method", "dynamics"), [("exact", "shooting"), ("exact", "dlft"), ("stepping", "auto")]
+)
+def test_a_study_takes_every_method_and_dynamics_the_cli_takes(method, dynamics):
+    text = (f'[study]\nquantities = ["wear_life"]\n[parameters]\nfrequency = 0.7\ncycles = 1e5\n'
+            f'method = "{method}"\ndynamics = "{dynamics}"\n')  # fmt: skip
+    spec = study_spec.parse_spec(study_spec.tomllib.loads(text), text=text)
+    out = study.compute_block(study.Work.of(spec), {})
+    model = fw.paper_model()
+    h = fw.wear_history(model, 2 * np.pi * 0.7, method, kw=1e-11, cycles=1e5, dynamics=dynamics)
+    assert out["status"][0] == study.OK
+    np.testing.assert_allclose(out["cycles_to"][0], [h.cycles_to(f) for f in (0.1, 0.5, 0.9)], rtol=1e-9)
