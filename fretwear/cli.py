@@ -820,9 +820,7 @@ def _cost(args: argparse.Namespace, model: Model, names: _Names) -> int:
     _write_csv(rows, args.out)
     for name, ref in study.reference.items():
         print(f"fretwear cost: reference ({name}): {ref}", file=sys.stderr)
-    pick = f"{best.label} ({best.wall_time * 1e3:.1f} ms)" if best else "none of the rungs"
-    print(f"fretwear cost: cheapest rung within {args.target:g} on every quantity: {pick}; wrote {args.out}",
-          file=sys.stderr)  # fmt: skip
+    print(f"fretwear cost: {study.summary(args.target)}; wrote {args.out}", file=sys.stderr)
     return EXIT_OK
 
 

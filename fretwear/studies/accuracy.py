@@ -7,7 +7,11 @@ stepping, polynomial, time integration) — measures the wall time of each rung 
 error against a reference, on the quantities users look at: the first-harmonic
 amplitude of ``x1``, the half peak-to-peak relative displacement, the sliding
 distance per cycle and, with a wear horizon, ``w(N)``. :meth:`CostStudy.recommend`
-returns the cheapest rung that reaches a target error.
+returns the cheapest rung that reaches a target error and is not the reference's
+own method (shooting: its error is round-off); :meth:`CostStudy.summary` says so
+in a sentence, and when only the reference meets the target. Wear rungs are named
+by slow-time scheme and dynamics: ``exact-dlft`` (the exact slow time on DLFT
+dynamics), ``stepping`` (on DLFT), ``stepping-shooting``, ``polynomial``, ``time``.
 
 References: the exact periodic solution by shooting on the event-driven time
 integrator (periodicity residual 1e-12) for the periodic quantities, and for
@@ -43,13 +47,18 @@ QUANTITIES = ("x1_h1", "xr_half_p2p", "sliding_distance", "wear")
 
 @dataclass
 class Rung:
-    """One discretisation: its settings, wall time (s) and relative errors per quantity."""
+    """One discretisation: its settings, wall time (s) and relative errors per quantity.
+
+    ``reference``: the rung is the reference's own method (exact shooting), timed as users would run
+    it; its error is round-off, so it is never the recommendation (:meth:`CostStudy.recommend`).
+    """
 
     method: str
     settings: dict
     wall_time: float
     errors: dict[str, float]
     converged: bool = True
+    reference: bool = False
 
     @property
     def label(self) -> str:
@@ -81,13 +90,27 @@ class CostStudy:
             return ("wear",)
         return tuple(q for q in QUANTITIES if q != "wear")
 
-    def recommend(self, target: float, quantity: str | None = None) -> Rung | None:
-        """Cheapest converged rung whose error on :meth:`required` quantities is at most ``target``."""
+    def within(self, target: float, quantity: str | None = None) -> list[Rung]:
+        """Converged rungs whose error on :meth:`required` quantities is at most ``target``."""
         if not target > 0:
             raise ValueError(f"target must be > 0 (a relative error), got {target!r}")
         need = self.required(quantity)
-        ok = [r for r in self.rungs if r.converged and all(r.errors.get(q, np.inf) <= target for q in need)]
+        return [r for r in self.rungs if r.converged and all(r.errors.get(q, np.inf) <= target for q in need)]
+
+    def recommend(self, target: float, quantity: str | None = None) -> Rung | None:
+        """Cheapest rung within ``target`` that is not the reference (None: only the reference meets it,
+        or nothing does; :meth:`summary` says which)."""
+        ok = [r for r in self.within(target, quantity) if not r.reference]
         return min(ok, key=lambda r: r.wall_time) if ok else None
+
+    def summary(self, target: float, quantity: str | None = None) -> str:
+        """The recommendation in one sentence, with what the exact answer costs."""
+        best = self.recommend(target, quantity)
+        kind = "wear" if "wear" in self.required(quantity) else "periodic"
+        exact = f"the exact answer: {self.reference.get(kind, 'the reference')}"
+        if best is None:
+            return f"no approximation meets {target:g}: only the reference does ({exact})"
+        return f"cheapest rung within {target:g}: {best.label} ({best.wall_time * 1e3:.1f} ms); {exact}"
 
     def pareto(self, quantity: str | None = None) -> list[Rung]:
         """Rungs not beaten by a faster and more accurate one, by increasing wall time."""
@@ -171,7 +194,7 @@ def cost_ladder(
     wear_runs = []
     if kw is not None:
         if exact_path_applies(model):
-            wear_runs += [("exact", {"Nh": nh}, dict(harmonics=nh)) for nh in wear_harmonics]
+            wear_runs += [("exact-dlft", {"Nh": nh}, dict(harmonics=nh)) for nh in wear_harmonics]
         wear_runs += [("stepping", {"Nh": nh, "tol": tol}, dict(harmonics=nh, tol=tol))
                       for nh in wear_harmonics for tol in tolerances]  # fmt: skip
         wear_runs += [
@@ -213,7 +236,7 @@ def cost_ladder(
         }  # fmt: skip
 
     t, sol = _timed(lambda: shooting(model, omega))
-    rungs.append(Rung("shooting", {}, t, periodic_errors(sol), sol.converged))
+    rungs.append(Rung("shooting", {}, t, periodic_errors(sol), sol.converged, reference=True))
     advance()
     for nh in harmonics:
         t, sol = _timed(lambda nh=nh: solve_periodic(model, omega, int(nh)))
@@ -244,7 +267,7 @@ def cost_ladder(
                 return h.error_against(exact, fractions=())["wear"]
 
             for label, settings, opts in wear_runs:
-                method = "stepping" if label.startswith("stepping") else label
+                method = label.split("-")[0]  # exact-dlft, stepping-shooting: the scheme, then the dynamics
                 run = partial(wear_history, model, omega, method, kw=kw, cycles=cycles, **opts)
                 t, h = _timed(run, repeats=3)
                 rungs.append(Rung(label, settings, t, {"wear": werr(h)}, h.converged))

@@ -16,7 +16,8 @@ def test_ladder_errors_fall_with_harmonics_and_the_recommendation_is_the_cheapes
     assert "shooting, tol 1e-12" in study.reference["periodic"]
     pick = study.recommend(0.1)
     assert pick is not None and pick.error() <= 0.1
-    assert all(r.wall_time >= pick.wall_time for r in study.rungs if r.converged and r.error() <= 0.1)
+    assert not pick.reference and study.rungs[0].reference
+    assert all(r.wall_time >= pick.wall_time for r in study.rungs[1:] if r.converged and r.error() <= 0.1)
     front = study.pareto()
     assert [r.wall_time for r in front] == sorted(r.wall_time for r in front)
     assert all(a.error() > b.error() for a, b in zip(front, front[1:], strict=False))
@@ -27,6 +28,19 @@ def test_recommend_none_and_bad_target():
     assert study.recommend(1e-3) is None
     with pytest.raises(ValueError, match="target"):
         study.recommend(0.0)
+
+
+def test_the_reference_is_never_the_recommendation():
+    """The shooting rung is the reference's own method (error 0): the cheapest other rung within the
+    target is recommended, and when none is, the summary says only the reference meets it."""
+    zero = {"x1_h1": 0.0, "xr_half_p2p": 0.0, "sliding_distance": 0.0}
+    ref = Rung("shooting", {}, 1e-4, zero, reference=True)
+    dlft = Rung("dlft", {"Nh": 21}, 1e-2, {q: 0.005 for q in zero})
+    study = CostStudy(1.0, [ref, dlft], {"periodic": "shooting, tol 1e-12"})
+    assert study.recommend(0.01) is dlft
+    assert study.summary(0.01).startswith("cheapest rung within 0.01: dlft Nh=21 (10.0 ms); the exact answer")
+    assert study.recommend(1e-3) is None
+    assert study.summary(1e-3).startswith("no approximation meets 0.001: only the reference does")
 
 
 @pytest.mark.parametrize(
@@ -51,7 +65,7 @@ def test_progress_and_the_exact_load_path_rungs():
         degrees=(2,), wear_harmonics=(3,), include_time_integration=False, progress=seen.append,
     )  # fmt: skip
     assert [r.label.strip() for r in study.rungs] == [
-        "shooting", "dlft Nh=3 N=64", "exact Nh=3", "stepping Nh=3 tol=0.1", "stepping-shooting tol=0.1",
+        "shooting", "dlft Nh=3 N=64", "exact-dlft Nh=3", "stepping Nh=3 tol=0.1", "stepping-shooting tol=0.1",
         "polynomial Nh=3 degree=2",
     ]  # fmt: skip
     # one report per rung and one per reference (periodic, w(N))
