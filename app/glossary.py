@@ -35,7 +35,7 @@ TERMS: dict[str, tuple[str, str]] = {
     ),
     "k_w": (
         "k<sub>w</sub>",
-        "Archard wear coefficient (1/Pa): per cycle, the worn depth grows by k_w F_N s, with s the "
+        "Archard wear coefficient (1/N): per cycle, the worn depth grows by k_w F_N s, with s the "
         "distance slid. Only the product k_w N matters: doubling k_w halves the cycles to a given wear.",
     ),
     "N": (
@@ -70,9 +70,17 @@ TERMS: dict[str, tuple[str, str]] = {
     ),
     "method": (
         "slow-time method",
-        "How the wear is followed over N: exact (Archard's law along the exact load path, no slow-time "
-        "error), stepping (adaptive steps in N), polynomial (the paper's polynomial in N, one solve) or "
-        "time (time integration with cycle jumps, the reference).",
+        "How the wear is followed over N: exact (Archard's law integrated exactly along the load path: "
+        "no slow-time error), stepping (adaptive steps in N), polynomial (the paper's polynomial in N, "
+        "one solve, on DLFT) or time (direct time integration with cycle jumps). The default, the exact "
+        "method on the exact dynamics, is the exact answer; anything else is an approximation, shown "
+        "with its measured error.",
+    ),
+    "dynamics": (
+        "dynamics",
+        "The periodic response the exact and stepping methods wear along: exact (event-driven time "
+        "integration, periodic by shooting: no truncation) or DLFT (harmonic balance with N_h "
+        "harmonics: the paper's approximation, error about 1/N_h).",
     ),
     "tolerance": (
         "tolerance",

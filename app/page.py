@@ -337,6 +337,12 @@ def _sidebar(session: Session) -> list:
     )  # fmt: skip
     method.param.watch(lambda e: setattr(c, "method", e.new), "value")
     c.param.watch(lambda e: setattr(method, "value", e.new), "method")
+    dynamics = pn.widgets.RadioButtonGroup(
+        options={"exact (shooting)": "shooting", "DLFT (Nₕ)": "dlft"}, value=c.dynamics, color="primary",
+        variant="outline", sizing_mode="stretch_width", margin=(4, 10),
+    )  # fmt: skip
+    dynamics.param.watch(lambda e: setattr(c, "dynamics", e.new), "value")
+    c.param.watch(lambda e: setattr(dynamics, "value", e.new), "dynamics")
     advanced = _lazy_card(
         "More settings",
         lambda: [
@@ -362,7 +368,7 @@ def _sidebar(session: Session) -> list:
         number("mu", "μ: friction coefficient", "mu", 0.05, 2, 0.01),
         number(
             "kw",
-            "k<sub>w</sub>: Archard coefficient (1/Pa), slider over log<sub>10</sub>",
+            "k<sub>w</sub>: Archard coefficient (1/N), slider over log<sub>10</sub>",
             "k_w",
             -14,
             -6,
@@ -374,6 +380,8 @@ def _sidebar(session: Session) -> list:
         number("harmonics", "N<sub>h</sub>: harmonics", "Nh", 1, 64, 1, integer=True),
         _label("Slow-time method", "method"),
         method,
+        _label("Dynamics of the exact and stepping methods", "dynamics"),
+        dynamics,
         number("degree", "Degree of the polynomial method", None, 1, 12, 1, integer=True),
         advanced,
         _label("<b>Selected point</b> (click the wear map)", None, margin=(12, 10, 0, 10)),

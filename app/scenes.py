@@ -77,16 +77,16 @@ def _history_notes(histories: list, limit: int = 4) -> list[str]:
     Each note names its frequency; past ``limit`` notes the rest are counted.
     """
     notes = [
-        f"{h.frequency:.4g} Hz ({h.method}): stopped early, {h.status}" for h in histories if not h.converged
+        f"{h.frequency:.4g} Hz ({h.label}): stopped early, {h.status}" for h in histories if not h.converged
     ]
-    notes += [f"{h.frequency:.4g} Hz ({h.method}): {w}" for h in histories for w in h.warnings]
+    notes += [f"{h.frequency:.4g} Hz ({h.label}): {w}" for h in histories for w in h.warnings]
     worst = max(histories, key=lambda h: np.nanmax(h.wear_fraction), default=None)
     if worst is not None and np.nanmax(worst.wear_fraction) > 1:
         k = int(np.nanargmax(worst.wear_fraction[:, 0]))
         notes.insert(
             0,
             f"w / u₀ reaches {worst.wear_fraction[k, 0]:.3g} > 1 at {worst.frequency:.4g} Hz, "
-            f"N = {worst.cycles[k]:.3g} ({worst.method}): past u₀ the contact is unloaded and stops "
+            f"N = {worst.cycles[k]:.3g} ({worst.label}): past u₀ the contact is unloaded and stops "
             "wearing, so the excess is the method's error (the colour scale extends to show it)",
         )
     if len(notes) > limit:
@@ -94,27 +94,12 @@ def _history_notes(histories: list, limit: int = 4) -> list[str]:
     return notes
 
 
-def _approximation(s: Settings, method: str) -> str:
-    """What ``method`` computes with the sidebar's settings, in words (for the error notes)."""
-    if method == "time":
-        return "time integration"
-    if method == "polynomial":
-        return f"polynomial (DLFT, Nₕ = {s.harmonics}, degree {s.degree})"
-    return f"{method} (DLFT, Nₕ = {s.harmonics})"
-
-
-def _error_note(h, reference, label: str) -> str | None:
-    """How far ``h`` (an approximation named ``label``) is from the exact ``reference``, in words."""
-    if h is None or reference is None or not (h.converged and reference.converged):
+def _error_note(h, reference, label: str | None = None) -> str | None:
+    """How far the approximation ``h`` (named ``label``, default its own) is from the exact ``reference``
+    (None for the exact answer itself, or while either computes)."""
+    if h is None or reference is None or h.label == "exact":
         return None
-    e = h.error_against(reference)
-    parts = []
-    for f in (0.5, 0.9):
-        c = e[f"cycles_to_{f:g}"]
-        if np.isfinite(c):
-            parts.append(f"cycles to {f:.0%} of u₀ are {abs(c):.2%} {'early' if c < 0 else 'late'}")
-    parts.append(f"w(N) is off by up to {e['wear']:.2%} of u₀")
-    return f"{label} at {h.frequency:.4g} Hz against the exact dynamics: {', '.join(parts)}."
+    return h.error_note(reference, label=label)
 
 
 def _relative(value: float, reference: float) -> str:
@@ -132,24 +117,12 @@ def _exact_map(scene: Scene, wm) -> Any:
     return exact if np.allclose(exact.frequency, wm.frequency, rtol=1e-9) else None
 
 
-def _band_error(wm, exact, label: str, fraction: float = 0.5) -> str | None:
-    """How far the cycles to ``fraction`` of ``u0`` of map ``wm`` are from the exact map's, over the band."""
-    if wm is None or exact is None:
+def _band_error(wm, exact) -> str | None:
+    """How far the cycles to 0.5 u0 of map ``wm`` are from the exact map's, over the band."""
+    if wm is None or exact is None or wm.label == "exact":
         return None
-    ours = np.array([h.cycles_to(fraction) if h.converged else np.nan for h in wm.histories])
-    ref = np.array([h.cycles_to(fraction) for h in exact.histories])
-    err = ours / ref - 1
-    both = np.isfinite(err)
-    if not both.any():
-        return None
-    k = int(np.nanargmax(np.abs(err)))
-    worst = f"{abs(err[k]):.1%} {'early' if err[k] < 0 else 'late'} at {wm.frequency[k]:.4g} Hz"
-    reached = int(np.isfinite(ref).sum())
-    return (
-        f"{label} over the band: cycles to {fraction:.0%} of u₀ up to {worst} against the exact dynamics "
-        f"(median |error| {np.nanmedian(np.abs(err)):.1%} over the {int(both.sum())} frequencies where both "
-        f"reach it; the exact answer reaches it at {reached} of {len(ref)}). Exact contours dashed."
-    )
+    note = wm.error_note(exact)
+    return None if note is None else f"{note} Exact contours dashed."
 
 
 class Scene(param.Parameterized):
@@ -413,13 +386,11 @@ Change {term("Nh")} and watch the finding below: what more harmonics buy, and wh
         return [] if wm is None else _history_notes(wm.histories)
 
     def _findings(self) -> list[str]:
-        s = self.settings
-        label = _approximation(s, s.method)
-        error = _error_note(self._history(), self._exact(), label)
+        error = _error_note(self._history(), self._exact())
         wm = self._map()
         exact = _exact_map(self, wm)
         if not (self._band[0] is wm and self._band[1] is exact):  # needs every history: once per map
-            self._band = (wm, exact, _band_error(wm, exact, label))
+            self._band = (wm, exact, _band_error(wm, exact))
         return [text for text in (error, self._band[2]) if text]
 
     _band: tuple = (None, None, None)
@@ -437,7 +408,7 @@ Change {term("Nh")} and watch the finding below: what more harmonics buy, and wh
         z = np.zeros((len(f), len(cycles))) if wm is None else wm.wear_fraction[:, :, 0]
         exact = _exact_map(self, wm)
         reference = None if exact is None else exact.wear_fraction[:, :, 0]
-        title = f"Wear map ({s.method}, wear coefficient {s.kw:.3g} 1/Pa)"
+        title = f"Wear map ({s.label()}, wear coefficient {s.kw:.3g} 1/N)"
         return figures.wear_map_figure(
             f, cycles, z, title=title, point=(sel.frequency, sel.cycles), reference=reference
         )
@@ -566,12 +537,14 @@ curves leave the dashed ones."""
         if not np.isfinite(err).any():
             return []
         i, k = np.unravel_index(int(np.nanargmax(err)), err.shape)
-        f = _ok(self.results.get("wear_map")).frequency
-        s = self.settings
+        wm, s = _ok(self.results.get("wear_map")), self.settings
+        if wm.label == "exact":  # the exact answer is its own reference
+            return []
+        f = wm.frequency
         worst = f"{err[i, k]:.1%} off" if err[i, k] < 1 else f"{p[i, k] / ref[i, k]:.3g} times"
         share = np.mean(err[np.isfinite(err)] > 0.1)
         return [
-            f"{_approximation(s, s.method)}: pseudo-FRFs of mass 1 up to {worst} the exact dynamics "
+            f"{s.label()}: pseudo-FRFs of mass 1 up to {worst} the exact answer "
             f"(at N = {self._snapshots()[i]:.3g}, {f[k]:.4g} Hz); more than 10 % off at {share:.0%} of the "
             "frequencies and cycle counts shown."
         ]
@@ -665,8 +638,9 @@ the contact slips longer and the loop flattens."""
         ]
         if self.selection.cycles > 0:
             parts.insert(0, f"worn depth w / u₀ {sol.wear[0] / u0:.3f} (exact {ref.wear[0] / u0:.3f})")
-        label = _approximation(s, s.method)
-        return [f"{label} against the exact orbit at {self._title()}: {', '.join(parts)}."]
+        if s.label() == "exact":  # the orbit shown is the exact one
+            return []
+        return [f"{s.label()} against the exact orbit at {self._title()}: {', '.join(parts)}."]
 
     def _point(self):
         return _ok(self.results.get("point"))
@@ -879,9 +853,9 @@ drift."""
 
     def _findings(self) -> list[str]:
         exact, s = _ok(self.results.get(EXACT)), self.settings
-        errors = [_error_note(_ok(self.results.get(m)), exact, _approximation(s, m)) for m in METHODS]
+        errors = [_error_note(_ok(self.results.get(m)), exact) for m in METHODS]
         for b in BASES:
-            label = f"{_basis_name(b)} (Nₕ = {s.harmonics}, degree {s.degree})"
+            label = f"{_basis_name(b)} ({s.label('polynomial')})"
             errors.append(_error_note(_ok(self.results.get(_basis_name(b))), exact, label))
         return [e for e in errors if e]
 
@@ -901,6 +875,7 @@ drift."""
             logx=True,
             dashed=(EXACT,),
             padding=0.05,
+            legend_labels={m: self.settings.label(m) for m in METHODS},
             title=f"Slow-time methods at {sel.frequency:.4g} Hz",
         )
 
@@ -913,7 +888,7 @@ drift."""
             logx=True,
             padding=0.05,
             legend_labels={n: n.replace("Nh", "Nₕ") for n in names},
-            title=f"Harmonic convergence (exact load path) at {self.selection.frequency:.4g} Hz",
+            title=f"Harmonic convergence (exact slow time on DLFT) at {self.selection.frequency:.4g} Hz",
         )
 
     def _figure_bases(self):
@@ -1002,15 +977,18 @@ def sidebar_equivalent(rung: Rung) -> tuple[dict[str, Any] | None, str]:
                 f"{default_samples(nh)} at Nh = {nh})"
             )
         return {"harmonics": nh}, f"Nh = {nh}"
-    if rung.method == "shooting":
-        return None, "shooting is the reference solver; the app's scenes solve by HBM + DLFT"
-    if rung.method == "stepping-shooting":
-        return None, "stepping with shooting dynamics: the app's stepping solves by HBM + DLFT"
+    scheme, _, dynamics = rung.method.partition("-")  # wear rungs: exact-dlft, stepping-shooting, ...
+    if rung.reference:
+        return None, "it is the reference, the exact dynamics (dynamics = exact in the sidebar)"
     names = {"Nh": ("harmonics", "Nh"), "tol": ("tol", "tolerance"), "degree": ("degree", "degree")}
-    if rung.method not in METHODS or set(p) - set(names):
+    if scheme not in METHODS or set(p) - set(names):
         return None, f"the sidebar has no setting for {_name(rung)}"
-    changes = {"method": rung.method} | {names[k][0]: v for k, v in p.items()}
-    return changes, ", ".join([f"method = {rung.method}", *(f"{names[k][1]} = {v:g}" for k, v in p.items())])
+    if "dynamics" in fretwear.METHODS[scheme].options:
+        dynamics = dynamics or "dlft"
+    changes = {"method": scheme} | ({"dynamics": dynamics} if dynamics else {})
+    changes |= {names[k][0]: v for k, v in p.items()}
+    words = [f"method = {scheme}", *([f"dynamics = {dynamics}"] if dynamics else [])]
+    return changes, ", ".join([*words, *(f"{names[k][1]} = {v:g}" for k, v in p.items())])
 
 
 def _name(rung: Rung) -> str:
@@ -1110,6 +1088,11 @@ single runs on a server that works for every session: compare them within one la
                 return f"No rung measures {name} yet: the wear rungs are being computed."
             return f"No rung measures {name}: tick *wear rungs* to compute `w(N)`."
         best, settable = self.recommended(), self.applicable()
+        if best is None and any(r.reference and self.error(r) <= target for r in measured):
+            return (
+                f"Only the reference reaches {target:g} on {name}: the exact dynamics "
+                "(*dynamics = exact* in the sidebar, the default)."
+            )
         if best is None:
             top = min(measured, key=self.error)
             return (

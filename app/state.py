@@ -1,7 +1,7 @@
 """Controls, the settings they define, and the computations (tasks) the scenes ask for.
 
 :class:`Controls` holds what the sidebar edits, in the units shown (N, Hz,
-cycles, 1/Pa). Values are stored as typed and checked by
+cycles, 1/N). Values are stored as typed and checked by
 :meth:`Controls.problems`, so that an invalid entry is reported, never raised.
 :meth:`Controls.settings` freezes valid controls into a hashable
 :class:`Settings` with the grids derived from them.
@@ -17,7 +17,7 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -51,6 +51,8 @@ log = logging.getLogger(__name__)
 
 #: slow-time methods (:func:`fretwear.wear.wear_history`); ``exact`` follows the exact load path
 METHODS = tuple(fretwear.METHODS)
+#: periodic dynamics of the exact and stepping methods (the library's, without ``auto``)
+DYNAMICS = ("shooting", "dlft")
 #: harmonic counts of the convergence study (paper Fig. 10)
 CONVERGENCE_HARMONICS = (1, 3, 7, 15, 21)
 #: result name and legend label of the exact wear reference (exact method on the exact dynamics)
@@ -174,7 +176,7 @@ _RANGES = {
     "fex": ("F_ex", 0.0, 1e3, False, "N"),
     "mu": ("mu", 0.0, 10.0, False, ""),
     "normal_load": ("F_N", 0.0, 1e4, False, "N"),
-    "kw": ("k_w", 0.0, 1e-4, False, "1/Pa"),
+    "kw": ("k_w", 0.0, 1e-4, False, "1/N"),
     "harmonics": ("Nh", 1, 64, True, ""),
     "degree": ("polynomial degree", 1, 12, True, ""),
     "fmin": ("f min", 0.0, 20.0, False, "Hz"),
@@ -193,6 +195,7 @@ CONTROL_KEYS = {
     "horizon": "cycles",
     "harmonics": "harmonics",
     "method": "method",
+    "dynamics": "dynamics",
     "degree": "degree",
     "tol": "tol",
     "fmin": "fmin",
@@ -250,13 +253,19 @@ class Controls(param.Parameterized):
     normal_load = param.Number(
         10.0, allow_None=True, softbounds=(1.0, 50.0), doc="Initial normal load F_N (N)"
     )
-    kw = param.Number(1e-11, allow_None=True, doc="Archard wear coefficient k_w (1/Pa)")
+    kw = param.Number(1e-11, allow_None=True, doc="Archard wear coefficient k_w (1/N)")
     harmonics = param.Number(7, allow_None=True, softbounds=(1, 64), doc="Harmonics Nh")
     degree = param.Number(4, allow_None=True, softbounds=(1, 12), doc="Degree of the polynomial method")
     fmin = param.Number(0.3, allow_None=True, softbounds=(0.05, 3.0), doc="Lowest frequency (Hz)")
     fmax = param.Number(1.3, allow_None=True, softbounds=(0.05, 3.0), doc="Highest frequency (Hz)")
     horizon = param.Number(1e5, allow_None=True, doc="Cycle horizon of the wear studies")
     method = param.Selector(default="exact", objects=list(METHODS), doc="Slow-time method")
+    dynamics = param.Selector(
+        default="shooting",
+        objects=list(DYNAMICS),
+        doc="Periodic dynamics of the exact and stepping methods: the exact event-driven dynamics "
+        "(shooting) or harmonic balance (DLFT, truncated at Nh: an approximation)",
+    )
     tol = param.Number(
         1e-2, allow_None=True, doc="Tolerance of stepping and time integration (fraction of u0)"
     )
@@ -333,6 +342,7 @@ class Controls(param.Parameterized):
             fmax=float(self.fmax),
             horizon=float(int(self.horizon)),
             method=self.method,
+            dynamics=self.dynamics,
             tol=float(self.tol),
             n_frequencies=int(self.n_frequencies),
             n_cycles=int(self.n_cycles),
@@ -361,6 +371,7 @@ class Settings:
     fmax: float
     horizon: float
     method: str
+    dynamics: str
     tol: float
     n_frequencies: int
     n_cycles: int
@@ -401,10 +412,27 @@ class Settings:
         return fretwear.wear.snapshot_cycles(self.horizon)
 
     def options(self, method: str | None = None, harmonics: int | None = None) -> dict[str, Any]:
-        """Options of ``method`` (default the selected one): only those it takes (``fretwear.METHODS``)."""
+        """Options of ``method`` (default the selected one): only those it takes (``fretwear.METHODS``).
+
+        The exact and stepping methods run on the selected dynamics, with ``Nh`` on DLFT only; an
+        explicit ``harmonics`` asks for DLFT at that ``Nh`` (the convergence study)."""
+        method = method or self.method
+        dynamics = self.dynamics if harmonics is None else "dlft"
         nh = self.harmonics if harmonics is None else harmonics
-        settings = {"harmonics": nh, "tol": self.tol, "degree": self.degree}
-        return fretwear.wear.method_options(method or self.method, settings)
+        if "dynamics" not in fretwear.METHODS[method].options:
+            dynamics = None
+        settings = {"harmonics": None if dynamics == "shooting" else nh, "tol": self.tol,
+                    "degree": self.degree, "dynamics": dynamics}  # fmt: skip
+        return fretwear.wear.method_options(method, settings)
+
+    def label(self, method: str | None = None, harmonics: int | None = None) -> str:
+        """What ``method`` (default the selected one) computes with these settings, scheme and dynamics
+        apart (:func:`fretwear.wear.describe`): ``"exact"`` only for the exact answer."""
+        method = method or self.method
+        options = self.options(method, harmonics)
+        dynamics = options.get("dynamics", "time" if method == "time" else "dlft")
+        text = fretwear.wear.describe(method, dynamics, options.get("harmonics"))
+        return text + (f", degree {self.degree}" if method == "polynomial" else "")
 
     def snap(self, f_hz: float) -> float:
         """The frequency of the map grid nearest to ``f_hz``."""
@@ -426,7 +454,7 @@ class Settings:
         if wear:
             options = self.options()
             out |= {"kw": self.kw, "cycles": self.horizon, "method": self.method}
-            out |= {k: options[k] for k in ("tol", "degree") if k in options}
+            out |= {k: options[k] for k in ("dynamics", "tol", "degree") if k in options}
         return out
 
 
@@ -637,7 +665,10 @@ class Tasks:
         return Task(EXACT_POINT, key, run, "exact periodic response", 0.3)
 
     def point(self, s: Settings, f_hz: float, cycles: float, history: Task | None) -> Task:
-        """Periodic response at ``f_hz`` after ``cycles`` (the wear of ``history`` there; none at 0)."""
+        """Periodic response at ``f_hz`` after ``cycles`` (the wear of ``history`` there; none at 0): on
+        the selected dynamics (the exact orbit when they are the exact ones, else DLFT with ``Nh``)."""
+        if s.dynamics == "shooting":
+            return replace(self.exact_point(s, f_hz, cycles, history), name="point")
 
         def run(job: Job):
             wear = _wear_after(job, history, cycles)

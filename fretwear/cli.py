@@ -274,7 +274,7 @@ def build_parser() -> argparse.ArgumentParser:
                       help="excitation frequency (Hz), > 0")  # fmt: skip
     _add_model_options(cost)
     cost.add_argument(
-        "--kw", type=number(0.0, unit="1/Pa"), help="Archard coefficient (1/Pa): adds wear rungs"
+        "--kw", type=number(0.0, unit="1/N"), help="Archard coefficient (1/N): adds wear rungs"
     )
     cost.add_argument("--cycles", type=number(0.0, strict=True), help="wear horizon (cycles), with --kw")
     cost.add_argument("--target", type=number(0.0, strict=True), default=1e-2,
@@ -291,8 +291,8 @@ def build_parser() -> argparse.ArgumentParser:
     figures.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
     figures.add_argument("--harmonics", type=number(1, integer=True), default=21, metavar="NH",
                          help="highest harmonic Nh (-), >= 1; default 21")  # fmt: skip
-    figures.add_argument("--kw", type=number(0.0, unit="1/Pa"), default=1e-11,
-                         help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
+    figures.add_argument("--kw", type=number(0.0, unit="1/N"), default=1e-11,
+                         help="Archard coefficient K_w (1/N), >= 0; default 1e-11")  # fmt: skip
     figures.add_argument("--cycles", type=number(0.0, strict=True), default=1e5,
                          help="wear horizon (cycles), > 0; default 1e5")  # fmt: skip
     figures.add_argument("--nf", type=number(2, integer=True), default=41,
@@ -377,8 +377,8 @@ def _add_settings_option(parser: argparse.ArgumentParser) -> None:
 
 
 #: settings-file keys (fretwear.figures.record) that are options of the commands, by option dest
-_SETTINGS_DESTS = ("fex", "mu", "fn", "kw", "cycles", "harmonics", "method", "degree", "tol", "fmin", "fmax",
-                   "nf", "ncycles", "f", "target")  # fmt: skip
+_SETTINGS_DESTS = ("fex", "mu", "fn", "kw", "cycles", "harmonics", "method", "dynamics", "degree", "tol",
+                   "fmin", "fmax", "nf", "ncycles", "f", "target")  # fmt: skip
 
 
 def _on_command_line(action: argparse.Action, argv: Sequence[str]) -> bool:
@@ -453,8 +453,8 @@ def _add_method_option(parser: argparse.ArgumentParser) -> None:
 
 def _add_wear_options(parser: argparse.ArgumentParser) -> None:
     """Slow-time options of ``wear`` and ``map``."""
-    parser.add_argument("--kw", type=number(0.0, unit="1/Pa"), default=1e-11,
-                        help="Archard coefficient K_w (1/Pa), >= 0; default 1e-11")  # fmt: skip
+    parser.add_argument("--kw", type=number(0.0, unit="1/N"), default=1e-11,
+                        help="Archard coefficient K_w (1/N), >= 0; default 1e-11")  # fmt: skip
     parser.add_argument("--cycles", type=number(0.0, strict=True), default=1e5,
                         help="horizon: number of vibration cycles N (-), > 0; default 1e5")  # fmt: skip
     parser.add_argument("--method", choices=("auto", *METHODS), default="auto",
@@ -675,6 +675,8 @@ def _wear_options(args: argparse.Namespace, model: Model) -> tuple[str, dict]:
         raise UsageError(f"argument {flags}: not taken by method {method!r} "
                          f"(it takes {', '.join(METHODS[method].options)})")  # fmt: skip
     settings = {"harmonics": args.harmonics, "samples": args.samples, **given}
+    if given.get("dynamics") == "shooting" and "harmonics" in from_file:  # the app's Nh is for its DLFT parts
+        settings["harmonics"] = None
     return method, method_options(method, settings)
 
 

@@ -383,7 +383,7 @@ def test_figures_command_writes_the_paper_set(tmp_path, capsys):
     )
     assert "fretwear figures: warning: fig07, 14 N, 0.3 Hz: " in err and "two-scale assumption" in err
     header = [line for line in (out / "fig07.csv").read_text().splitlines() if line.startswith("#")]
-    assert "# k_w = 1e-09 1/Pa" in header and "# Nh = 3" in header
+    assert "# k_w = 1e-09 1/N" in header and "# Nh = 3" in header
 
 
 def png_size(data: bytes) -> tuple[int, int]:
@@ -467,7 +467,7 @@ def test_map_and_wear_figures_carry_their_parameters(tmp_path, capsys):
             "--harmonics", "3", "--fex", "12", "--out", str(out)]  # fmt: skip
     assert cli.main(argv) == 0
     text = "".join(ET.fromstring(out.read_text()).itertext())
-    assert "Fₑₓ = 12 N" in text and "k_w = 1e-11 1/Pa" in text and "method = exact" in text
+    assert "Fₑₓ = 12 N" in text and "k_w = 1e-11 1/N" in text and "method = exact" in text
     out = tmp_path / "wear.png"
     assert cli.main(["wear", "--f", "0.7", "--cycles", "1e3", "--harmonics", "3", "--out", str(out)]) == 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and b"method = exact" in out.read_bytes()

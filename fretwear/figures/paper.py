@@ -129,7 +129,7 @@ def paper_figures(
     harmonics : int
         Harmonics of the FRFs, of the wear maps and of stepping.
     kw : float
-        Archard coefficient (1/Pa).
+        Archard coefficient (1/N).
     cycles : float
         Cycle horizon of the wear studies.
     frequencies, cycle_points : int

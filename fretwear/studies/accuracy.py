@@ -165,7 +165,7 @@ def cost_ladder(
     sample_factors : sequence of int
         Samples per period as multiples of ``Nh`` at ``Nh = 21`` (power of two above).
     kw, cycles : float, optional
-        Archard coefficient (1/Pa) and horizon (cycles): adds the wear rungs
+        Archard coefficient (1/N) and horizon (cycles): adds the wear rungs
         (the exact load path at ``wear_harmonics`` when it applies, stepping
         with DLFT dynamics at ``wear_harmonics`` x ``tolerances``, stepping
         with shooting dynamics, the polynomial method at ``degrees``, time

@@ -9,7 +9,7 @@ equation, with ``N`` the number of physical vibration cycles,
 
 where ``s_j`` is the distance slid by contact ``j`` per period (m) in the
 periodic response at wear ``w``. ``K_w`` is Archard's coefficient in m per
-(N m slid), i.e. 1/Pa.
+(N m slid), i.e. 1/N.
 
 **Normalised slow time.** For a contact whose sliding distance per cycle does
 not depend on the load, ``w / u0 = 1 - exp(-K_w k_n s N)``; ``K_w k_n N`` (m^-1 per
@@ -182,8 +182,11 @@ class WearHistory:
             out[f"cycles_to_{f:g}"] = self.cycles_to(f, contact) / reference.cycles_to(f, contact) - 1.0
         return out
 
-    def error_note(self, reference: WearHistory, fractions: tuple[float, ...] = (0.5, 0.9)) -> str | None:
-        """This history's error against the exact ``reference``, in one sentence (None if either failed)."""
+    def error_note(
+        self, reference: WearHistory, fractions: tuple[float, ...] = (0.5, 0.9), label: str | None = None
+    ) -> str | None:
+        """This history's error against the exact ``reference``, in one sentence (None if either failed),
+        naming it by ``label`` (default :attr:`label`)."""
         if not (self.converged and reference.converged):
             return None
         e = self.error_against(reference, fractions)
@@ -193,7 +196,8 @@ class WearHistory:
             if np.isfinite(c):
                 parts.append(f"cycles to {f:.0%} of u₀ are {abs(c):.2%} {'early' if c < 0 else 'late'}")
         parts.append(f"w(N) is off by up to {e['wear']:.2%} of u₀")
-        return f"{self.label} at {self.frequency:.4g} Hz against the exact answer: {', '.join(parts)}."
+        name = label or self.label
+        return f"{name} at {self.frequency:.4g} Hz against the exact answer: {', '.join(parts)}."
 
     def cycles_to(self, fraction: float, contact: int = 0) -> float:
         """Cycles at which contact ``contact`` reaches ``fraction * u0`` (nan if it does not)."""
@@ -238,7 +242,7 @@ def snapshot_cycles(horizon: float) -> np.ndarray:
 def check_wear_inputs(model: Model, kw: float, cycles: float, degree: int | None = None) -> None:
     """Raise ``ValueError`` naming the parameter and its valid range for bad wear inputs."""
     if not np.isfinite(kw) or kw < 0:
-        raise ValueError(f"kw (Archard coefficient, 1/Pa) must be finite and >= 0, got {kw!r}")
+        raise ValueError(f"kw (Archard coefficient, 1/N) must be finite and >= 0, got {kw!r}")
     if not np.isfinite(cycles) or cycles <= 0:
         raise ValueError(f"cycles (horizon) must be finite and > 0, got {cycles!r}")
     if not model.friction:

@@ -232,7 +232,7 @@ def exact_wear_map(
     cycles : array_like, shape (nN,)
         Cycle counts, ascending, >= 0.
     kw : float
-        Archard coefficient ``K_w`` (1/Pa), > 0.
+        Archard coefficient ``K_w`` (1/N), > 0.
     stop_fraction : float
         Wear fraction of ``u0`` where the contact counts as worn through.
     workers : int

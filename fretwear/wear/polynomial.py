@@ -157,7 +157,7 @@ def wear_polynomial(
     omega : float
         Excitation frequency (rad/s).
     kw : float
-        Archard coefficient (1/Pa), >= 0.
+        Archard coefficient (1/N), >= 0.
     cycles : float
         Horizon (cycles), > 0.
     harmonics, samples : int

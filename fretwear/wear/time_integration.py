@@ -12,7 +12,7 @@ with ``s_j`` the distance slid by contact ``j`` during the period (m): the
 normal load only depends on wear, so it is constant within a period and the
 integral of eq. 15 is ``F_N s``. The new load sets the slip force ``mu F_N``
 of the next period; mass, damping and stiffness do not change. ``K_w`` is in
-m per (N m slid), i.e. 1/Pa, and the slow variable is the number ``N`` of
+m per (N m slid), i.e. 1/N, and the slow variable is the number ``N`` of
 physical cycles. This *per-period rule* (every period integrated, ``dN = 1``)
 is available with ``max_jump=0``.
 
@@ -310,7 +310,7 @@ def integrate_wear(
     cycles : float
         Horizon: number of cycles, a whole number >= 1.
     kw : float
-        Archard coefficient ``K_w`` (m per N per m slid, i.e. 1/Pa), >= 0.
+        Archard coefficient ``K_w`` (m per N per m slid, i.e. 1/N), >= 0.
     wear0 : array_like, shape (n_friction,), optional
         Initial wear depths (m), ``0 <= wear0 < u0``; default zero.
     tol : float

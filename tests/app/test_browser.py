@@ -546,16 +546,16 @@ def test_export_downloads_with_options_and_records_and_failures_as_messages(open
     name, data = download(page, "SVG")
     assert name == "fretwear_wearmap_history.svg"
     svg = data.decode()
-    assert "= 1e-11 1/Pa" in svg and "method = exact" in svg and "fretwear " in svg  # the caption
+    assert "= 1e-11 1/N" in svg and "method = exact" in svg and "fretwear " in svg  # the caption
     name, data = download(page, "CSV")
     text = data.decode()
     header = [line for line in text.splitlines() if line.startswith("#")]
     assert header[0].startswith("# model: paper 2-DOF") and "# F_ex = 10 N" in header
-    assert "# k_w = 1e-11 1/Pa" in header and "# Nh = 7" in header and header[-1].startswith("# fretwear ")
+    assert "# k_w = 1e-11 1/N" in header and "# Nh = 7" in header and header[-1].startswith("# fretwear ")
     rows = list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
     assert len(rows) == 11 * 12 and float(rows[0]["f_hz"]) == pytest.approx(0.3)
     name, data = download(page, "HTML")
-    assert data.startswith(b"<!DOCTYPE html>") and b"<script src=" not in data and b"1e-11 1/Pa" in data
+    assert data.startswith(b"<!DOCTYPE html>") and b"<script src=" not in data and b"1e-11 1/N" in data
     page.type("dpi", "5000")  # an export that fails: a message, and nothing downloads
     downloads = []
     page.page.on("download", lambda d: downloads.append(d))

@@ -115,13 +115,15 @@ def test_parameter_changes_invalidate_only_dependent_results(session):
 
 
 def test_wear_results_are_shared_by_scenes_and_sessions(session):
-    # the FRF without wear is the regimes scene's; the exact reference: one history and the map (3 chunks)
+    # the FRF without wear is the regimes scene's; by default the selected map is the exact answer (the
+    # exact method on the exact dynamics): the reference map itself (3 chunks, once) and one history
     session.scene = "wearmap"
-    assert calls(session) == {"linear_frf": 2, "sweep": 1, "regime_map": 3, "wear_map": 6, "wear_history": 1}
+    assert calls(session) == {"linear_frf": 2, "sweep": 1, "regime_map": 3, "wear_map": 3, "wear_history": 1}
     exact = session.current.results[EXACT]
     assert exact.method == "exact" and exact.info["dynamics"] == "shooting"
-    assert any("against the exact dynamics" in note for note in session.current.findings)
     wm = session.current.results["wear_map"]
+    assert wm is session.current.results[EXACT_MAP] and wm.label == "exact"
+    assert not any("against the exact" in note for note in session.current.findings)  # no error to state
     assert wm.wear.shape == (9, 12, 1) and wm.cycles[0] == 0 and wm.cycles[-1] == 1e5
     session.scene = "evolution"  # the same wear maps, the cached linear FRFs
     session.scene = "cycle"  # the selected frequency (0.7 Hz) is on the grid: its histories are cached
@@ -129,28 +131,29 @@ def test_wear_results_are_shared_by_scenes_and_sessions(session):
         "linear_frf": 2,
         "sweep": 1,
         "regime_map": 3,
-        "wear_map": 6,
+        "wear_map": 3,
         "wear_history": 1,
-        "solve_periodic": 1,
-        "shooting": 1,
+        "shooting": 1,  # the orbit shown is the exact one, shared with the reference
     }
     sol = session.current.results["point"]
-    assert sol.converged and sol.wear[0] > 0
+    assert sol.converged and sol.wear[0] > 0 and sol is session.current.results[EXACT_POINT]
     other = Session(controls=small_controls(), backend=session.backend, cache=session.cache)
     for key in ("wearmap", "evolution", "cycle", "regimes"):
         other.scene = key
     assert calls(other) == calls(session)  # a second session computes nothing
     session.controls.param.update(tol=1e-3, degree=6)  # options the exact load path does not use
-    assert calls(session)["wear_map"] == 6
+    assert calls(session)["wear_map"] == 3
     session.controls.kw = 2e-11
     session.scene = "regimes"
     assert calls(session)["sweep"] == 1  # k_w does not touch the FRF without wear
     session.scene = "wearmap"
-    assert calls(session)["wear_map"] == 12  # the selected method's map and the exact one
-    session.controls.method = "stepping"
-    assert calls(session)["wear_map"] == 15  # the exact map is the same
-    session.controls.degree = 4  # not a stepping option
-    assert calls(session)["wear_map"] == 15
+    assert calls(session)["wear_map"] == 6  # the exact map, selected and reference at once
+    session.controls.dynamics = "dlft"  # the exact slow time on DLFT: an approximation, with its error
+    assert calls(session)["wear_map"] == 9  # the exact map is the same
+    assert session.current.results["wear_map"].label == "exact slow time on DLFT, Nh = 3"
+    assert any("against the exact answer" in note for note in session.current.findings)
+    session.controls.degree = 4  # not an option of the exact method
+    assert calls(session)["wear_map"] == 9
 
 
 def test_selection_snaps_to_the_map_and_redraws_without_solving(session):
@@ -201,9 +204,9 @@ INVALID = [
     ("fex", None, "F_ex must be a number > 0 and <= 1000 N, got None"),
     ("mu", 0.0, "mu must be a number > 0 and <= 10, got 0"),
     ("normal_load", math.inf, "F_N must be a number > 0 and <= 10000 N, got inf"),
-    ("kw", 0.0, "k_w must be a number > 0 and <= 0.0001 1/Pa, got 0"),
-    ("kw", -1e-11, "k_w must be a number > 0 and <= 0.0001 1/Pa, got -1e-11"),
-    ("kw", math.nan, "k_w must be a number > 0 and <= 0.0001 1/Pa, got nan"),
+    ("kw", 0.0, "k_w must be a number > 0 and <= 0.0001 1/N, got 0"),
+    ("kw", -1e-11, "k_w must be a number > 0 and <= 0.0001 1/N, got -1e-11"),
+    ("kw", math.nan, "k_w must be a number > 0 and <= 0.0001 1/N, got nan"),
     ("horizon", 0.0, "cycle horizon must be a whole number >= 10 and <= 1e+09 cycles, got 0"),
     ("horizon", 1e10, "cycle horizon must be a whole number >= 10 and <= 1e+09 cycles, got 10000000000"),
     ("harmonics", 0, "Nh must be a whole number >= 1 and <= 64, got 0"),
@@ -235,7 +238,7 @@ def test_invalid_input_names_the_parameter_and_its_range(name, value, message):
         ("fex", "abc", "F_ex must be a number > 0 and <= 1000 N, got 'abc'"),  # was "got nan"
         ("fex", "", "F_ex must be a number > 0 and <= 1000 N; the box is empty"),  # was "NaN" / "got None"
         ("harmonics", "2.5", "Nh must be a whole number >= 1 and <= 64, got 2.5"),  # was silently 25
-        ("kw", "1e-11 1/Pa", "k_w must be a number > 0 and <= 0.0001 1/Pa, got '1e-11 1/Pa'"),
+        ("kw", "1e-11 1/N", "k_w must be a number > 0 and <= 0.0001 1/N, got '1e-11 1/N'"),
     ],
 )
 def test_typed_text_is_reported_as_typed(session, name, text, message):
@@ -258,7 +261,7 @@ def test_presets_each_show_one_lesson(session):
     c = session.controls
     session.apply_preset("Paper, Fₑₓ = 14 N: the worn band")
     assert c.preset == "Paper, Fₑₓ = 14 N: the worn band" and c.fex == 14.0 and session.scene == "wearmap"
-    assert calls(session)["wear_map"] == 6 and session.frequency == 0.6  # one request (and its exact map)
+    assert calls(session)["wear_map"] == 3 and session.frequency == 0.6  # one request: the exact map
     c.fex = 13.0
     assert c.preset == CUSTOM
     views, controls = set(), Controls()
@@ -300,11 +303,13 @@ def overshooting_wear_map(model, frequencies, cycles, **options):
 
 def test_an_overshoot_above_u0_is_shown_and_located():
     """Defect: a slow-time method's w/u0 above 1 was clipped by the colour scale and not located."""
-    session = new_session(Backend(wear_map=overshooting_wear_map), n_frequencies=3, fmin=0.6, fmax=0.8)
+    session = new_session(Backend(wear_map=overshooting_wear_map), n_frequencies=3, fmin=0.6, fmax=0.8,
+                          dynamics="dlft")  # fmt: skip
     session.scene = "wearmap"
     scene = session.current
     last = scene.results["wear_map"].histories[1].cycles[-1]
-    assert scene.notes[0].startswith(f"w / u₀ reaches 1.18 > 1 at 0.7 Hz, N = {last:.3g} (exact): past u₀")
+    method = "exact slow time on DLFT, Nh = 3"
+    assert scene.notes[0].startswith(f"w / u₀ reaches 1.18 > 1 at 0.7 Hz, N = {last:.3g} ({method}): past u₀")
     image = scene.figure("wear_map").get(0)
     assert image.opts.get().kwargs["clim"] == (0, pytest.approx(1.18))  # not clipped at 1
 
@@ -456,7 +461,7 @@ def test_every_scene_draws_and_tabulates_with_its_record(computed):
             assert len(rows) > 2 and all(len(r) == len(rows[0]) for r in rows)
             assert sum(is_number(v) for v in rows[1]) >= 2
     wearmap = comments(computed.scenes["wearmap"].export_csv("wear_map"))
-    assert {"k_w = 1e-11 1/Pa", "method = exact", "horizon = 1e+05 cycles"} <= set(wearmap)
+    assert {"k_w = 1e-11 1/N", "method = exact", "horizon = 1e+05 cycles"} <= set(wearmap)
     assert not any(line.startswith("tolerance") for line in wearmap)  # the exact load path takes none
     assert not any(
         line.startswith("k_w") for line in comments(computed.scenes["regimes"].export_csv("regime_map"))
@@ -476,7 +481,7 @@ def test_figure_exports_have_the_size_resolution_and_record_asked(computed):
     html = computed.scenes["wearmap"].export_figure("wear_map", "html", options).decode()
     assert html.lstrip().lower().startswith("<!doctype html>")
     assert "<script src=" not in html and "Bokeh" in html and "Wear map" in html
-    assert "k_w = 1e-11 1/Pa" in html and "fretwear " + fretwear.__version__ in html
+    assert "k_w = 1e-11 1/N" in html and "fretwear " + fretwear.__version__ in html
     with pytest.raises(ValueError, match="fmt must be one of"):
         computed.current.export_figure("frf", "jpg")
     with pytest.raises(ValueError, match=r"dpi must be a whole number in \[50, 600\], got 1000"):
@@ -526,7 +531,7 @@ def test_page_widgets_drive_the_session(session):
     assert set(boxes) >= {"fex", "mu", "kw", "horizon", "harmonics", "degree", "frequency", "cycles"}
     boxes["kw"]._box.value = "abc"
     assert error.visible and error.object == session.error
-    assert session.error == "Invalid input: k_w must be a number > 0 and <= 0.0001 1/Pa, got 'abc'"
+    assert session.error == "Invalid input: k_w must be a number > 0 and <= 0.0001 1/N, got 'abc'"
     assert boxes["kw"]._box.value == "abc"  # kept as typed
     boxes["kw"]._box.value = "2e-11"
     assert session.controls.kw == 2e-11 and session.error == "" and not error.visible
@@ -550,7 +555,7 @@ def dlft(nh: int, seconds: float, error: float, samples: int | None = None) -> R
 
 #: a ladder with known times and errors: the cheapest rung within 1e-2 has non-default samples
 PERIODIC = [
-    Rung("shooting", {}, 0.02, dict.fromkeys(("x1_h1", "xr_half_p2p", "sliding_distance"), 0.0)),
+    Rung("shooting", {}, 0.02, dict.fromkeys(("x1_h1", "xr_half_p2p", "sliding_distance"), 0.0), True, True),
     dlft(3, 0.001, 0.3),
     dlft(7, 0.002, 0.05),
     dlft(21, 0.010, 0.004),
@@ -558,7 +563,7 @@ PERIODIC = [
     dlft(21, 0.005, 0.004, samples=128),
 ]
 WEAR = [
-    Rung("exact", {"Nh": 3}, 0.003, {"wear": 0.02}),
+    Rung("exact-dlft", {"Nh": 3}, 0.003, {"wear": 0.02}),
     Rung("stepping", {"Nh": 7, "tol": 0.01}, 0.010, {"wear": 0.01}),
     Rung("stepping-shooting", {"tol": 0.01}, 0.200, {"wear": 1e-4}),
     Rung("polynomial", {"Nh": 3, "degree": 4}, 0.300, {"wear": 0.05}),
@@ -609,9 +614,8 @@ def test_accuracy_scene_recommends_the_cheapest_rung_within_the_target(ladder_se
     assert scene.recommended().label == "dlft Nh=7 N=128" and scene.applicable() is scene.recommended()
     assert "**Apply** sets Nh = 7." in scene.advice()
     scene.target = 1e-3
-    assert scene.recommended().label == "shooting " and scene.applicable() is None
-    assert "shooting is the reference solver" in scene.advice()
-    assert "No setting the sidebar can reproduce reaches 0.001" in scene.advice()
+    assert scene.recommended() is None and scene.applicable() is None  # the reference is no recommendation
+    assert "Only the reference reaches 0.001 on worst of all: the exact dynamics" in scene.advice()
     scene.quantity = "wear"
     assert scene.recommended() is None and "tick *wear rungs*" in scene.advice()
     assert scene.version == version + 3 and len(seen) == 1
@@ -642,7 +646,7 @@ def test_pareto_figure_and_csv_show_every_rung(ladder_session):
     assert (
         by_name["dlft Nh=7 N=128"]["recommended"] == "True" and by_name["dlft Nh=3 N=64"]["current"] == "True"
     )
-    assert by_name["shooting"]["sidebar"].startswith("shooting is the reference solver")
+    assert by_name["shooting"]["sidebar"].startswith("it is the reference, the exact dynamics")
     assert (
         float(by_name["dlft Nh=41 N=1024"]["err_x1_h1"]) == 0.002 and by_name["shooting"]["err_wear"] == "nan"
     )
@@ -673,11 +677,11 @@ def test_wear_rungs_are_opt_in_and_depend_on_kw_and_the_horizon(ladder_session):
     assert scene.study().rungs[-1].method == "time"
     scene.param.update(quantity="wear", target=1e-2)
     assert scene.recommended().label == "stepping Nh=7 tol=0.01"
-    assert "**Apply** sets method = stepping, Nh = 7, tolerance = 0.01." in scene.advice()
-    scene.target = 1e-3  # stepping-shooting is cheapest, time integration is what the sidebar can set
-    assert scene.recommended().method == "stepping-shooting" and scene.applicable().method == "time"
+    assert "**Apply** sets method = stepping, dynamics = dlft, Nh = 7, tolerance = 0.01." in scene.advice()
+    scene.target = 1e-3  # stepping on the exact dynamics is the cheapest, and the sidebar sets it
+    assert scene.recommended().method == "stepping-shooting" and scene.applicable() is scene.recommended()
     session.apply(sidebar_equivalent(scene.applicable())[0])
-    assert (c.method, c.tol) == ("time", 0.01) and len(seen) == 2
+    assert (c.method, c.dynamics, c.tol) == ("stepping", "shooting", 0.01) and len(seen) == 2
     c.horizon = 2e4
     assert len(seen) == 3 and seen[2]["cycles"] == 2e4
     scene.ladder = "full"
@@ -731,13 +735,13 @@ def test_accuracy_scene_with_the_library():
     assert errors[41] < errors[7] < errors[1]
     scene.param.update(quantity="x1_h1", target=1e-1)
     best = scene.recommended()
-    assert best.error("x1_h1") <= 0.1 and all(
-        r.wall_time >= best.wall_time for r in study.rungs if r.error("x1_h1") <= 0.1
+    assert best.error("x1_h1") <= 0.1 and not best.reference and all(
+        r.wall_time >= best.wall_time for r in study.rungs if r.error("x1_h1") <= 0.1 and not r.reference
     )
     session.controls.param.update(kw=1e-11, horizon=1e3)
     scene.wear = True  # the wear rungs, on a short horizon
     methods = {r.method for r in scene.study().rungs}
-    assert {"exact", "stepping", "stepping-shooting", "polynomial", "time"} <= methods
+    assert {"exact-dlft", "stepping", "stepping-shooting", "polynomial", "time"} <= methods
     assert scene.study().reference["wear"] in scene.advice()  # the reference is named
     scene.quantity = "wear"
     assert len(list(scene.figure("pareto"))[0]) == len([r for r in scene.study().rungs if "wear" in r.errors])
@@ -797,15 +801,16 @@ def test_settings_off_the_ladder_are_said(ladder_session):
     ]
     scene.wear = True
     scene.quantity = "wear"
-    session.controls.harmonics = 3  # the exact load path at Nh = 3 is a wear rung
+    session.controls.param.update(harmonics=3, dynamics="dlft")  # the exact slow time on DLFT, Nh = 3: a rung
     assert scene.notes == [] and labels([r for r in scene.study().rungs if scene.is_current(r)]) == [
         "dlft Nh=3 N=64",
-        "exact Nh=3",
+        "exact-dlft Nh=3",
     ]
 
 
 def test_every_wear_scene_shows_the_exact_answer_and_the_error_against_it(session):
     """Issue 9: the exact answer next to the selected approximation, with the approximation's error stated."""
+    session.controls.dynamics = "dlft"  # an approximation: the exact slow time on DLFT
     session.scene = "wearmap"
     scene = session.current
     wm, exact = scene.results["wear_map"], scene.results[EXACT_MAP]
@@ -833,7 +838,7 @@ def test_every_wear_scene_shows_the_exact_answer_and_the_error_against_it(sessio
     err = np.abs(p / q - 1)
     i, k = np.unravel_index(int(np.nanargmax(err)), err.shape)
     worst = f"{err[i, k]:.1%} off" if err[i, k] < 1 else f"{p[i, k] / q[i, k]:.3g} times"
-    assert f"up to {worst} the exact dynamics" in scene.findings[0]
+    assert f"up to {worst} the exact answer" in scene.findings[0]
     assert any(name.endswith("_exact") for name in scene.datasets()["pseudo_frfs"])
 
     session.scene = "cycle"  # the exact orbit, worn as the exact history says at N

@@ -65,7 +65,7 @@ def test_paper_figures_write_the_tables(tmp_path):
     text = (tmp_path / "fig07.csv").read_text()
     header = [line for line in text.splitlines() if line.startswith("#")]  # the parameter record
     assert header[0].startswith("# model: paper 2-DOF") and "F_ex = 6, 10 and 14 N" in header[0]
-    assert "# k_w = 1e-11 1/Pa" in header and "# Nh = 3" in header and header[-1].startswith("# fretwear ")
+    assert "# k_w = 1e-11 1/N" in header and "# Nh = 3" in header and header[-1].startswith("# fretwear ")
     rows = list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
     assert {r["fex"] for r in rows} == {"6", "10", "14"} and len(rows) == 3 * 4 * 4
     assert max(float(r["w_over_u0"]) for r in rows) > 0.5
