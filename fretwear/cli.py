@@ -273,9 +273,7 @@ def build_parser() -> argparse.ArgumentParser:
     cost.add_argument("--f", type=number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
                       help="excitation frequency (Hz), > 0")  # fmt: skip
     _add_model_options(cost)
-    cost.add_argument(
-        "--kw", type=number(0.0, unit="1/N"), help="Archard coefficient (1/N): adds wear rungs"
-    )
+    cost.add_argument("--kw", type=number(0.0, unit="1/N"), help="Archard coefficient (1/N): adds wear rungs")
     cost.add_argument("--cycles", type=number(0.0, strict=True), help="wear horizon (cycles), with --kw")
     cost.add_argument("--target", type=number(0.0, strict=True), default=1e-2,
                       help="target relative error for the recommendation (-), > 0; default 1e-2")  # fmt: skip

@@ -12,7 +12,7 @@ import numpy as np
 from ..hbm import linear_frf, sweep
 from ..model import paper_model
 from ..studies import compare_methods, harmonic_convergence, wear_map
-from ..wear import cycle_grid, method_options, snapshot_cycles
+from ..wear import cycle_grid, method_options, snapshot_cycles, wear_history
 from .export import FIGURE_FORMATS, ExportOptions, save_csv, save_figures
 from .plots import (
     holoviews,
@@ -47,6 +47,10 @@ def _wear_map_table(maps: Mapping[float, Any]) -> dict[str, np.ndarray]:
         t = wm.long_table()
         tables.append({"fex": np.full(len(t["f_hz"]), fex), **t})
     return {k: np.concatenate([t[k] for t in tables]) for k in tables[0]}
+
+
+#: curve and table name of the exact answer (exact slow time on the exact dynamics) in Fig. 11
+EXACT_REFERENCE = "exact answer (reference)"
 
 
 def _history_table(histories: Mapping[str, Any], key: str) -> dict[str, np.ndarray]:
@@ -302,8 +306,14 @@ def paper_figures(
         for failure in failures:
             say(failure)
         _warnings("fig11", histories, say)
+        exact = wear_history(m10, 2 * np.pi * f_study, kw=kw, cycles=cycles)  # the exact answer, dashed
+        for h in histories.values():
+            if h.label != "exact" and (note := h.error_note(exact)):
+                say(f"fig11: {note}")
+        histories[EXACT_REFERENCE] = exact
         curves = {m: wear_curve(h, dense) for m, h in histories.items()}
-        fig = line_figure(curves, xlabel="cycles N", ylabel="w / u₀", logx=True,
+        fig = line_figure(curves, xlabel="cycles N", ylabel="w / u₀", logx=True, dashed=(EXACT_REFERENCE,),
+                          legend_labels={m: h.label for m, h in histories.items() if m != EXACT_REFERENCE},
                           title=f"Fig. 11: slow-time methods, {f_study:g} Hz, 10 N")  # fmt: skip
         write("fig11", fig, _history_table(histories, "method"), ten, method=None, f=f_study, degree=degree)
 
