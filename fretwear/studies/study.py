@@ -38,7 +38,9 @@ quantities: ``fraction`` (``cycles_to``), ``cycles`` (the wear grid), ``dof``,
 
 Attributes: ``title``, ``quantities``, ``fretwear_version``, ``spec`` (the TOML
 file as written), ``spec_resolved`` (JSON: every value, defaults included),
-``study_key`` (its hash), ``units`` and ``long_name`` of every variable.
+``study_key`` (its hash), ``wear_method`` (with the wear quantities and one method: what ran, the
+slow-time scheme and the dynamics apart, e.g. ``"exact"`` for the exact answer, as
+:func:`fretwear.wear.describe` says), ``units`` and ``long_name`` of every variable.
 
 Resuming and failures
 ---------------------
@@ -76,7 +78,8 @@ import numpy as np
 from .._version import __version__
 from ..hbm import sweep
 from ..model import paper_model
-from ..wear import METHODS, resolve_dynamics, resolve_method, wear_history
+from ..wear import METHODS, describe, resolve_dynamics, resolve_method, wear_history
+from ..wear.polynomial import DEFAULT_HARMONICS as POLYNOMIAL_HARMONICS
 from .spec import FRF_HARMONICS, PARAMETERS, SpecError, StudySpec, read_spec
 
 __all__ = [
@@ -253,6 +256,14 @@ def _method(model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
             model, options.get("dynamics", "auto"), options.get("harmonics")
         )
     return name, options
+
+
+def _label(model, p: Mapping[str, Any]) -> str:
+    """What :func:`_method` runs, scheme and dynamics apart (:func:`fretwear.wear.describe`)."""
+    name, options = _method(model, p)
+    dynamics = options.get("dynamics", "time" if name == "time" else "dlft")
+    nh = options.get("harmonics", POLYNOMIAL_HARMONICS if name == "polynomial" else None)
+    return describe(name, dynamics, nh)
 
 
 def _wear_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i: int) -> int:
@@ -455,6 +466,8 @@ def _template(spec: StudySpec, lay: Layout):
         "fixed_parameters": json.dumps(spec.fixed, sort_keys=True),
         "created_by": "fretwear study",
     }
+    if spec.wear and not {"method", "dynamics", "harmonics"} & set(spec.grid):
+        attrs["wear_method"] = _label(spec.model, spec.fixed)
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
     return ds, encoding
 

@@ -84,6 +84,9 @@ from .common import Recorder, WearHistory, check_wear_inputs, observables, two_s
 
 __all__ = ["wear_polynomial", "BASES", "FIT_FRACTION", "MISFIT_LIMIT"]
 
+#: ``Nh`` of :func:`wear_polynomial` by default: the paper's (section 2.1.2)
+DEFAULT_HARMONICS = 3
+
 #: slow-time bases of :func:`wear_polynomial`, the default first
 BASES = ("saturating", "legendre", "monomial")
 
@@ -111,7 +114,7 @@ def wear_polynomial(
     *,
     kw: float = 1e-11,
     cycles: float = 1e5,
-    harmonics: int = 3,
+    harmonics: int = DEFAULT_HARMONICS,
     samples: int | None = None,
     degree: int = 4,
     basis: Literal["saturating", "legendre", "monomial"] | None = None,

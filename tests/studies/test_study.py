@@ -443,6 +443,8 @@ def test_the_shipped_study_computes_the_exact_answer():
     agree with direct time integration with wear within 1e-3."""
     spec = study_spec.read_spec(DATA / "wear_life.toml", samples=3)
     assert spec.fixed["dynamics"] == "auto" and "harmonics" not in spec.fixed
+    ds, _ = study._template(spec, study.layout(spec))
+    assert ds.attrs["wear_method"] == "exact"  # the store says what ran
     draws = spec.draws()
     out = study.compute_block(study.Work.of(spec), draws)
     assert np.all(out["status"] == study.OK)
