@@ -72,8 +72,8 @@ def test_archard_consistency(gross):
         # nearly constant normal force (identical materials): int p ds = p s per pair; a lightly loaded pair
         # just come into contact at the scar's edge sees its force vary by a few % over the cycle, hence
         # the absolute part (measured differences: 2e-8 of the largest rate)
-        rate_k = h.wear_rate[k]
-        assert np.allclose(KW * sol.mean_pressure * sol.slip_distance, rate_k, rtol=1e-6, atol=1e-6 * rate_k.max())
+        r_k = h.wear_rate[k]
+        assert np.allclose(KW * sol.mean_pressure * sol.slip_distance, r_k, rtol=1e-6, atol=1e-6 * r_k.max())
         # the contact work from the harmonics, independent of the march's slip accounting
         assert rate[k] == pytest.approx(KW / mu * sol.contact_work, rel=2e-3)
 
