@@ -2,10 +2,13 @@
 
 ``add_arguments(parser)`` declares the options on an ``argparse`` (sub)parser
 and ``run(args)`` executes them and returns the exit status (0 success, 2
-bad input, 3 a solve did not converge). Three modes:
+bad input, 3 a solve did not converge, static gross slip included, 130
+interrupted by Ctrl-C: one line, no output file). Three modes:
 
 * ``--static``: the quasi-static limit (normal load, then the tangential load
-  ``Q0 = q_ratio mu P``), JSON on stdout (SI units): ``contact_half_width``,
+  ``Q0 = q_ratio mu P``, ``q_ratio < 1``: beyond, no static equilibrium
+  exists), JSON on stdout or in ``--out`` (``.json``; ``.csv``: one row of the
+  same keys) (SI units): ``contact_half_width``,
   ``stick_half_width``, ``peak_pressure``, ``normal_load_per_length``,
   ``tangential_load_per_length``, ``radius``, ``effective_modulus``, ``mu``,
   the Hertz and Mindlin values and the relative errors;
@@ -23,6 +26,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import os
 import sys
 from typing import TextIO
 
@@ -32,7 +36,7 @@ from ..arguments import number
 
 __all__ = ["add_arguments", "run", "COLUMNS"]
 
-EXIT_OK, EXIT_USAGE, EXIT_NOT_CONVERGED = 0, 2, 3
+EXIT_OK, EXIT_USAGE, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
 
 #: CSV columns of the per-pair output
 COLUMNS = ("cycles", "x", "w", "pressure", "slip", "state_fraction_stick")
@@ -55,7 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=number(0.0),
         default=0.5,
         metavar="Q",
-        help="benchmark tangential load Q0 / (mu P) (-), >= 0; default 0.5",
+        help="benchmark tangential load Q0 / (mu P) (-), >= 0, < 1 with --static; default 0.5",
     )
     parser.add_argument(
         "--contact-nodes",
@@ -144,7 +148,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="D",
         help="polynomial degree in slow time of --method polynomial, in [1, 12]; default 6",
     )
-    parser.add_argument("--out", metavar="FILE.csv", help="CSV file to write ('-' or omitted: stdout)")
+    parser.add_argument(
+        "--out",
+        metavar="FILE.csv",
+        help="CSV file to write ('-' or omitted: stdout); with --static a .json or a .csv file",
+    )
 
 
 def _model(args: argparse.Namespace):
@@ -199,42 +207,87 @@ def _rows(cycles: float, x: np.ndarray, w, pressure, slip, stick):
                repr(float(slip[i])), repr(float(stick[i])))  # fmt: skip
 
 
-def _write(path: str | None, rows) -> None:
-    fh: TextIO = sys.stdout if path in (None, "-") else open(path, "w", newline="")
-    try:
-        writer = csv.writer(fh)
-        writer.writerow(COLUMNS)
+def _write(path: str | None, rows, columns=COLUMNS) -> None:
+    """CSV on stdout, or in ``path`` whole or not at all (written aside, then renamed)."""
+    if path in (None, "-"):
+        writer = csv.writer(sys.stdout)
+        writer.writerow(columns)
         writer.writerows(rows)
-    finally:
-        if fh is not sys.stdout:
-            fh.close()
+        return
+    with _whole_file(path) as fh:
+        writer = csv.writer(fh)
+        writer.writerow(columns)
+        writer.writerows(rows)
+
+
+class _whole_file:
+    """``open(path, "w")`` on a neighbour file renamed to ``path`` on success, removed on any failure."""
+
+    def __init__(self, path: str) -> None:
+        self.path, self.part = path, f"{path}.part"
+
+    def __enter__(self) -> TextIO:
+        self.fh = open(self.part, "w", newline="")
+        return self.fh
+
+    def __exit__(self, kind, exc, tb) -> None:
+        self.fh.close()
+        if kind is None:
+            os.replace(self.part, self.path)
+        else:
+            os.unlink(self.part)
+
+
+def _write_static(path: str | None, out: dict) -> None:
+    """The static result as JSON (stdout or ``.json``) or one CSV row of the same keys (``.csv``)."""
+    if path not in (None, "-") and path.lower().endswith(".csv"):
+        _write(path, [["" if v is None else v for v in out.values()]], columns=tuple(out))
+        return
+    text = json.dumps(out, indent=2)
+    if path in (None, "-"):
+        print(text)
+        return
+    with _whole_file(path) as fh:
+        fh.write(text + "\n")
 
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``fretwear interface`` with parsed ``args``; returns the exit status."""
     from .contact import STICK
+    from .interrupt import catch_interrupt
     from .periodic import InterfaceProblem, solve_interface
     from .reduction import ContactCondensation, craig_bampton
     from .static import static_benchmark
     from .wear import wear_interface
 
     try:
+        if args.static and not args.model and args.q_ratio >= 1:
+            raise ValueError(
+                f"argument --q-ratio: must be in [0, 1) with --static (Q0 >= mu P has no static equilibrium: "
+                f"gross slip), got {args.q_ratio:g}"
+            )
+        if args.static and args.out not in (None, "-") and not args.out.lower().endswith((".json", ".csv")):
+            raise ValueError(f"argument --out: with --static, a .json or .csv file or '-', got {args.out!r}")
         model = _model(args)
         f_max = 0.0 if args.static else args.harmonics * args.f
         cond = ContactCondensation(craig_bampton(model, f_max))
         if args.static:
-            if args.model:
-                out = _static_summary(cond)
-            else:
-                out = static_benchmark(args.q_ratio, condensation=cond)
-            print(json.dumps(out, indent=2))
-            return (
-                EXIT_OK if out.get("converged") or out.get("regime") == "gross slip" else EXIT_NOT_CONVERGED
-            )
+            with catch_interrupt():
+                if args.model:
+                    out = _static_summary(cond)
+                else:
+                    out = static_benchmark(args.q_ratio, condensation=cond)
+            _write_static(args.out, out)
+            if not out.get("converged"):
+                message = " ".join(str(out.get("message") or "did not converge").split())
+                print(f"fretwear interface: no static equilibrium: {message}", file=sys.stderr)
+                return EXIT_NOT_CONVERGED
+            return EXIT_OK
         prob = InterfaceProblem(cond, 2 * np.pi * args.f, harmonics=args.harmonics)
         x = cond.reduced.contact.position
         if args.kw is None:
-            sol = solve_interface(prob)
+            with catch_interrupt():
+                sol = solve_interface(prob)
             _write(args.out, _rows(0.0, x, prob.wear, sol.mean_pressure, sol.slip_distance,
                                    sol.state_fraction(STICK)))  # fmt: skip
             if not sol.converged:
@@ -244,11 +297,13 @@ def run(args: argparse.Namespace) -> int:
         if args.method == "polynomial":
             if args.converge is not None:
                 raise ValueError("--converge applies to --method stepping only")
-            hist = wear_interface(prob, args.kw, args.cycles, method="polynomial", degree=args.degree)
+            with catch_interrupt():
+                hist = wear_interface(prob, args.kw, args.cycles, method="polynomial", degree=args.degree)
         else:
             if args.degree is not None:
                 raise ValueError("--degree applies to --method polynomial only")
-            hist = wear_interface(prob, args.kw, args.cycles, rtol=args.rtol, converge=args.converge)
+            with catch_interrupt():
+                hist = wear_interface(prob, args.kw, args.cycles, rtol=args.rtol, converge=args.converge)
         rows = (
             row
             for k, N in enumerate(hist.cycles)
@@ -264,3 +319,6 @@ def run(args: argparse.Namespace) -> int:
     except OSError as exc:
         print(f"fretwear interface: cannot write output: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("fretwear interface: interrupted (Ctrl-C); nothing written", file=sys.stderr)
+        return EXIT_INTERRUPTED

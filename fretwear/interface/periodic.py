@@ -27,6 +27,7 @@ import numpy as np
 
 from ..hbm.harmonics import HarmonicBasis, default_samples
 from .contact import STICK, evaluate, slip_work
+from .interrupt import check_interrupt
 from .kernels import load_walk_kernel, newton_kernel
 from .reduction import ContactCondensation
 from .static import solve_static
@@ -204,6 +205,7 @@ def load_walk(problem: InterfaceProblem, tol: float = 1e-10, max_pieces: int = 2
     linear solve per piece crossed, no Newton iteration that can fail on the
     way. The end point is polished by Newton's method.
     """
+    check_interrupt()
     b = problem.basis
     try:
         x, p, pieces, arrived = load_walk_kernel(
@@ -234,6 +236,7 @@ def solve_interface(
     max_iter : int
         Newton iterations per solve.
     """
+    check_interrupt()  # between solves: Ctrl-C cannot stop a compiled kernel (:mod:`.interrupt`)
     if guess is not None:
         guess = np.asarray(guess, dtype=float)
         if guess.shape != (problem.size,):
@@ -241,6 +244,7 @@ def solve_interface(
         res = newton(problem, guess, tol, max_iter)
         if res.converged:
             return InterfaceSolution(problem, res.x, True, res.iterations, res.residual, "", "dlft")
+    check_interrupt()
     res = newton(problem, problem.start(), tol, max_iter)
     path = "dlft"
     if not res.converged:

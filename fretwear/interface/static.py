@@ -39,6 +39,7 @@ import numpy as np
 
 from ..model.structure import OPEN, SLIP, STICK
 from .fe import CylinderOnFlat, cylinder_on_flat, hertz_half_width, hertz_peak_pressure
+from .interrupt import check_interrupt
 from .reduction import ContactCondensation, craig_bampton
 from .structure import InterfaceModel
 
@@ -220,6 +221,7 @@ def solve_static(
     done = (0.0, 0.0)
     targets = path[::-1]  # a stack: failed increments are halved
     while targets:
+        check_interrupt()
         sn, st = targets[-1]
         F = sn * Fs + st * Fc
         state, ok, all_slip = _increment(x, Z, F, eps, gap, contact.mu, X, tol, max_iter)

@@ -13,11 +13,27 @@ normal load.
 
 Slow time is integrated by an adaptive Bogacki-Shampine 3(2) Runge-Kutta
 method in the cycle count ``N``, with warm-started periodic solves (each stage
-starts from the previous solution); the step is controlled on the worn depth
-(``rtol`` on the largest depth plus ``atol``). The history stops at ``cycles``
-or, with ``converge``, when the profile has stopped changing: the largest
-wear rate times the cycles elapsed is below ``converge`` times the largest
-depth (partial slip: the slip annulus unloads and wear dies out).
+starts from the previous solution). The step is controlled on the worn depth,
+against scales of the contact and never of the horizon, so that a longer
+horizon only adds steps at the end (a saturated scar stays as it is):
+
+* the wear scale ``S = max_i lambda_N,i / Z_NN,ii`` (m), the depth that
+  unloads the most loaded pair with its neighbours held (``lambda_N,i`` its
+  cycle-averaged normal force, ``Z_NN,ii`` its static normal stiffness; about
+  the saturated scar depth of the benchmark in partial slip; ``u0`` for the
+  paper's 2-DOF model as a one-pair interface), taken at the initial state
+  and kept (a scale that followed the worn state would shrink with the
+  remaining load and force steps of constant length in ``N`` on an
+  exponential approach): no step wears any pair by more than
+  ``max_increment * S``;
+* the local error on ``w`` stays below ``atol + rtol max|w|``, ``atol = 0.1 rtol S``
+  by default;
+* the first step wears ``max_increment * S`` at most.
+
+The history stops at ``cycles`` or, with ``converge``, when the profile has
+stopped changing: the largest wear rate times the cycles elapsed is below
+``converge`` times the largest depth (partial slip: the slip annulus unloads
+and wear dies out).
 
 Pairs that stick all period keep their reference slip variable; after each
 accepted step every pair's reference is moved to its slip variable at the
@@ -29,18 +45,38 @@ from __future__ import annotations
 import numpy as np
 
 from .history import InterfaceWearHistory
-from .periodic import InterfaceProblem, solve_interface
+from .periodic import InterfaceProblem, InterfaceSolution, solve_interface
 from .polynomial import DEFAULT_DEGREE, wear_polynomial_interface
 
-__all__ = ["wear_interface", "frf", "METHODS"]
+__all__ = ["wear_interface", "wear_scale", "frf", "METHODS", "MAX_INCREMENT"]
 
 #: slow-time methods of :func:`wear_interface`, the default first
 METHODS = ("stepping", "polynomial")
+
+#: default largest wear increment of any pair per step, as a fraction of the wear scale (:func:`wear_scale`)
+MAX_INCREMENT = 0.1
+
+#: failed periodic solves in a row (the step quartered each time) before a history gives up
+MAX_RETRIES = 8
 
 
 def _rate(problem: InterfaceProblem, w: np.ndarray, guess, kw: float, tol: float):
     sol = solve_interface(problem.with_wear(np.maximum(w, 0.0)), guess, tol)
     return kw * sol.pressure_slip, sol
+
+
+def wear_scale(sol: InterfaceSolution) -> float:
+    """Wear scale ``S = max_i lambda_N,i / Z_NN,ii`` of a periodic solution (m).
+
+    ``lambda_N,i`` is the cycle-averaged normal force of pair ``i`` (N) and
+    ``Z_NN,ii`` the static stiffness of its normal contact coordinate (N/m, the
+    mean-harmonic diagonal of eq. 12's ``Z``): the depth of wear that would
+    unload the pair with its neighbours held. 0 when no pair carries load.
+    """
+    problem = sol.problem
+    H = problem.basis.size
+    stiffness = np.abs(np.diag(problem.Z)).reshape(2 * problem.n_pairs, H)[1::2, 0]
+    return float(np.max(sol.normal_force.mean(axis=1) / stiffness))
 
 
 def wear_interface(
@@ -55,6 +91,7 @@ def wear_interface(
     tol: float = 1e-10,
     method: str = "stepping",
     degree: int | None = None,
+    max_increment: float = MAX_INCREMENT,
 ) -> InterfaceWearHistory:
     """Wear history of the interface ``problem`` from its current wear state to ``cycles``.
 
@@ -74,12 +111,13 @@ def wear_interface(
         Cycle count to reach, > 0.
     rtol, atol : float
         Step control: local error on ``w`` below ``atol + rtol max|w|`` (m);
-        default ``atol`` is ``1e-6`` times the first cycle's largest depth
-        increment over ``cycles / 100``.
+        default ``atol = 0.1 rtol S`` with ``S`` the wear scale of the initial
+        state (:func:`wear_scale`).
     converge : float, optional
         Stop early once ``max(dw/dN) N < converge max(w)`` (a converged profile).
     first_step : float, optional
-        First step (cycles); default ``cycles / 1000``.
+        First step (cycles); default: the step that wears ``max_increment S``
+        (or ``cycles``, if shorter).
     max_steps : int
         Accepted steps at most.
     tol : float
@@ -89,6 +127,9 @@ def wear_interface(
     degree : int, optional
         Polynomial degree of the polynomial method (default
         :data:`~fretwear.interface.polynomial.DEFAULT_DEGREE`).
+    max_increment : float
+        Largest depth any pair may wear in one step, as a fraction of the
+        wear scale ``S`` of the initial state (-), in (0, 1].
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
@@ -104,6 +145,10 @@ def wear_interface(
         raise ValueError(f"cycles must be finite and > 0, got {cycles!r}")
     if not (0 < rtol < 1):
         raise ValueError(f"rtol must be in (0, 1), got {rtol!r}")
+    if not (0 < max_increment <= 1):
+        raise ValueError(f"max_increment must be in (0, 1], got {max_increment!r}")
+    if first_step is not None and not (np.isfinite(first_step) and first_step > 0):
+        raise ValueError(f"first_step must be a finite number of cycles > 0, got {first_step!r}")
     contact = problem.condensation.reduced.contact
     hist = InterfaceWearHistory(position=contact.position, area=contact.area, kw=float(kw))
     w = problem.wear.copy()
@@ -114,14 +159,20 @@ def wear_interface(
         hist.converged, hist.message = False, f"periodic solve failed at N = 0: {sol.message}"
         return hist.finish()
     hist.record(0.0, w, sol)
+    scale = wear_scale(sol)
     if atol is None:
-        atol = 1e-6 * max(float(k1.max()) * cycles / 100, 1e-300)
+        atol = 0.1 * rtol * max(scale, 1e-300)
     N = 0.0
-    h = cycles / 1000 if first_step is None else float(first_step)
+    h = cycles if first_step is None else float(first_step)
     dx_dN = np.zeros_like(sol.unknowns)  # secant predictor of the unknowns along the slow time
+    failures = 0
     for _ in range(max_steps):
         if N >= cycles * (1 - 1e-12):
             break
+        # the increment bound: no pair wears more than max_increment S in one step, whatever the horizon
+        rate = float(np.abs(k1).max())
+        if rate > 0:
+            h = min(h, max_increment * scale / rate)
         h = min(h, cycles - N)
         x0 = sol.unknowns
         k2, s2 = _rate(problem, w + 0.5 * h * k1, x0 + 0.5 * h * dx_dN, kw, tol)
@@ -131,13 +182,15 @@ def wear_interface(
         hist.solves += 3
         if not (s2.converged and s3.converged and s4.converged):
             bad = next(s for s in (s2, s3, s4) if not s.converged)
-            if h > cycles * 1e-9:
+            failures += 1
+            if failures <= MAX_RETRIES:  # a bound on retries, not on h: the horizon sets no scale here
                 h *= 0.25
                 continue
             hist.converged, hist.message = False, f"periodic solve failed near N = {N:.6g}: {bad.message}"
             break
         err_vec = h * (-5 * k1 / 72 + k2 / 12 + k3 / 9 - k4 / 8)
         err = np.abs(err_vec).max() / (atol + rtol * np.abs(w_new).max())
+        failures = 0
         if err > 1.0:
             h *= max(0.2, 0.9 * err ** (-1 / 3))
             continue

@@ -5,6 +5,12 @@ embedded Runge-Kutta pair (Bogacki-Shampine 3(2)) with a local error estimate
 on ``w``, each stage a periodic solve (DLFT or shooting) warm-started from the
 previous one; or by the paper's explicit per-period rule with a fixed step
 (``fixed_step=1`` is eq. 24 exactly).
+
+The adaptive steps are bounded by the wear scale ``u0`` of each contact, never
+by the horizon: no step wears a contact by more than ``max_increment * u0``
+(whatever the tolerance), and the local error stays below ``tol * u0``; the
+first step is the one that wears ``tol * u0``. A longer horizon therefore only
+adds steps at the end.
 """
 
 from __future__ import annotations
@@ -24,7 +30,13 @@ from .common import (
     two_scale_warning,
 )
 
-__all__ = ["wear_stepping"]
+__all__ = ["wear_stepping", "MAX_INCREMENT"]
+
+#: default largest wear of any contact in one adaptive step, as a fraction of its u0
+MAX_INCREMENT = 0.1
+
+#: failed periodic solves in a row (the step halved each time) before a history gives up
+MAX_RETRIES = 20
 
 
 def wear_stepping(
@@ -40,6 +52,7 @@ def wear_stepping(
     dynamics: Literal["auto", "dlft", "shooting"] = "auto",
     stop_fraction: float = 0.99,
     max_steps: int = 100_000,
+    max_increment: float = MAX_INCREMENT,
 ) -> WearHistory:
     """Wear evolution at one frequency by stepping on the slow time (eq. 24 and RK23).
 
@@ -67,10 +80,15 @@ def wear_stepping(
         Stop when every contact reaches ``stop_fraction * u0``.
     max_steps : int
         Step budget.
+    max_increment : float
+        Largest wear of any contact in one adaptive step, as a fraction of its
+        ``u0`` (-), in (0, 1]; ``fixed_step`` is not bounded.
     """
     check_wear_inputs(model, kw, cycles)
     if not 0 < tol < 1:
         raise ValueError(f"tol must be in (0, 1), got {tol!r}")
+    if not 0 < max_increment <= 1:
+        raise ValueError(f"max_increment must be in (0, 1], got {max_increment!r}")
     if fixed_step is not None and not (np.isfinite(fixed_step) and fixed_step > 0):
         raise ValueError(f"fixed_step must be > 0 cycles, got {fixed_step!r}")
     start = time.perf_counter()
@@ -97,11 +115,14 @@ def wear_stepping(
     notes = two_scale_warning(g, u0)
     N = 0.0
     h = float(fixed_step) if fixed_step else min(cycles, tol * u0.max() / g.max())
+    failures = 0
     for _ in range(max_steps):
         if N >= cycles:
             return done(status="horizon")
         if np.all(w >= stop_fraction * u0):
             return done(status="worn")
+        if not fixed_step:  # the increment bound: at most max_increment u0 per step, whatever the horizon
+            h = min(h, max_increment / max(float(np.max(g / u0)), 1e-300))
         h = min(h, cycles - N)
         if fixed_step:
             w_new = clip_wear(w + h * g, u0)
@@ -120,12 +141,18 @@ def wear_stepping(
             if len(stages) == 2:
                 k2, k3 = stages
                 w_new = clip_wear(w + h * (2 * g + 3 * k2 + 4 * k3) / 9, u0)
+                increment = float(np.max(np.abs(w_new - w) / u0))
+                if increment > max_increment:  # the rate rose within the step: shorter, before solving
+                    h *= max(0.2, 0.9 * max_increment / increment)
+                    continue
                 nxt = dyn(w_new)
             if nxt is None:
-                h *= 0.5  # a failed periodic solve: retry with a smaller step, then give up
-                if h < 1e-6 * max(cycles, 1.0):
+                failures += 1  # a failed periodic solve: retry with a smaller step, then give up
+                if failures > MAX_RETRIES:  # a count, not a step size: the horizon sets no scale here
                     return done(converged=False, status=f"periodic solve failed near N = {N:g}")
+                h *= 0.5
                 continue
+            failures = 0
             err = h * np.abs(-5 * g / 72 + k2 / 12 + k3 / 9 - nxt[0] / 8)
             ratio = float(np.max(err / (tol * u0)))
             h_next = h * min(5.0, max(0.2, 0.9 * ratio ** (-1 / 3) if ratio > 0 else 5.0))

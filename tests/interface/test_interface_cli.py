@@ -70,3 +70,82 @@ def test_bad_option_values_are_rejected():
         _run(["--q-ratio", "-1"])
     with pytest.raises(SystemExit):
         _run(["--contact-nodes", "2"])
+
+
+@pytest.mark.parametrize("q", ["1", "1.05", "5"])
+def test_static_at_or_beyond_gross_slip_is_refused_up_front(q, tmp_path, capsys):
+    """Q0 >= mu P has no static equilibrium: exit 2 before any work (it used to exit 0, converged = false)."""
+    assert _run(["--static", "--q-ratio", q, "--out", str(tmp_path / "s.json")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--q-ratio" in err and "[0, 1)" in err
+    assert not list(tmp_path.iterdir())
+
+
+def test_model_file_static_without_equilibrium_exits_3(tmp_path, capsys):
+    write_interface_model(cylinder_on_flat(contact_nodes=9, q_ratio=1.05), tmp_path / "m.toml")
+    assert _run(["--model", str(tmp_path / "m.toml"), "--static", "--out", str(tmp_path / "s.json")]) == 3
+    out = json.loads((tmp_path / "s.json").read_text())
+    assert out["regime"] == "gross slip" and not out["converged"]
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "no static equilibrium" in err
+
+
+def test_static_out_writes_json_or_csv_and_refuses_other_names(tmp_path, capsys):
+    base = ["--static", "--q-ratio", "0.5", "--contact-nodes", "12"]
+    assert _run([*base, "--out", str(tmp_path / "s.json")]) == 0
+    assert _run([*base, "--out", str(tmp_path / "s.csv")]) == 0
+    as_json = json.loads((tmp_path / "s.json").read_text())
+    (row,) = list(csv.DictReader((tmp_path / "s.csv").open()))
+    assert tuple(row) == tuple(as_json) and as_json["converged"] is True
+    assert float(row["stick_half_width"]) == as_json["stick_half_width"]
+    assert capsys.readouterr().out == ""  # nothing on stdout when --out is given
+    assert _run([*base, "--out", str(tmp_path / "s.txt")]) == 2
+    assert "--out" in capsys.readouterr().err and not (tmp_path / "s.txt").exists()
+
+
+_INTERRUPTED_RUN = """
+import sys
+import fretwear.interface.wear as wear
+rate = wear._rate
+def marked(*args, **kwargs):  # tells the test that the wear history has started
+    if not marked.seen:
+        marked.seen = True
+        print("history started", file=sys.stderr, flush=True)
+    return rate(*args, **kwargs)
+marked.seen = False
+wear._rate = marked
+from fretwear.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_ctrl_c_stops_a_wear_history_with_status_130_and_no_file(tmp_path):
+    """Ctrl-C used to be swallowed inside a compiled Newton call: the history ran to its end and exited 0."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "w.csv"
+    # rtol 1e-7 to 1e30 cycles: several hundred steps, far longer than the wait below
+    argv = ["interface", "--contact-nodes", "16", "--harmonics", "5", "--kw", "1e-14", "--cycles", "1e30",
+            "--rtol", "1e-7", "--out", str(out)]  # fmt: skip
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _INTERRUPTED_RUN, *argv], stderr=subprocess.PIPE, text=True, cwd=tmp_path
+    )
+    try:
+        for line in proc.stderr:
+            if "history started" in line:
+                break
+        time.sleep(1.0)  # well inside the loop of periodic solves
+        proc.send_signal(signal.SIGINT)
+        sent = time.perf_counter()
+        code = proc.wait(timeout=60)
+        elapsed = time.perf_counter() - sent
+        err = proc.stderr.read().strip()
+    finally:
+        proc.kill()
+    assert code == 130, err
+    assert err.count("\n") == 0 and "interrupted" in err and "Traceback" not in err
+    assert elapsed < 10  # one periodic solve of 16 pairs takes 0.03 s; generous for a loaded machine
+    assert not out.exists() and not list(tmp_path.glob("*.part"))

@@ -3,7 +3,13 @@
 import numpy as np
 import pytest
 
-from fretwear.interface.fe import CylinderOnFlat, assemble_body, cylinder_on_flat, effective_modulus
+from fretwear.interface.fe import (
+    MAX_CONTACT_NODES,
+    CylinderOnFlat,
+    assemble_body,
+    cylinder_on_flat,
+    effective_modulus,
+)
 from fretwear.interface.mesh import cylinder_on_flat_mesh, graded_axis
 from fretwear.interface.structure import ContactPairs, InterfaceModel
 
@@ -117,3 +123,11 @@ def test_relative_map_gives_contact_coordinates():
     B = pairs.relative_map(4).toarray()
     u = np.array([0.5, 0.5, 1.5, -1.5])
     assert np.allclose(B @ u, [1.0, 2.0])
+
+
+@pytest.mark.parametrize("n", [2, MAX_CONTACT_NODES + 1, 100_000, 32.5])
+def test_contact_nodes_out_of_range_is_refused_before_meshing(n):
+    """100 000 pairs used to raise MemoryError in the mesh; the bound is checked before any work."""
+    match = rf"contact_nodes must be an integer in \[3, {MAX_CONTACT_NODES}\].*got {n}"
+    with pytest.raises(ValueError, match=match):
+        cylinder_on_flat(contact_nodes=n)

@@ -143,13 +143,13 @@ def test_one_pair_wears_as_the_single_contact_exact_load_path():
     omega = 2 * np.pi * 0.7
     ref = fw.wear_history(pm, omega, "exact", harmonics=7, kw=1e-11, cycles=2e4)
     errors = []
-    for rtol in (1e-2, 1e-4):  # the slow-time error of the interface's stepping falls to round-off
+    for rtol in (1e-2, 1e-5):  # the slow-time error of the interface's stepping falls with its tolerance
         h = wear_interface(InterfaceProblem(cond, omega, harmonics=7), 1e-11, 2e4, rtol=rtol)
         load = np.maximum(10.0 - 1e7 * h.wear[:, 0], 0.0)  # clipped at zero once worn through
         assert h.converged and np.allclose(h.normal_force_sum, load, rtol=1e-9, atol=1e-9)
         inside = ref.at(h.cycles)["wear"][:, 0] < 0.98 * ref.u0[0]  # the reference stops at 0.99 u0
         errors.append(np.abs(ref.at(h.cycles)["wear"][inside, 0] - h.wear[inside, 0]).max() / ref.u0[0])
-    assert errors[1] < 1e-3 and errors[1] < errors[0] / 10
+    assert errors[0] < 1e-2 and errors[1] < 2e-4 and errors[1] < errors[0] / 10  # measured 3.3e-3, 7.7e-5
 
 
 def test_the_load_walk_passes_a_vertex_where_several_samples_change_state(bench):

@@ -6,7 +6,7 @@ import pytest
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.periodic import InterfaceProblem, solve_interface
 from fretwear.interface.reduction import ContactCondensation, craig_bampton
-from fretwear.interface.wear import frf, wear_interface
+from fretwear.interface.wear import MAX_INCREMENT, frf, wear_interface, wear_scale
 
 F_HZ, NH, KW = 50.0, 5, 1e-14
 
@@ -69,10 +69,32 @@ def test_archard_consistency(gross):
     assert np.abs(A - integrated).max() <= 2e-2 * A[-1]
     mu = model.info["mu"]
     for k, sol in enumerate(h.solutions):
-        # constant normal force (identical materials): int p ds = p s per pair
-        assert np.allclose(KW * sol.mean_pressure * sol.slip_distance, h.wear_rate[k], rtol=1e-6, atol=1e-30)
+        # nearly constant normal force (identical materials): int p ds = p s per pair; a lightly loaded pair
+        # just come into contact at the scar's edge sees its force vary by a few % over the cycle, hence
+        # the absolute part (measured differences: 2e-8 of the largest rate)
+        r_k = h.wear_rate[k]
+        assert np.allclose(KW * sol.mean_pressure * sol.slip_distance, r_k, rtol=1e-6, atol=1e-6 * r_k.max())
         # the contact work from the harmonics, independent of the march's slip accounting
         assert rate[k] == pytest.approx(KW / mu * sol.contact_work, rel=2e-3)
+
+
+def test_saturated_scar_does_not_depend_on_the_horizon():
+    """Partial slip: the annulus unloads and wear stops, so horizons 1e9 and 1e30 end on the same profile.
+
+    Before the step control was tied to the wear scale, 1e16 cycles ended 600x deeper (2.3e-4 m against
+    3.8e-7 m) and 1e30 cycles jumped to N = 5e22 in one step, 2.3e10 m deep.
+    """
+    _, prob = _problem(q_ratio=0.5)
+    short = wear_interface(prob, KW, 1e9)
+    long = wear_interface(prob, KW, 1e30)
+    assert short.converged and long.converged and long.cycles[-1] == pytest.approx(1e30)
+    w9, w30 = short.wear[-1], long.wear[-1]
+    assert np.abs(w30 - w9).max() <= 1e-6 * w9.max()
+    # saturated: the depth is of the order of the wear scale (measured 1.2 S), not of the horizon
+    scale = wear_scale(short.solutions[0])
+    assert 0.5 * scale < w9.max() < 3 * scale
+    # no step wears any pair by more than MAX_INCREMENT S (plus the error-controlled part)
+    assert np.abs(np.diff(long.wear, axis=0)).max() <= 1.5 * MAX_INCREMENT * scale
 
 
 def test_wear_history_input_checks():
@@ -81,6 +103,8 @@ def test_wear_history_input_checks():
         wear_interface(prob, -1.0, 10.0)
     with pytest.raises(ValueError, match="cycles must be"):
         wear_interface(prob, KW, 0.0)
+    with pytest.raises(ValueError, match="max_increment must be"):
+        wear_interface(prob, KW, 10.0, max_increment=0.0)
 
 
 def test_frf_before_and_after_wear(gross):
@@ -96,5 +120,6 @@ def test_frf_before_and_after_wear(gross):
     assert ok0.all() and ok1.all()
     direct = solve_interface(make(2 * np.pi * 50.0)).dof_harmonics("pad_x")
     assert before[1] == pytest.approx(np.hypot(direct[1], direct[2]), rel=1e-9)
-    # the worn, wider and flatter contact changes the holder's response
-    assert np.abs(after / before - 1).max() > 1e-3
+    # the worn, wider and flatter contact lowers the holder's amplitude: by 6.06e-4 at 40 Hz with a converged
+    # history (rtol = 1e-5), far above the solves' 1e-10
+    assert np.all(after < before) and np.abs(after / before - 1).max() > 3e-4

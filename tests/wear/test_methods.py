@@ -124,6 +124,32 @@ def test_stepping_dlft_converges_to_stepping_with_shooting_dynamics():
     assert errors[3] < errors[1]
 
 
+def test_huge_horizon_steps_are_bounded_by_u0_and_end_on_the_exact_path():
+    """Horizon 1e30 at the loosest tolerances: no step wears more than MAX_INCREMENT u0, so the history and
+    its end follow the exact load path (before the bound, tol = 0.1 jumped from 0.2 to 1.0 u0 in one step:
+    8.4e-2 u0 off the exact path, measured)."""
+    from fretwear.wear.stepping import MAX_INCREMENT
+
+    model, omega = paper_model(fex=10), TWO_PI * 1.0
+    exact = wear_exact(
+        model, omega, kw=1e-11, cycles=1e30, harmonics=7, stop_fraction=0.99999, max_records=2000
+    )
+    u0 = exact.u0[0]
+    histories = {
+        tol: wear_stepping(model, omega, kw=1e-11, cycles=1e30, harmonics=7, tol=tol) for tol in (0.1, 0.5)
+    }
+    for hist in histories.values():
+        w = hist.wear[:, 0]
+        assert hist.converged and hist.status == "worn" and np.all(w <= u0) and np.all(np.diff(w) >= 0)
+        assert np.diff(w).max() <= MAX_INCREMENT * u0 * (1 + 1e-9)
+        w_exact = exact.at(hist.cycles)["wear"][:, 0]
+        assert np.abs(w - w_exact).max() < 1e-2 * u0  # measured 3.7e-3
+        assert abs(w[-1] - w_exact[-1]) < 1e-2 * u0  # the end: measured 1.9e-3
+    # the horizon sets no step: the same history to 1e5 cycles
+    short = wear_stepping(model, omega, kw=1e-11, cycles=1e5, harmonics=7, tol=0.1)
+    np.testing.assert_array_equal(short.wear, histories[0.1].wear)
+
+
 def test_two_scale_warning_for_the_papers_kw():
     with pytest.warns(RuntimeWarning, match="two-scale"):
         hist = wear_stepping(paper_model(fex=10), TWO_PI * 0.7, kw=1e-6, cycles=10, harmonics=3)
