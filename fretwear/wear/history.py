@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..model import Model
+from ..time.patterns import unsupported
 from .common import WearHistory, resolve_dynamics
 from .exact import exact_path_applies, wear_exact
 from .polynomial import wear_polynomial
@@ -150,4 +151,9 @@ def wear_history(
             f"(it takes {', '.join(entry.options)})"
         )
     options = {k: v for k, v in options.items() if v is not None}
-    return entry.solve(model, omega, kw=kw, cycles=cycles, **options)
+    hist = entry.solve(model, omega, kw=kw, cycles=cycles, **options)
+    reason = unsupported(model) if options.get("dynamics", "auto") == "auto" else None
+    if reason and hist.dynamics == "dlft":
+        hist.warnings.append(f"{hist.label}, an approximation: the exact dynamics do not apply "
+                             f"(the time integrator {reason})")  # fmt: skip
+    return hist

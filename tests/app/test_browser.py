@@ -452,7 +452,7 @@ def test_an_overshoot_is_shown_and_the_no_wear_curve_is_the_methods_own(open_pag
     page = open_page("scene=wearmap&method=polynomial&ncycles=12", first="Wear map (polynomial")
     page.idle()
     page.alert("w / u₀ reaches 1.18 > 1 at 0.7 Hz").wait_for()
-    page.alert("0.7 Hz (polynomial): polynomial fit at 0.7 Hz misses its own Archard law").wait_for()
+    page.alert("0.7 Hz (polynomial on DLFT, Nh = 7): polynomial fit at 0.7 Hz misses its own").wait_for()
     wear_map = page.plot("Wear map")
     assert wear_map["color"] == [[0, pytest.approx(1.18)]]  # the colour scale shows the overshoot
     pseudo = page.plot("Pseudo-FRF of mass 1")

@@ -87,10 +87,13 @@ def test_where_the_exact_dynamics_do_not_apply_dlft_runs_and_the_label_says_so()
     """A unilateral contact: the event-driven integrator does not take it, auto falls back to DLFT."""
     base = fw.paper_model()
     model = Model(M=base.M, C=base.C, K=base.K, force_cos=base.force_cos, friction=base.friction,
-                  normal=(NormalContact(1, None, 1e-3),))  # fmt: skip
+                  normal=(NormalContact(1, None, 1.0),))  # fmt: skip
     assert resolve_dynamics(model) == "dlft"
     with pytest.raises(ValueError, match="unilateral normal contacts"):
         resolve_dynamics(model, "shooting")
+    hist = fw.wear_history(model, TWO_PI * 0.7, kw=1e-11, cycles=1e3)
+    assert hist.label == "stepping on DLFT, Nh = 21"  # several contacts: stepping; no exact dynamics: DLFT
+    assert any("an approximation: the exact dynamics do not apply" in w for w in hist.warnings)
     pair, ground = FrictionContact(0, 1, 1.0, 1e7, 1e-6), FrictionContact(0, None, 1.0, 1e7, 1e-6)
     two = Model(M=base.M, C=base.C, K=base.K, force_cos=base.force_cos, friction=(pair, ground))
     assert resolve_dynamics(two) == "shooting"  # several friction contacts: stepping on the exact dynamics
