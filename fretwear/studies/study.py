@@ -74,6 +74,7 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
+from ..arguments import document, number
 from ..hbm import sweep
 from ..model import paper_model
 from ..wear import METHODS, wear_history
@@ -933,26 +934,6 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
-    return value
-
-
-def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}")
-    return value
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``fretwear study`` (see :func:`run`)."""
     parser.add_argument(
@@ -975,25 +956,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     where.add_argument(
         "--workers",
-        type=_positive_int,
+        type=number("workers"),
         metavar="N",
-        help="worker processes of the local cluster, >= 1; default: one per core",
+        help="worker processes of the local cluster; default: one per core",
     )
     parser.add_argument(
         "--samples",
         dest="draws",  # not "samples": the other commands' --samples is the time samples per period
-        type=_positive_int,
+        type=number("draws"),
         metavar="N",
-        help="number of random draws, >= 1 (overrides study.samples)",
+        help="number of random draws (overrides study.samples)",
     )
     parser.add_argument(
         "--points-per-task",
-        type=_positive_int,
+        type=number("points_per_task"),
         metavar="N",
-        help="points computed by one task, >= 1; default: about 2 s of work, >= 32 tasks",
+        help="points computed by one task; default: about 2 s of work, >= 32 tasks",
     )
     parser.add_argument(
-        "--retries", type=_count, default=2, metavar="N", help="reruns of a task that raises, >= 0; default 2"
+        "--retries",
+        type=number("retries"),
+        default=2,
+        metavar="N",
+        help="reruns of a task that raises; default 2",
     )
     parser.add_argument("--overwrite", action="store_true", help="replace a store that holds another study")
     parser.add_argument(
@@ -1085,6 +1070,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "130 interrupted (rerun to resume).",
     )
     add_arguments(parser)
+    document(parser)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
