@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import inspect
 import json
 import os
 import sys
@@ -909,28 +910,41 @@ def _figures(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _kernel_groups(args: argparse.Namespace) -> tuple[str, ...]:
-    """The compiled kernel groups (:data:`fretwear.compile.KERNELS`) that the command runs."""
+def _library_dynamics(method: str) -> str:
+    """The periodic dynamics ``method`` runs when ``--dynamics`` is not given: the library's default."""
+    param = inspect.signature(METHODS[method].solve).parameters.get("dynamics")
+    return param.default if param is not None and isinstance(param.default, str) else "dlft"
+
+
+def _kernel_needs(args: argparse.Namespace, model: Model | None = None) -> tuple[str, ...]:
+    """The computations of :data:`fretwear.compile.NEEDS` that the command runs (exactly their kernels)."""
     method = getattr(args, "method", None)
     if args.command == "interface":
         return () if args.static else ("interface",)
     if args.command in ("frf", "point"):
         if method == "shooting":
-            return ("exact",)
+            return ("shooting",)
         return ("solver",) if getattr(args, "continuation", False) else ("sweep",)
-    if args.command in ("wear", "map"):
-        groups = ("solver",) + (("polynomial",) if method == "polynomial" else ())
-        return groups + (("exact",) if method == "time" or args.dynamics == "shooting" else ())
-    return ()
+    if args.command not in ("wear", "map") or model is None:
+        return ()
+    method = resolve_method(model, args.method, args.dynamics or "dlft", args.fixed_step)
+    if method == "time":
+        return ("time",)
+    if method == "polynomial":
+        basis = args.basis or ("saturating" if len(model.friction) == 1 else "legendre")
+        return ("polynomial",) if basis == "saturating" else ("galerkin",)
+    dynamics = args.dynamics or _library_dynamics(method)
+    return {"dlft": ("solver",), "shooting": ("shooting",)}.get(dynamics, ("solver", "shooting"))
 
 
-def _compile_notice(args: argparse.Namespace) -> None:
-    """One line on stderr when the compiled kernels the command needs are not in the cache yet."""
-    groups = _kernel_groups(args)
-    message = compiled.notice(*groups) if groups else None
+def _compile_notice(args: argparse.Namespace, model: Model | None = None) -> None:
+    """One line on stderr when a kernel the command runs is not in Numba's cache yet (it will compile)."""
+    needs = _kernel_needs(args, model)
+    message = compiled.notice_for(*needs) if needs else None
     if message:
         print(f"fretwear {args.command}: {message}", file=sys.stderr, flush=True)
-        compiled.compile_ahead(*groups)
+        if "sweep" in needs:
+            compiled.compile_ahead("sweep")
 
 
 _COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map, "cost": _cost}
@@ -1007,7 +1021,7 @@ def _run(args: argparse.Namespace) -> int:
         _compile_notice(args)
         return interface_command.run(args)
     model, names = _model(args)
-    _compile_notice(args)
+    _compile_notice(args, model)
     return _COMMANDS[args.command](args, model, names)
 
 

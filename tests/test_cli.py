@@ -488,3 +488,37 @@ def test_wear_warnings_are_lines_that_say_where(tmp_path, capsys):
                            "--out", str(tmp_path / "w.csv"))  # fmt: skip
         assert code == 0 and err.count("two-scale assumption") == 1
     assert [str(w.message) for w in leaked] == []
+
+
+# -- compile notice ------------------------------------------------------------------
+USED = """
+import json, sys
+import fretwear.compile as c
+from fretwear import cli
+args = cli.build_parser().parse_args(sys.argv[1:])
+needs = cli._kernel_needs(args, cli._model(args)[0])
+cli.main(sys.argv[1:])
+used = {e for k in c.KERNELS.values() for e in k.entry_points if c._dispatcher(e).overloads}
+print(json.dumps([sorted(used), sorted({e for n in needs for e in c.NEEDS[n].entry_points})]))
+"""
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["map", "--nf", "3", "--ncycles", "4", "--method", "exact", "--dynamics", "shooting"],
+        ["wear", "--f", "0.7", "--cycles", "2e4", "--method", "polynomial", "--harmonics", "3"],
+        ["wear", "--f", "0.7", "--cycles", "2e4", "--harmonics", "3"],
+    ],
+)
+def test_the_compile_notice_asks_for_exactly_the_kernels_the_command_runs(tmp_path, argv):
+    """Issue 22: `map --method exact --dynamics shooting` and `wear --method polynomial` announced kernels
+    they never run, so the notice showed on every run. In a new process (no kernel loaded, no sliding
+    table on disk), the kernels the command loads are exactly those its notice asks the cache about."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "FRETWEAR_CACHE_DIR": ""}
+    argv = [*argv, "--out", str(tmp_path / "x.csv")]
+    done = subprocess.run([sys.executable, "-c", USED, *argv], capture_output=True, text=True, env=env,
+                          timeout=300)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    used, asked = json.loads(done.stdout.splitlines()[-1])
+    assert used == asked

@@ -74,7 +74,7 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
-from ..arguments import document, number
+from ..arguments import atomic, check_output, document, number
 from ..hbm import sweep
 from ..model import paper_model
 from ..wear import METHODS, wear_history
@@ -692,13 +692,20 @@ def run_study(
         Interrupted: the blocks written so far stay in the store; rerun to resume.
     """
     out = Path(out)
-    group, _ = _open_store(spec, out, overwrite)
-    lay = layout(spec)
-    seconds_done = np.asarray(group["task_seconds"][:])
-    pending = [t for t in range(lay.n_tasks) if np.isnan(seconds_done[t])]
-    result = StudyRun(out, spec.n_points, lay.n_tasks, resumed=lay.n_tasks - len(pending))
-    if pending:
-        _compute(spec, lay, group, pending, result, client, scheduler, workers, retries, progress, log)
+    connected = None
+    if client is None and scheduler is not None:  # an unreachable scheduler must not leave a new store
+        client, _ = connected = _start_client(scheduler, None)
+    try:
+        group, _ = _open_store(spec, out, overwrite)
+        lay = layout(spec)
+        seconds_done = np.asarray(group["task_seconds"][:])
+        pending = [t for t in range(lay.n_tasks) if np.isnan(seconds_done[t])]
+        result = StudyRun(out, spec.n_points, lay.n_tasks, resumed=lay.n_tasks - len(pending))
+        if pending:
+            _compute(spec, lay, group, pending, result, client, scheduler, workers, retries, progress, log)
+    finally:
+        if connected is not None:
+            connected[0].close()
     status = np.asarray(group["status"][:]).ravel()
     counts = np.bincount(status.astype(np.int64), minlength=len(STATUS))
     result.status_counts = {STATUS[c]: int(counts[c]) for c in range(len(STATUS)) if counts[c]}
@@ -989,6 +996,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
+#: the formats of ``--figure`` (Matplotlib's, by suffix)
+_FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``fretwear study`` with parsed ``args``.
 
@@ -1004,6 +1015,12 @@ def run(args: argparse.Namespace) -> int:
         print(f"fretwear study: {message}", file=sys.stderr, flush=True)
 
     try:
+        for option, path, suffixes in (("--out", args.out, ()), ("--figure", args.figure, _FIGURE_SUFFIXES)):
+            if path is not None:  # before any work: the study must not run to find it cannot be written
+                try:
+                    check_output(path, suffixes, folder=option == "--out")
+                except ValueError as exc:
+                    raise SpecError(option, str(exc)) from None
         spec = read_spec(args.spec, samples=args.draws, points_per_task=args.points_per_task)
         if args.figure is not None and "wear_life" not in spec.quantities:
             raise SpecError("--figure", "needs the quantity 'wear_life'")
@@ -1056,7 +1073,8 @@ def run(args: argparse.Namespace) -> int:
                 f"({s['n']} samples, {s['stuck']} stuck, {s['beyond_horizon']} beyond the horizon)"
             )
         if args.figure is not None:
-            wear_life_figure(ds, 0.5).savefig(args.figure, dpi=150)
+            with atomic(args.figure) as temp:
+                wear_life_figure(ds, 0.5).savefig(temp, dpi=150)
             say(f"wrote {args.figure}")
     return EXIT_OK if result.complete and not result.failed_points else EXIT_NOT_CONVERGED
 
