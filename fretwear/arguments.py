@@ -13,7 +13,25 @@ from pathlib import Path
 
 from .parameters import argument_type, describe
 
-__all__ = ["number", "valid", "document", "check_output", "atomic", "staged_folder"]
+__all__ = [
+    "number",
+    "valid",
+    "document",
+    "check_output",
+    "atomic",
+    "staged_folder",
+    "PARTIAL",
+    "remove_partial",
+]
+
+#: the temporary files and folders being written (:func:`atomic`, :func:`staged_folder`), for a hard exit
+PARTIAL: set[Path] = set()
+
+
+def remove_partial() -> None:
+    """Remove what :func:`atomic` and :func:`staged_folder` are writing (before a hard exit on Ctrl-C)."""
+    for path in list(PARTIAL):
+        shutil.rmtree(path, ignore_errors=True) if path.is_dir() else path.unlink(missing_ok=True)
 
 
 def number(name: str, low: float | None = None) -> Callable[[str], float | int]:
@@ -83,6 +101,7 @@ def atomic(path: str | Path) -> Iterator[Path]:
     fd, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".partial{path.suffix}", dir=path.parent)
     os.close(fd)
     temp = Path(name)
+    PARTIAL.add(temp)
     try:
         yield temp
         mask = os.umask(0)  # mkstemp made it 0600: give it the mode a new file gets
@@ -91,6 +110,7 @@ def atomic(path: str | Path) -> Iterator[Path]:
         os.replace(temp, path)
     finally:
         temp.unlink(missing_ok=True)
+        PARTIAL.discard(temp)
 
 
 @contextmanager
@@ -101,6 +121,7 @@ def staged_folder(folder: str | Path) -> Iterator[Path]:
     while not base.exists():
         base = base.parent
     temp = Path(tempfile.mkdtemp(prefix=f".{folder.name}.partial-", dir=base))
+    PARTIAL.add(temp)
     try:
         yield temp
         folder.mkdir(parents=True, exist_ok=True)
@@ -108,3 +129,4 @@ def staged_folder(folder: str | Path) -> Iterator[Path]:
             os.replace(item, folder / item.name)
     finally:
         shutil.rmtree(temp, ignore_errors=True)
+        PARTIAL.discard(temp)

@@ -49,20 +49,24 @@ resumes when rerun.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import inspect
 import json
 import os
+import signal
 import sys
+import threading
+import time
 import warnings
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from . import compile as compiled
-from .arguments import atomic, check_output, document, number, staged_folder
+from .arguments import atomic, check_output, document, number, remove_partial, staged_folder
 from .hbm.continuation import continuation, sweep
 from .hbm.linear import linear_frf
 from .hbm.periodic import solve_periodic
@@ -967,6 +971,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         ``2`` bad input or an output that cannot be written, ``3`` some result did not converge or
         is incomplete, ``130`` interrupted (Ctrl-C; nothing partial is left, ``study`` resumes).
     """
+    interactive = argv is None  # a real command line: Ctrl-C also gets a hard stop (_interrupt)
     argv = list(sys.argv[1:] if argv is None else argv)
     # One OpenBLAS thread (unless set): fretwear's dense solves gain nothing from more on an idle machine,
     # and threads waiting for a busy core made them 3-25x slower under load (measured). SciPy's BLAS reads
@@ -975,6 +980,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     command = next((a for a in argv if a in parser.commands), "")  # type: ignore[attr-defined]
     name = f"fretwear {command}".strip()
+    undo = _interrupt(name) if interactive and command != "study" else None  # study: its own handler
     try:
         try:
             _apply_settings(parser, argv)
@@ -991,7 +997,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt:
         resume = "; rerun the same command to resume" if command == "study" else "; nothing was written"
-        print(f"{name}: interrupted{resume}", file=sys.stderr)
+        print(f"{name}: interrupted{resume}", file=sys.stderr, flush=True)
+        _SAID.set()  # the pools' threads may still hold the exit: the hard stop then says nothing more
         return EXIT_INTERRUPTED
     except BrokenPipeError:  # stdout closed early, e.g. `fretwear frf ... --out - | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
@@ -1008,6 +1015,54 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"{name}: internal error: {type(exc).__name__}: {text} (please report it with the command)",
               file=sys.stderr)  # fmt: skip
         return EXIT_ERROR
+    finally:
+        if undo is not None:
+            undo()
+
+
+#: seconds between Ctrl-C and the hard stop, if the command has not unwound by then
+INTERRUPT_GRACE = 0.5
+_SAID = threading.Event()  # the interrupt's line is printed
+
+
+def _interrupt(name: str) -> Callable[[], None] | None:
+    """Ctrl-C raises KeyboardInterrupt, as usual, and stops the process ``INTERRUPT_GRACE`` s later if it
+    is still running; returns the function that undoes this (None off the main thread).
+
+    A compiled kernel holds the interpreter until it returns (Python runs signal handlers between
+    bytecodes only), and a thread pool finishes its tasks before Python exits: either could hold the
+    process for seconds or minutes. A thread woken by the signal itself (``signal.set_wakeup_fd``, written
+    by the interpreter's C handler; fretwear's kernels release the GIL) gives the hard stop, which
+    removes the partial outputs first (:data:`fretwear.arguments.PARTIAL`).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    read, write = os.pipe()
+    os.set_blocking(write, False)
+    try:
+        previous = signal.set_wakeup_fd(write, warn_on_full_buffer=False)
+    except ValueError:  # not the main interpreter
+        os.close(read), os.close(write)
+        return None
+
+    def watch() -> None:
+        while (byte := os.read(read, 1)) and byte[0] not in (0, signal.SIGINT):
+            pass  # another signal
+        if byte and byte[0] == signal.SIGINT:
+            time.sleep(INTERRUPT_GRACE)
+            remove_partial()
+            if not _SAID.is_set():
+                print(f"{name}: interrupted; nothing was written", file=sys.stderr, flush=True)
+            os._exit(EXIT_INTERRUPTED)
+
+    threading.Thread(target=watch, name="fretwear-interrupt", daemon=True).start()
+
+    def undo() -> None:
+        signal.set_wakeup_fd(previous)
+        with contextlib.suppress(OSError):
+            os.write(write, b"\0")  # wakes the watcher, which ends
+
+    return undo
 
 
 def _run(args: argparse.Namespace) -> int:
