@@ -933,10 +933,10 @@ def _kernel_needs(args: argparse.Namespace, model: Model | None = None) -> tuple
         return ()
     method = resolve_method(model, args.method, args.dynamics or "dlft", args.fixed_step)
     if method == "time":
-        return ("time",)
+        return ("shooting", "time")
     if method == "polynomial":
         basis = args.basis or ("saturating" if len(model.friction) == 1 else "legendre")
-        return ("polynomial",) if basis == "saturating" else ("galerkin",)
+        return ("solver", "polynomial" if basis == "saturating" else "galerkin")
     dynamics = args.dynamics or _library_dynamics(method)
     return {"dlft": ("solver",), "shooting": ("shooting",)}.get(dynamics, ("solver", "shooting"))
 

@@ -276,30 +276,30 @@ class Need:
         ``"module:function"``: exactly those the computation runs (measured: the dispatchers with
         machine code after it), so that a cached computation is never announced.
     seconds : float
-        Compile time in a new process with an empty cache, measured on the project's 2-core machine
-        (other jobs running), each need after those listed before it in :data:`NEEDS`.
+        Compile time in a new process with an empty cache, the needs listed before it in :data:`NEEDS`
+        already compiled (measured on the project's 2-core machine).
     """
 
     entry_points: tuple[str, ...]
     seconds: float
 
 
-_SOLVER = KERNELS["solver"].entry_points
 _SHOOTING = (
     "fretwear.time.kernels:solve",
     "fretwear.wear.sliding:_invert",
     "fretwear.hbm.condensation:condense_loop",
 )
 
-#: what each computation of the command line compiles on a first run, by name
+#: what each computation of the command line compiles on a first run, by name; the seconds were measured
+#: on the project's 2-core machine with other jobs running (load 4-7, a quiet machine takes about a third)
 NEEDS: dict[str, Need] = {
-    "sweep": Need(KERNELS["sweep"].entry_points, 20.0),  # frf, point
-    "solver": Need(_SOLVER, 20.0),  # frf --continuation; wear and map on DLFT (exact, stepping)
-    "polynomial": Need(_SOLVER + ("fretwear.wear.polynomial:_chain",), 30.0),  # saturating basis
-    "galerkin": Need(_SOLVER + ("fretwear.wear.polynomial:_galerkin",), 30.0),  # legendre, monomial bases
-    "shooting": Need(_SHOOTING, 60.0),  # --method shooting, --dynamics shooting (tables, the exact map)
-    "time": Need(KERNELS["exact"].entry_points[:4], 60.0),  # --method time
-    "interface": Need(KERNELS["interface"].entry_points, 30.0),
+    "sweep": Need(KERNELS["sweep"].entry_points, 35.0),  # frf, point
+    "solver": Need(KERNELS["solver"].entry_points, 60.0),  # continuation; wear and map on DLFT dynamics
+    "polynomial": Need(("fretwear.wear.polynomial:_chain",), 60.0),  # with "solver": saturating basis
+    "galerkin": Need(("fretwear.wear.polynomial:_galerkin",), 45.0),  # with "solver": legendre, monomial
+    "shooting": Need(_SHOOTING, 220.0),  # --method shooting, --dynamics shooting (tables, the exact map)
+    "time": Need(KERNELS["exact"].entry_points[:4], 25.0),  # with "shooting": --method time
+    "interface": Need(KERNELS["interface"].entry_points, 175.0),
 }
 
 
