@@ -250,6 +250,12 @@ def test_any_value_inside_an_options_range_parses_to_itself(data):
 
 
 # -- interrupts ----------------------------------------------------------------------------------------
+def interrupt_limit() -> float:
+    """2 s from Ctrl-C to the exit (0.5-1 s measured), stretched by the machine's load: at load 6 on 2
+    cores each process gets a third of a core (2.7 s was seen once)."""
+    return 2.0 * max(1.0, os.getloadavg()[0] / (os.cpu_count() or 1))
+
+
 # as the `fretwear` script: main() reads sys.argv; "ready" once imported, when Ctrl-C reaches main
 READY = "import sys, fretwear.cli as c; print('ready', flush=True); sys.exit(c.main())"
 
@@ -286,7 +292,7 @@ def test_ctrl_c_in_map_exits_130_at_once_and_writes_nothing(tmp_path):
     code, err, seconds = _interrupt(tmp_path, argv)
     assert "Traceback" not in err and code == 130, err
     assert err.strip().splitlines()[-1] == "fretwear map: interrupted; nothing was written"
-    assert seconds < 2
+    assert seconds < interrupt_limit()
     assert list(tmp_path.iterdir()) == []
 
 
@@ -294,7 +300,7 @@ def test_ctrl_c_in_figures_exits_130_at_once_and_leaves_no_file(tmp_path):
     staging = lambda: any(tmp_path.glob(".figs.partial-*/*"))  # noqa: E731 - a first figure is written
     code, err, seconds = _interrupt(tmp_path, ["figures", "--out", "figs", "--harmonics", "7"], staging)
     assert "Traceback" not in err and code == 130, err
-    assert seconds < 2
+    assert seconds < interrupt_limit()
     assert list(tmp_path.iterdir()) == []
 
 
@@ -310,5 +316,5 @@ def test_ctrl_c_in_a_compiled_interface_wear_history_exits_130_at_once(tmp_path)
     pid = []
     code, err, seconds = _interrupt(tmp_path, argv, lambda: _cpu_seconds(pid[0]) > 4.0, pid)
     assert "Traceback" not in err and code == 130, err
-    assert seconds < 2
+    assert seconds < interrupt_limit()
     assert list(tmp_path.iterdir()) == []
