@@ -537,7 +537,7 @@ OUT_SUFFIXES = {
     "frf": (".csv",),
     "linear": (".csv",),
     "cost": (".csv",),
-    "interface": (".csv",),
+    "interface": (".csv", ".json"),  # .json: the quasi-static limit (--static)
     "wear": (".csv", *(".png", ".svg", ".html")),
     "map": (".csv", ".npz", ".png", ".svg", ".html"),
 }

@@ -522,3 +522,27 @@ def test_the_compile_notice_asks_for_exactly_the_kernels_the_command_runs(tmp_pa
     assert done.returncode == 0, done.stderr
     used, asked = json.loads(done.stdout.splitlines()[-1])
     assert used == asked
+
+
+def test_a_settings_file_written_as_the_help_suggests_runs(tmp_path, capsys):
+    """Issue 22: {"fex": 14, "mu": 0.8, "kw": 1e-10} (the --help example) failed with "--fmin, --fmax
+    required"; without --model the band defaults to the paper model's, 0.3-1.3 Hz."""
+    settings = tmp_path / "s.json"
+    settings.write_text('{"fex": 14, "mu": 0.8, "kw": 1e-10}')
+    out = tmp_path / "m.csv"
+    argv = ["map", "--settings", str(settings), "--nf", "3", "--ncycles", "4", "--out", str(out)]
+    code, _, err = run(capsys, *argv)
+    assert code == 0, err
+    f = column(read_csv(out)[1], "f_hz")
+    assert (f.min(), f.max()) == (0.3, 1.3)
+
+
+def test_outputs_are_written_whole_with_the_usual_mode(tmp_path, capsys):
+    """Files are written under a temporary name and renamed: none is left beside, and the mode is a new
+    file's (not mkstemp's 0600)."""
+    out = tmp_path / "x.csv"
+    assert run(capsys, "linear", *BAND, "--out", str(out))[0] == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["x.csv"]
+    mask = os.umask(0)
+    os.umask(mask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~mask
