@@ -260,10 +260,10 @@ class Session(param.Parameterized):
         acc = self.scenes["accuracy"]
         with self.one_request():
             for key, value in record.items():
-                if key in ("scene", "method", "quantity", "ladder") or key == "target":
+                if key in ("scene", "method", "dynamics", "quantity", "ladder") or key == "target":
                     owner, name = {"scene": (self, "scene"), "method": (self.controls, "method"),
-                                   "quantity": (acc, "quantity"), "ladder": (acc, "ladder"),
-                                   "target": (acc, "target")}[key]  # fmt: skip
+                                   "dynamics": (self.controls, "dynamics"), "quantity": (acc, "quantity"),
+                                   "ladder": (acc, "ladder"), "target": (acc, "target")}[key]  # fmt: skip
                     objects = owner.param[name].objects
                     if key == "target":
                         value = parse_number(str(value))

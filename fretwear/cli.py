@@ -35,28 +35,37 @@ Output columns (CSV) and keys (JSON)
 
 Exit status
 -----------
-0 on success; 2 on bad input (a one-line message on stderr names the option
-and its valid range); 3 when some frequency did not converge (its row is
+0 when every result converged; 1 on an internal error (a bug: one line names
+the command and the error, never a traceback); 2 on bad input or an output
+that cannot be written (a one-line message on stderr names the option, its
+valid range from :mod:`fretwear.parameters` and the value), checked before any
+work starts; 3 when some result did not converge or is incomplete (its row is
 still written, with ``converged=False`` and its residual) or a continuation
-stopped before the end of the band.
+stopped before the end of the band; 130 when interrupted (Ctrl-C): nothing
+partial is written (files are renamed into place when whole), and ``study``
+resumes when rerun.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import json
 import os
+import signal
 import sys
+import threading
+import time
 import warnings
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from . import compile as compiled
-from .arguments import number
+from .arguments import atomic, check_output, document, number, remove_partial, staged_folder
 from .hbm.continuation import continuation, sweep
 from .hbm.linear import linear_frf
 from .hbm.periodic import solve_periodic
@@ -75,14 +84,25 @@ from .wear import (
     cycle_grid,
     exact_answer_applies,
     method_options,
+    resolve_dynamics,
     resolve_method,
     wear_history,
 )
 from .wear.polynomial import BASES
 
-__all__ = ["main", "build_parser", "EXIT_OK", "EXIT_USAGE", "EXIT_NOT_CONVERGED"]
+__all__ = [
+    "main",
+    "build_parser",
+    "EXIT_OK",
+    "EXIT_ERROR",
+    "EXIT_USAGE",
+    "EXIT_NOT_CONVERGED",
+    "EXIT_INTERRUPTED",
+]
 
-EXIT_OK, EXIT_USAGE, EXIT_NOT_CONVERGED = 0, 2, 3
+#: exit statuses: every result converged; an internal error; bad input; some result did not converge or is
+#: incomplete; interrupted (Ctrl-C)
+EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
 #: the paper's values (section 2.1) of the paper-model options
 PAPER_DEFAULTS = {"fex": 10.0, "mu": 1.0, "fn": 10.0, "kn": 1e7}
@@ -112,19 +132,19 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
         + ", ".join(example_names())
         + "; excludes the paper-model options",
     )
-    group.add_argument("--fex", type=number(unit="N"), help="excitation amplitude on mass 1 (N); default 10")
-    group.add_argument("--mu", type=number(0.0), help="friction coefficient (-), >= 0; default 1")
+    group.add_argument("--fex", type=number("fex"), help="excitation amplitude on mass 1 (N); default 10")
+    group.add_argument("--mu", type=number("mu"), help="friction coefficient (-); default 1")
     load = group.add_mutually_exclusive_group()
-    load.add_argument("--fn", type=number(0.0, unit="N"), help="normal load F_N (N), >= 0; default 10")
+    load.add_argument("--fn", type=number("fn"), help="normal load F_N (N); default 10")
     load.add_argument(
         "--u0",
-        type=number(0.0, unit="m"),
-        help="normal interference u0 (m), >= 0, instead of --fn: F_N = kn u0",
+        type=number("u0"),
+        help="normal interference u0 (m), instead of --fn: F_N = kn u0",
     )
     group.add_argument(
         "--kn",
-        type=number(0.0, strict=True, unit="N/m"),
-        help="normal contact stiffness (N/m), > 0; default 1e7",
+        type=number("kn"),
+        help="normal contact stiffness (N/m); default 1e7",
     )
 
 
@@ -132,38 +152,37 @@ def _add_solver_options(parser: argparse.ArgumentParser, default: int | None = 7
     """``--harmonics`` and ``--samples`` (``default``: of ``--harmonics``; None: the exact dynamics)."""
     parser.add_argument(
         "--harmonics",
-        type=number(1, integer=True),
+        type=number("harmonics"),
         default=default,
         metavar="NH",
-        help="highest harmonic Nh (-), >= 1; default 7"
+        help="highest harmonic Nh (-); default 7"
         if default
-        else "highest harmonic Nh (-), >= 1, of the DLFT dynamics (giving it asks for them); "
+        else "highest harmonic Nh (-) of the DLFT dynamics (giving it asks for them); "
         "default: the exact dynamics where they apply, else Nh = 21 (polynomial: 3)",
     )
     parser.add_argument(
         "--samples",
-        type=number(1, integer=True),
+        type=number("samples"),
         metavar="N",
-        help="time samples per period N (-), >= 2 Nh + 1; default: next power of 2 >= 16 Nh",
+        help="time samples per period N (-), at least 2 Nh + 1; default: next power of 2 >= 16 Nh",
     )
 
 
 def _add_band_options(parser: argparse.ArgumentParser) -> None:
     """``--fmin --fmax --n --out``."""
     parser.add_argument(
-        "--fmin", type=number(0.0, strict=True, unit="Hz"), required=True, help="lowest frequency (Hz), > 0"
+        "--fmin",
+        type=number("fmin"),
+        help="lowest frequency (Hz); default 0.3 with the paper model, required with --model",
     )
-    parser.add_argument(
-        "--fmax",
-        type=number(0.0, strict=True, unit="Hz"),
-        required=True,
-        help="highest frequency (Hz), >= --fmin",
-    )
+    parser.add_argument("--fmax", type=number("fmax"),
+                        help="highest frequency (Hz), not below --fmin; default 1.3 with the paper model, "
+                        "required with --model")  # fmt: skip
     parser.add_argument(
         "--n",
-        type=number(1, integer=True),
+        type=number("n"),
         default=101,
-        help="number of equally spaced frequencies (-), >= 1; default 101",
+        help="number of equally spaced frequencies (-); default 101",
     )
     parser.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
 
@@ -174,8 +193,11 @@ def build_parser() -> argparse.ArgumentParser:
         prog="fretwear",
         description="Periodic response of structures with dry-friction contacts (HBM + DLFT). "
         "Frequencies in Hz, everything else in SI units.",
-        epilog="Exit status: 0 success, 2 bad input, 3 some frequency did not converge "
-        "(its row is still written, with converged=False).",
+        epilog="Exit status: 0 every result converged; 1 internal error (a bug, one line on stderr); "
+        "2 bad input or an output that cannot be written (one line names the option, its valid range and "
+        "the value), checked before any work; 3 some result did not converge or is incomplete (its row is "
+        "still written, with converged=False); 130 interrupted by Ctrl-C (nothing partial is written; "
+        "study resumes when rerun).",
     )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     parser.commands = commands.choices  # type: ignore[attr-defined]  # name -> subcommand parser
@@ -217,10 +239,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     point.add_argument(
         "--f",
-        type=number(0.0, strict=True, unit="Hz"),
+        type=number("f"),
         required=True,
         metavar="HZ",
-        help="excitation frequency (Hz), > 0",
+        help="excitation frequency (Hz)",
     )
     _add_model_options(point)
     _add_solver_options(point)
@@ -232,8 +254,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Fretting wear w(N) over the cycle count N at one frequency, by slow-time stepping, "
         "the polynomial slow-time DLFT or direct time integration, written as CSV.",
     )
-    wear.add_argument("--f", type=number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
-                      help="excitation frequency (Hz), > 0")  # fmt: skip
+    wear.add_argument("--f", type=number("f"), required=True, metavar="HZ",
+                      help="excitation frequency (Hz)")  # fmt: skip
     _add_model_options(wear)
     _add_wear_options(wear)
     wear.add_argument(
@@ -252,14 +274,18 @@ def build_parser() -> argparse.ArgumentParser:
         ".npz, or the figure when it ends in .png, .svg or .html (with its parameters as caption).",
     )
     _add_model_options(wmap)
-    wmap.add_argument("--fmin", type=number(0.0, strict=True, unit="Hz"), required=True,
-                      help="lowest frequency (Hz), > 0")  # fmt: skip
-    wmap.add_argument("--fmax", type=number(0.0, strict=True, unit="Hz"), required=True,
-                      help="highest frequency (Hz), >= --fmin")  # fmt: skip
-    wmap.add_argument("--nf", type=number(1, integer=True), default=41,
-                      help="number of frequencies (-), >= 1; default 41")  # fmt: skip
-    wmap.add_argument("--ncycles", type=number(2, integer=True), default=60,
-                      help="number of log-spaced cycle counts (-), >= 2; default 60")  # fmt: skip
+    wmap.add_argument(
+        "--fmin",
+        type=number("fmin"),
+        help="lowest frequency (Hz); default 0.3 with the paper model, required with --model",
+    )
+    wmap.add_argument("--fmax", type=number("fmax"),
+                      help="highest frequency (Hz), not below --fmin; default 1.3 with the paper model, "
+                      "required with --model")  # fmt: skip
+    wmap.add_argument("--nf", type=number("nf"), default=41,
+                      help="number of frequencies (-); default 41")  # fmt: skip
+    wmap.add_argument("--ncycles", type=number("ncycles"), default=60,
+                      help="number of log-spaced cycle counts (-); default 60")  # fmt: skip
     _add_wear_options(wmap)
     wmap.add_argument("--out", required=True, metavar="FILE",
                       help="CSV (long format), .npz, or a figure: .png, .svg, .html")  # fmt: skip
@@ -270,13 +296,13 @@ def build_parser() -> argparse.ArgumentParser:
         "methods) at one frequency against a converged reference (shooting; with --kw and --cycles also "
         "w(N) against stepping with shooting dynamics) and writes error vs wall time per rung.",
     )
-    cost.add_argument("--f", type=number(0.0, strict=True, unit="Hz"), required=True, metavar="HZ",
-                      help="excitation frequency (Hz), > 0")  # fmt: skip
+    cost.add_argument("--f", type=number("f"), required=True, metavar="HZ",
+                      help="excitation frequency (Hz)")  # fmt: skip
     _add_model_options(cost)
-    cost.add_argument("--kw", type=number(0.0, unit="1/N"), help="Archard coefficient (1/N): adds wear rungs")
-    cost.add_argument("--cycles", type=number(0.0, strict=True), help="wear horizon (cycles), with --kw")
-    cost.add_argument("--target", type=number(0.0, strict=True), default=1e-2,
-                      help="target relative error for the recommendation (-), > 0; default 1e-2")  # fmt: skip
+    cost.add_argument("--kw", type=number("kw"), help="Archard coefficient (1/N): adds wear rungs")
+    cost.add_argument("--cycles", type=number("cycles"), help="wear horizon (cycles), with --kw")
+    cost.add_argument("--target", type=number("target"), default=1e-2,
+                      help="target relative error for the recommendation (-); default 1e-2")  # fmt: skip
     cost.add_argument("--quick", action="store_true", help="a shorter ladder")
     cost.add_argument("--out", required=True, metavar="FILE.csv", help="CSV file to write ('-': stdout)")
 
@@ -287,57 +313,57 @@ def build_parser() -> argparse.ArgumentParser:
         "(and .html with --formats) to --out. Needs matplotlib and holoviews (installed with fretwear).",
     )
     figures.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
-    figures.add_argument("--harmonics", type=number(1, integer=True), default=21, metavar="NH",
-                         help="highest harmonic Nh (-), >= 1; default 21")  # fmt: skip
-    figures.add_argument("--kw", type=number(0.0, unit="1/N"), default=1e-11,
-                         help="Archard coefficient K_w (1/N), >= 0; default 1e-11")  # fmt: skip
-    figures.add_argument("--cycles", type=number(0.0, strict=True), default=1e5,
-                         help="wear horizon (cycles), > 0; default 1e5")  # fmt: skip
-    figures.add_argument("--nf", type=number(2, integer=True), default=41,
-                         help="frequencies of the maps (-), >= 2; default 41")  # fmt: skip
-    figures.add_argument("--ncycles", type=number(3, integer=True), default=60,
-                         help="cycle counts of the maps (-), >= 3; default 60")  # fmt: skip
-    figures.add_argument("--fmin", type=number(0.0, strict=True, unit="Hz"), default=0.3,
-                         help="lowest frequency (Hz), > 0; default 0.3")  # fmt: skip
-    figures.add_argument("--fmax", type=number(0.0, strict=True, unit="Hz"), default=1.3,
-                         help="highest frequency (Hz), > --fmin; default 1.3")  # fmt: skip
+    figures.add_argument("--harmonics", type=number("harmonics"), default=21, metavar="NH",
+                         help="highest harmonic Nh (-); default 21")  # fmt: skip
+    figures.add_argument("--kw", type=number("kw"), default=1e-11,
+                         help="Archard coefficient K_w (1/N); default 1e-11")  # fmt: skip
+    figures.add_argument("--cycles", type=number("cycles"), default=1e5,
+                         help="wear horizon (cycles); default 1e5")  # fmt: skip
+    figures.add_argument("--nf", type=number("nf", low=2), default=41,
+                         help="frequencies of the maps (-); default 41")  # fmt: skip
+    figures.add_argument("--ncycles", type=number("ncycles", low=3), default=60,
+                         help="cycle counts of the maps (-); default 60")  # fmt: skip
+    figures.add_argument("--fmin", type=number("fmin"), default=0.3,
+                         help="lowest frequency (Hz); default 0.3")  # fmt: skip
+    figures.add_argument("--fmax", type=number("fmax"), default=1.3,
+                         help="highest frequency (Hz), above --fmin; default 1.3")  # fmt: skip
     figures.add_argument(
         "--f",
-        type=number(0.0, strict=True, unit="Hz"),
+        type=number("f"),
         default=0.7,
         metavar="HZ",
-        help="frequency of the wear histories of Fig. 10 and 11 (Hz), > 0; default 0.7",
+        help="frequency of the wear histories of Fig. 10 and 11 (Hz); default 0.7",
     )
     figures.add_argument("--method", choices=("auto", *METHODS), default="auto",
                          help="slow-time method of the wear maps; default auto (exact)")  # fmt: skip
     figures.add_argument(
         "--tol",
-        type=number(0.0, strict=True),
+        type=number("tol"),
         default=1e-3,
         help="tolerance of stepping and time integration (fraction of u0); default 1e-3",
     )
     figures.add_argument(
         "--degree",
-        type=number(0, integer=True),
+        type=number("degree"),
         default=4,
-        help="degree of the polynomial method (Fig. 11, 12, 14), in [1, 12]; default 4",
+        help="degree of the polynomial method (Fig. 11, 12, 14); default 4",
     )
     figures.add_argument("--formats", default="png,svg,csv",
                          help="formats, comma-separated: png, svg, html, csv")  # fmt: skip
-    figures.add_argument("--width", type=number(0.0, strict=True, unit="in"),
-                         help="figure width (in), in [2, 30]; default: each figure's own")  # fmt: skip
-    figures.add_argument("--height", type=number(0.0, strict=True, unit="in"),
-                         help="figure height (in), in [2, 30]; default: each figure's own")  # fmt: skip
+    figures.add_argument("--width", type=number("width"),
+                         help="figure width (in); default: each figure's own")  # fmt: skip
+    figures.add_argument("--height", type=number("height"),
+                         help="figure height (in); default: each figure's own")  # fmt: skip
     figures.add_argument(
         "--dpi",
-        type=number(1, integer=True),
+        type=number("dpi"),
         default=120,
-        help="resolution of the PNG files (dots per inch), in [50, 600]; default 120",
+        help="resolution of the PNG files (dots per inch); default 120",
     )
     figures.add_argument(
         "--fontsize",
-        type=number(0.0, strict=True, unit="pt"),
-        help="font size of the axis labels (pt), in [4, 40]; default Matplotlib's",
+        type=number("fontsize"),
+        help="font size of the axis labels (pt); default Matplotlib's",
     )
 
     for name in ("frf", "linear", "point", "wear", "map", "cost", "figures"):
@@ -360,6 +386,8 @@ def build_parser() -> argparse.ArgumentParser:
             "an interrupted study. Read the result with xarray.open_zarr(RESULT).",
         )
     )
+    for sub in commands.choices.values():
+        document(sub)
     return parser
 
 
@@ -451,10 +479,10 @@ def _add_method_option(parser: argparse.ArgumentParser) -> None:
 
 def _add_wear_options(parser: argparse.ArgumentParser) -> None:
     """Slow-time options of ``wear`` and ``map``."""
-    parser.add_argument("--kw", type=number(0.0, unit="1/N"), default=1e-11,
-                        help="Archard coefficient K_w (1/N), >= 0; default 1e-11")  # fmt: skip
-    parser.add_argument("--cycles", type=number(0.0, strict=True), default=1e5,
-                        help="horizon: number of vibration cycles N (-), > 0; default 1e5")  # fmt: skip
+    parser.add_argument("--kw", type=number("kw"), default=1e-11,
+                        help="Archard coefficient K_w (1/N); default 1e-11")  # fmt: skip
+    parser.add_argument("--cycles", type=number("cycles"), default=1e5,
+                        help="horizon: number of vibration cycles N (-); default 1e5")  # fmt: skip
     parser.add_argument("--method", choices=("auto", *METHODS), default="auto",
                         help="slow-time method: "
                         + "; ".join(f"{m.name}: {m.title}" for m in METHODS.values())
@@ -465,14 +493,14 @@ def _add_wear_options(parser: argparse.ArgumentParser) -> None:
                         "shooting where it applies (friction contacts only) unless --harmonics or "
                         "--samples ask for harmonic balance")  # fmt: skip
     _add_solver_options(parser, default=None)
-    parser.add_argument("--degree", type=number(1, integer=True),
-                        help="degree m of the polynomial method (-), in [1, 12]; default 4")  # fmt: skip
+    parser.add_argument("--degree", type=number("degree"),
+                        help="degree m of the polynomial method (-); default 4")  # fmt: skip
     parser.add_argument("--basis", choices=BASES,
                         help="slow-time basis of the polynomial method; default saturating")  # fmt: skip
-    parser.add_argument("--tol", type=number(0.0, strict=True),
+    parser.add_argument("--tol", type=number("tol"),
                         help="local error tolerance on w/u0 of stepping and of the cycle jumps of time "
-                        "integration (-), in (0, 1); default 1e-3")  # fmt: skip
-    parser.add_argument("--fixed-step", type=number(0.0, strict=True), metavar="DN",
+                        "integration (-); default 1e-3")  # fmt: skip
+    parser.add_argument("--fixed-step", type=number("fixed_step"), metavar="DN",
                         help="stepping with a fixed step of DN cycles (explicit Euler; 1 = the paper's "
                         "per-period update, eq. 24) instead of the adaptive pair")  # fmt: skip
 
@@ -516,16 +544,42 @@ def _model(args: argparse.Namespace) -> tuple[Model, _Names]:
     return model, _Names(dofs=("x1", "x2"), contacts=("xr",), friction=("",))
 
 
+#: the paper model's band (Hz), the --fmin / --fmax of frf, linear and map without --model: its two modes
+PAPER_BAND = (0.3, 1.3)
+
+#: the suffixes of --out that each command writes ("-" is stdout for the CSV ones)
+OUT_SUFFIXES = {
+    "frf": (".csv",),
+    "linear": (".csv",),
+    "cost": (".csv",),
+    "interface": (".csv", ".json"),  # .json: the quasi-static limit (--static)
+    "wear": (".csv", *(".png", ".svg", ".html")),
+    "map": (".csv", ".npz", ".png", ".svg", ".html"),
+}
+
+
 def _check(args: argparse.Namespace) -> None:
-    """Checks that involve several options."""
+    """Checks that involve several options, and the output path, before any work."""
+    if hasattr(args, "fmin") and args.command != "figures":
+        for name, default in zip(("fmin", "fmax"), PAPER_BAND, strict=True):
+            if getattr(args, name) is None:
+                if args.model is not None:
+                    band = f"{PAPER_BAND[0]:g}-{PAPER_BAND[1]:g} Hz"
+                    raise UsageError(f"argument --{name}: required with --model (default {band} without)")
+                setattr(args, name, default)
     if getattr(args, "fmax", None) is not None:
-        if args.fmax < args.fmin:
-            raise UsageError(f"argument --fmax: must be >= --fmin = {args.fmin:g} Hz, got {args.fmax:g}")
-        if getattr(args, "continuation", False) and args.fmax == args.fmin:
-            raise UsageError(f"argument --fmax: must be > --fmin = {args.fmin:g} Hz with --continuation")
+        strict = args.command == "figures" or getattr(args, "continuation", False)
+        if args.fmax < args.fmin or (strict and args.fmax == args.fmin):
+            raise UsageError(f"argument --fmax: must be {'>' if strict else '>='} --fmin = {args.fmin:g} Hz, "
+                             f"got {args.fmax:g}")  # fmt: skip
     out = getattr(args, "out", None)
-    if out not in (None, "-") and not Path(out).resolve().parent.is_dir():
-        raise UsageError(f"argument --out: the folder of {out!r} does not exist")
+    if args.command == "figures":
+        _formats(args.formats)
+    if out not in (None, "-") and args.command != "study":
+        try:
+            check_output(out, OUT_SUFFIXES.get(args.command, ()), folder=args.command == "figures")
+        except ValueError as exc:
+            raise UsageError(f"argument --out: {exc}") from None
     if getattr(args, "samples", None) is not None and args.samples < 2 * args.harmonics + 1:
         raise UsageError(
             f"argument --samples: must be >= 2 Nh + 1 = {2 * args.harmonics + 1} "
@@ -571,19 +625,22 @@ def _linear_records(model: Model, names: _Names, freqs: np.ndarray, states: Sequ
 
 
 def _write_csv(rows: Iterable[dict], out: str) -> None:
-    """Write ``rows`` (dicts with the same keys) as CSV to the file ``out`` or, for ``-``, to stdout."""
+    """Write ``rows`` (dicts with the same keys) as CSV to the file ``out`` or, for ``-``, to stdout.
+
+    A file is written under a temporary name and renamed when whole (:func:`fretwear.arguments.atomic`).
+    """
     rows = list(rows)
-    try:
-        fh = sys.stdout if out == "-" else open(out, "w", newline="", encoding="utf-8")
-    except OSError as exc:
-        raise UsageError(f"argument --out: cannot write {out!r}: {exc.strerror or exc}") from None
-    try:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-    finally:
-        if fh is not sys.stdout:
-            fh.close()
+    if out == "-":
+        _csv_to(sys.stdout, rows)
+        return
+    with atomic(out) as temp, open(temp, "w", newline="", encoding="utf-8") as fh:
+        _csv_to(fh, rows)
+
+
+def _csv_to(fh, rows: list[dict]) -> None:
+    writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
 
 
 # -- commands -----------------------------------------------------------------------
@@ -698,7 +755,8 @@ def _write_figure(fig, args: argparse.Namespace, method: str, options: dict, **e
     from .figures import caption, save_figure
 
     values, model = _stamp(args, method, options)
-    save_figure(fig, args.out, caption=lambda markup: caption({**values, **extra}, model, markup))
+    with atomic(args.out) as temp:
+        save_figure(fig, temp, caption=lambda markup: caption({**values, **extra}, model, markup))
 
 
 def _say_warnings(command: str, notes: Iterable[str], caught: list, limit: int = 3) -> None:
@@ -788,11 +846,12 @@ def _map(args: argparse.Namespace, model: Model, names: _Names) -> int:
         title = f"Wear map ({wmap.label}, wear coefficient {args.kw:.3g} 1/N)"
         fig = wear_map_figure(freqs, cycles, wmap.wear_fraction[:, :, 0], title=title)
         _write_figure(fig, args, method, options)
-    elif args.out.endswith(".npz"):
-        np.savez_compressed(args.out, frequency_hz=wmap.frequency, cycles=wmap.cycles, wear=wmap.wear,
+    elif args.out.lower().endswith(".npz"):
+        with atomic(args.out) as temp:
+            np.savez_compressed(temp, frequency_hz=wmap.frequency, cycles=wmap.cycles, wear=wmap.wear,
                             wear_fraction=wmap.wear_fraction, amplitude=wmap.amplitude,
                             half_peak_to_peak=wmap.half_peak_to_peak,
-                            relative_half_peak_to_peak=wmap.relative_half_peak_to_peak)  # fmt: skip
+                                relative_half_peak_to_peak=wmap.relative_half_peak_to_peak)  # fmt: skip
     else:
         table = wmap.long_table()
         keys = list(table)
@@ -824,6 +883,19 @@ def _cost(args: argparse.Namespace, model: Model, names: _Names) -> int:
     return EXIT_OK
 
 
+_FIGURE_FORMATS = ("png", "svg", "html", "csv")
+
+
+def _formats(text: str) -> tuple[str, ...]:
+    """The ``--formats`` of ``figures``, checked."""
+    formats = tuple(f.strip().lower() for f in text.split(",") if f.strip())
+    bad = [f for f in formats if f not in _FIGURE_FORMATS]
+    if bad or not formats:
+        valid = ", ".join(_FIGURE_FORMATS)
+        raise UsageError(f"argument --formats: must be a comma-separated list of {valid}, got {text!r}")
+    return formats
+
+
 def _figures(args: argparse.Namespace) -> int:
     """``fretwear figures``: the paper's figure set, written headlessly.
 
@@ -832,22 +904,20 @@ def _figures(args: argparse.Namespace) -> int:
     """
     from .figures import ExportOptions, paper_figures
 
-    formats = tuple(f.strip() for f in args.formats.split(",") if f.strip())
-    if args.fmax <= args.fmin:
-        raise UsageError(f"argument --fmax: must be > --fmin = {args.fmin:g} Hz, got {args.fmax:g}")
+    formats = _formats(args.formats)
     options = ExportOptions(width=args.width, height=args.height, dpi=args.dpi, fontsize=args.fontsize)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     said: set[str] = set()
 
     def say(message: str) -> None:
         said.add(message)
         print(f"fretwear figures: {message}", file=sys.stderr)
 
-    with warnings.catch_warnings(record=True) as caught:
+    # written in a temporary folder, moved into --out when all are done: an interrupt leaves nothing
+    with staged_folder(out) as staging, warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         written = paper_figures(
-            out,
+            staging,
             harmonics=args.harmonics,
             kw=args.kw,
             cycles=args.cycles,
@@ -871,28 +941,40 @@ def _figures(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _kernel_groups(args: argparse.Namespace) -> tuple[str, ...]:
-    """The compiled kernel groups (:data:`fretwear.compile.KERNELS`) that the command runs."""
+def _kernel_needs(args: argparse.Namespace, model: Model | None = None) -> tuple[str, ...]:
+    """The computations of :data:`fretwear.compile.NEEDS` that the command runs (exactly their kernels)."""
     method = getattr(args, "method", None)
     if args.command == "interface":
         return () if args.static else ("interface",)
     if args.command in ("frf", "point"):
         if method == "shooting":
-            return ("exact",)
+            return ("shooting",)
         return ("solver",) if getattr(args, "continuation", False) else ("sweep",)
-    if args.command in ("wear", "map"):
-        groups = ("solver",) + (("polynomial",) if method == "polynomial" else ())
-        return groups + (("exact",) if method == "time" or args.dynamics == "shooting" else ())
-    return ()
+    if args.command not in ("wear", "map") or model is None:
+        return ()
+    method = resolve_method(model, args.method, args.fixed_step)
+    # an approximation is shown with its error against the exact answer: the exact dynamics run too
+    exact = ("shooting",) if exact_answer_applies(model) else ()
+    if method == "time":
+        return ("shooting", "time")
+    if method == "polynomial":
+        basis = args.basis or ("saturating" if len(model.friction) == 1 else "legendre")
+        return ("solver", "polynomial" if basis == "saturating" else "galerkin", *exact)
+    try:
+        dynamics = resolve_dynamics(model, args.dynamics or "auto", args.harmonics, args.samples)
+    except ValueError:  # the command says why when it runs
+        return ()
+    return ("shooting",) if dynamics == "shooting" else ("solver", *exact)
 
 
-def _compile_notice(args: argparse.Namespace) -> None:
-    """One line on stderr when the compiled kernels the command needs are not in the cache yet."""
-    groups = _kernel_groups(args)
-    message = compiled.notice(*groups) if groups else None
+def _compile_notice(args: argparse.Namespace, model: Model | None = None) -> None:
+    """One line on stderr when a kernel the command runs is not in Numba's cache yet (it will compile)."""
+    needs = _kernel_needs(args, model)
+    message = compiled.notice_for(*needs) if needs else None
     if message:
         print(f"fretwear {args.command}: {message}", file=sys.stderr, flush=True)
-        compiled.compile_ahead(*groups)
+        if "sweep" in needs:
+            compiled.compile_ahead("sweep")
 
 
 _COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "map": _map, "cost": _cost}
@@ -900,6 +982,8 @@ _COMMANDS = {"frf": _frf, "linear": _linear, "point": _point, "wear": _wear, "ma
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``) and return the exit status.
+
+    No traceback reaches the user: every failure is one line on stderr that names the command.
 
     Parameters
     ----------
@@ -909,43 +993,117 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        ``0`` success, ``2`` bad input, ``3`` some frequency did not converge.
+        ``0`` every result converged, ``1`` an internal error (a bug: please report the line),
+        ``2`` bad input or an output that cannot be written, ``3`` some result did not converge or
+        is incomplete, ``130`` interrupted (Ctrl-C; nothing partial is left, ``study`` resumes).
     """
+    interactive = argv is None  # a real command line: Ctrl-C also gets a hard stop (_interrupt)
     argv = list(sys.argv[1:] if argv is None else argv)
     # One OpenBLAS thread (unless set): fretwear's dense solves gain nothing from more on an idle machine,
     # and threads waiting for a busy core made them 3-25x slower under load (measured). SciPy's BLAS reads
     # this when it loads, at the first computation; study workers inherit it.
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     parser = build_parser()
+    command = next((a for a in argv if a in parser.commands), "")  # type: ignore[attr-defined]
+    name = f"fretwear {command}".strip()
+    undo = _interrupt(name) if interactive and command != "study" else None  # study: its own handler
     try:
-        _apply_settings(parser, argv)
-    except UsageError as exc:
-        command = next((a for a in argv if a in parser.commands), "")  # type: ignore[attr-defined]
-        print(f"fretwear {command}: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    try:
-        args = parser.parse_args(argv)
-    except SystemExit as exc:  # --help, or a usage error already printed
-        return exc.code if isinstance(exc.code, int) else EXIT_USAGE
-    try:
-        _check(args)
-        if args.command == "figures":
-            return _figures(args)
-        if args.command == "study":
-            return study_command.run(args)
-        if args.command == "interface":
-            _compile_notice(args)
-            return interface_command.run(args)
-        model, names = _model(args)
-        _compile_notice(args)
-        return _COMMANDS[args.command](args, model, names)
+        try:
+            _apply_settings(parser, argv)
+        except UsageError as exc:
+            print(f"{name}: error: {exc}", file=sys.stderr)
+            return EXIT_USAGE
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as exc:  # --help, or a usage error already printed
+            return exc.code if isinstance(exc.code, int) else EXIT_USAGE
+        return _run(args)
     except (UsageError, ValueError) as exc:
-        message = " ".join(str(exc).split())
-        print(f"fretwear {args.command}: error: {message}", file=sys.stderr)
+        print(f"{name}: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return EXIT_USAGE
+    except KeyboardInterrupt:
+        resume = "; rerun the same command to resume" if command == "study" else "; nothing was written"
+        print(f"{name}: interrupted{resume}", file=sys.stderr, flush=True)
+        _SAID.set()  # the pools' threads may still hold the exit: the hard stop then says nothing more
+        return EXIT_INTERRUPTED
     except BrokenPipeError:  # stdout closed early, e.g. `fretwear frf ... --out - | head`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
         return EXIT_OK
+    except MemoryError:
+        print(f"{name}: error: out of memory; choose smaller sizes (see '{name} --help')", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:
+        where = f": {exc.filename!r}" if exc.filename else ""
+        print(f"{name}: error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return EXIT_USAGE
+    except Exception as exc:  # noqa: BLE001 - a bug: one line, not a traceback
+        text = " ".join(str(exc).split())
+        print(f"{name}: internal error: {type(exc).__name__}: {text} (please report it with the command)",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_ERROR
+    finally:
+        if undo is not None:
+            undo()
+
+
+#: seconds between Ctrl-C and the hard stop, if the command has not unwound by then
+INTERRUPT_GRACE = 0.5
+_SAID = threading.Event()  # the interrupt's line is printed
+
+
+def _interrupt(name: str) -> Callable[[], None] | None:
+    """Ctrl-C raises KeyboardInterrupt, as usual, and stops the process ``INTERRUPT_GRACE`` s later if it
+    is still running; returns the function that undoes this (None off the main thread).
+
+    A compiled kernel holds the interpreter until it returns (Python runs signal handlers between
+    bytecodes only), and a thread pool finishes its tasks before Python exits: either could hold the
+    process for seconds or minutes. A thread woken by the signal itself (``signal.set_wakeup_fd``, written
+    by the interpreter's C handler; fretwear's kernels release the GIL) gives the hard stop, which
+    removes the partial outputs first (:data:`fretwear.arguments.PARTIAL`).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    read, write = os.pipe()
+    os.set_blocking(write, False)
+    try:
+        previous = signal.set_wakeup_fd(write, warn_on_full_buffer=False)
+    except ValueError:  # not the main interpreter
+        os.close(read), os.close(write)
+        return None
+
+    def watch() -> None:
+        while (byte := os.read(read, 1)) and byte[0] not in (0, signal.SIGINT):
+            pass  # another signal
+        if byte and byte[0] == signal.SIGINT:
+            time.sleep(INTERRUPT_GRACE)
+            remove_partial()
+            if not _SAID.is_set():
+                print(f"{name}: interrupted; nothing was written", file=sys.stderr, flush=True)
+            os._exit(EXIT_INTERRUPTED)
+
+    threading.Thread(target=watch, name="fretwear-interrupt", daemon=True).start()
+
+    def undo() -> None:
+        signal.set_wakeup_fd(previous)
+        with contextlib.suppress(OSError):
+            os.write(write, b"\0")  # wakes the watcher, which ends
+
+    return undo
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Check ``args`` across options and outputs, then run the command."""
+    _check(args)
+    if args.command == "figures":
+        return _figures(args)
+    if args.command == "study":
+        return study_command.run(args)
+    if args.command == "interface":
+        _compile_notice(args)
+        return interface_command.run(args)
+    model, names = _model(args)
+    _compile_notice(args, model)
+    return _COMMANDS[args.command](args, model, names)
 
 
 if __name__ == "__main__":

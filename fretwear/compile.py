@@ -47,7 +47,8 @@ from pickle import dumps
 import numpy as np
 
 __all__ = [
-    "Kernel", "KERNELS", "PARTS", "cached", "pending", "notice", "warm", "warm_in_processes", "compile_ahead",
+    "Kernel", "KERNELS", "PARTS", "NEEDS", "cached", "pending", "notice", "notice_for", "warm",
+    "warm_in_processes", "compile_ahead",
 ]  # fmt: skip
 
 
@@ -262,6 +263,62 @@ def notice(*names: str) -> str | None:
     if not todo:
         return None
     seconds = sum(KERNELS[n].seconds for n in todo)
+    return f"compiling numerical kernels, first run only, about {seconds:.0f} s"
+
+
+@dataclass(frozen=True)
+class Need:
+    """The entry points one computation of a front end calls, and their compile time.
+
+    Attributes
+    ----------
+    entry_points : tuple of str
+        ``"module:function"``: exactly those the computation runs (measured: the dispatchers with
+        machine code after it), so that a cached computation is never announced.
+    seconds : float
+        Compile time in a new process with an empty cache, the needs listed before it in :data:`NEEDS`
+        already compiled (measured on the project's 2-core machine).
+    """
+
+    entry_points: tuple[str, ...]
+    seconds: float
+
+
+_SHOOTING = (
+    "fretwear.time.kernels:solve",
+    "fretwear.wear.sliding:_invert",
+    "fretwear.hbm.condensation:condense_loop",
+)
+
+#: what each computation of the command line compiles on a first run, by name; the seconds were measured
+#: on the project's 2-core machine with other jobs running (load 4-7, a quiet machine takes about a third)
+NEEDS: dict[str, Need] = {
+    "sweep": Need(KERNELS["sweep"].entry_points, 35.0),  # frf, point
+    "solver": Need(KERNELS["solver"].entry_points, 60.0),  # continuation; wear and map on DLFT dynamics
+    "polynomial": Need(("fretwear.wear.polynomial:_chain",), 60.0),  # with "solver": saturating basis
+    "galerkin": Need(("fretwear.wear.polynomial:_galerkin",), 45.0),  # with "solver": legendre, monomial
+    "shooting": Need(_SHOOTING, 220.0),  # --method shooting, --dynamics shooting (tables, the exact map)
+    "time": Need(KERNELS["exact"].entry_points[:4], 25.0),  # with "shooting": --method time
+    "interface": Need(KERNELS["interface"].entry_points, 175.0),
+}
+
+
+def notice_for(*needs: str) -> str | None:
+    """The line to show before a computation with :data:`NEEDS` ``needs``, or None if nothing will compile.
+
+    Asks Numba's on-disk cache whether each entry point the computation calls has machine code for this
+    source (:func:`cached`); ``"compiling numerical kernels, first run only, about N s"`` with ``N`` the
+    sum of the measured compile times of the needs with an entry point missing.
+    """
+    unknown = [n for n in needs if n not in NEEDS]
+    if unknown:
+        raise ValueError(f"needs must be among {sorted(NEEDS)}, got {unknown}")
+    todo = [
+        n for n in dict.fromkeys(needs) if not all(_in_cache(_dispatcher(e)) for e in NEEDS[n].entry_points)
+    ]
+    if not todo:
+        return None
+    seconds = sum(NEEDS[n].seconds for n in todo)
     return f"compiling numerical kernels, first run only, about {seconds:.0f} s"
 
 

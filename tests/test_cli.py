@@ -253,10 +253,10 @@ def test_point_not_converged_exit_status(capsys, monkeypatch):
 @pytest.mark.parametrize(
     ("argv", "needle"),
     [
-        (["frf", "--fmin", "0", "--fmax", "1", "--out", "x.csv"], "--fmin: must be a number > 0 Hz"),
+        (["frf", "--fmin", "0", "--fmax", "1", "--out", "x.csv"], "--fmin: must be a number > 0 and <= 1"),
         (["frf", "--fmin", "1", "--fmax", "0.5", "--out", "x.csv"], "--fmax: must be >= --fmin"),
-        (["frf", *BAND[:4], "--n", "0", "--out", "x.csv"], "--n: must be an integer >= 1"),
-        (["frf", *BAND, "--harmonics", "0", "--out", "x.csv"], "--harmonics: must be an integer >= 1"),
+        (["frf", *BAND[:4], "--n", "0", "--out", "x.csv"], "--n: must be an integer in [1, 10001]"),
+        (["frf", *BAND, "--harmonics", "0", "--out", "x.csv"], "--harmonics: must be an integer in [1, 64]"),
         (
             ["frf", *BAND, "--harmonics", "5", "--samples", "10", "--out", "x.csv"],
             "--samples: must be >= 2 Nh + 1",
@@ -266,11 +266,11 @@ def test_point_not_converged_exit_status(capsys, monkeypatch):
             "--fmax: must be > --fmin",
         ),
         (["frf", *BAND, "--out", "no/such/dir/x.csv"], "--out:"),
-        (["linear", *BAND, "--kn", "-1", "--out", "x.csv"], "--kn: must be a number > 0 N/m"),
+        (["linear", *BAND, "--kn", "-1", "--out", "x.csv"], "--kn: must be a number > 0 and <= 1e+12 N/m"),
         (["linear", *BAND, "--state", "sliding", "--out", "x.csv"], "--state: invalid choice"),
-        (["point", "--f", "abc"], "--f: must be a number > 0 Hz"),
+        (["point", "--f", "abc"], "--f: must be a number > 0 and <= 100000 Hz"),
         (["point", "--f", "1", "--mu", "-1"], "--mu: must be a number >= 0"),
-        (["point", "--f", "1", "--fn", "-3"], "--fn: must be a number >= 0 N"),
+        (["point", "--f", "1", "--fn", "-3"], "--fn: must be a number >= 0 and <= 10000 N"),
         (["point", "--f", "1", "--u0", "-1e-6"], "--u0:"),
         (["point", "--f", "1", "--fn", "5", "--u0", "1e-6"], "--u0: not allowed with argument --fn"),
         (["point", "--f", "1", "--model", "missing.toml"], "--model: missing.toml: cannot read file"),
@@ -493,3 +493,61 @@ def test_wear_warnings_are_lines_that_say_where(tmp_path, capsys):
                            "--out", str(tmp_path / "w.csv"))  # fmt: skip
         assert code == 0 and err.count("two-scale assumption") == 1
     assert [str(w.message) for w in leaked] == []
+
+
+# -- compile notice ------------------------------------------------------------------
+USED = """
+import json, sys
+import fretwear.compile as c
+from fretwear import cli
+args = cli.build_parser().parse_args(sys.argv[1:])
+needs = cli._kernel_needs(args, cli._model(args)[0])
+cli.main(sys.argv[1:])
+used = {e for k in c.KERNELS.values() for e in k.entry_points if c._dispatcher(e).overloads}
+print(json.dumps([sorted(used), sorted({e for n in needs for e in c.NEEDS[n].entry_points})]))
+"""
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["map", "--nf", "3", "--ncycles", "4", "--method", "exact", "--dynamics", "shooting"],
+        ["wear", "--f", "0.7", "--cycles", "2e4", "--method", "polynomial", "--harmonics", "3"],
+        ["wear", "--f", "0.7", "--cycles", "2e4", "--harmonics", "3"],
+    ],
+)
+def test_the_compile_notice_asks_for_exactly_the_kernels_the_command_runs(tmp_path, argv):
+    """Issue 22: `map --method exact --dynamics shooting` and `wear --method polynomial` announced kernels
+    they never run, so the notice showed on every run. In a new process (no kernel loaded, no sliding
+    table on disk), the kernels the command loads are exactly those its notice asks the cache about."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "FRETWEAR_CACHE_DIR": ""}
+    argv = [*argv, "--out", str(tmp_path / "x.csv")]
+    done = subprocess.run([sys.executable, "-c", USED, *argv], capture_output=True, text=True, env=env,
+                          timeout=300)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    used, asked = json.loads(done.stdout.splitlines()[-1])
+    assert used == asked
+
+
+def test_a_settings_file_written_as_the_help_suggests_runs(tmp_path, capsys):
+    """Issue 22: {"fex": 14, "mu": 0.8, "kw": 1e-10} (the --help example) failed with "--fmin, --fmax
+    required"; without --model the band defaults to the paper model's, 0.3-1.3 Hz."""
+    settings = tmp_path / "s.json"
+    settings.write_text('{"fex": 14, "mu": 0.8, "kw": 1e-10}')
+    out = tmp_path / "m.csv"
+    argv = ["map", "--settings", str(settings), "--nf", "3", "--ncycles", "4", "--out", str(out)]
+    code, _, err = run(capsys, *argv)
+    assert code == 0, err
+    f = column(read_csv(out)[1], "f_hz")
+    assert (f.min(), f.max()) == (0.3, 1.3)
+
+
+def test_outputs_are_written_whole_with_the_usual_mode(tmp_path, capsys):
+    """Files are written under a temporary name and renamed: none is left beside, and the mode is a new
+    file's (not mkstemp's 0600)."""
+    out = tmp_path / "x.csv"
+    assert run(capsys, "linear", *BAND, "--out", str(out))[0] == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["x.csv"]
+    mask = os.umask(0)
+    os.umask(mask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~mask

@@ -56,25 +56,35 @@ def test_cli_prints_the_notice_once_only_when_kernels_must_compile(monkeypatch, 
     assert cli.main(["point", "--f", "0.7", "--harmonics", "3"]) == 0
     err = capsys.readouterr().err.splitlines()
     notices = [line for line in err if NOTICE in line]
-    assert notices == ([f"fretwear point: {compiled.notice('sweep')}"] if cache_empty else [])
+    assert notices == ([f"fretwear point: {compiled.notice_for('sweep')}"] if cache_empty else [])
 
 
 @pytest.mark.parametrize(
-    ("argv", "groups"),
+    ("argv", "needs"),
     [
         (["frf", "--fmin", "0.5", "--fmax", "0.7", "--out", "-"], ("sweep",)),
         (["frf", "--fmin", "0.5", "--fmax", "0.7", "--out", "-", "--continuation"], ("solver",)),
-        (["point", "--f", "0.7", "--method", "shooting"], ("exact",)),
-        (["wear", "--f", "0.7", "--out", "-"], ("solver",)),
-        (["wear", "--f", "0.7", "--out", "-", "--method", "polynomial"], ("solver", "polynomial")),
-        (["wear", "--f", "0.7", "--out", "-", "--dynamics", "shooting"], ("solver", "exact")),
+        (["point", "--f", "0.7", "--method", "shooting"], ("shooting",)),
+        (["wear", "--f", "0.7", "--out", "-"], ("shooting",)),  # the exact answer
+        (["wear", "--f", "0.7", "--out", "-", "--harmonics", "7"], ("solver", "shooting")),  # and its error
+        (
+            ["wear", "--f", "0.7", "--out", "-", "--method", "polynomial"],
+            ("solver", "polynomial", "shooting"),
+        ),
+        (
+            ["wear", "--f", "0.7", "--out", "-", "--method", "polynomial", "--basis", "monomial"],
+            ("solver", "galerkin", "shooting"),
+        ),
+        (["wear", "--f", "0.7", "--out", "-", "--dynamics", "shooting"], ("shooting",)),
+        (["map", "--out", "-", "--method", "exact", "--dynamics", "shooting"], ("shooting",)),
+        (["wear", "--f", "0.7", "--out", "-", "--method", "time"], ("shooting", "time")),
         (["interface", "--f", "50"], ("interface",)),
         (["interface", "--static"], ()),
     ],
 )
-def test_each_command_announces_the_kernels_it_runs(argv, groups):
+def test_each_command_announces_the_kernels_it_runs(argv, needs):
     args = cli.build_parser().parse_args(argv)
-    assert cli._kernel_groups(args) == groups
+    assert cli._kernel_needs(args, paper_model()) == needs
 
 
 def test_warm_in_processes_runs_each_part_in_a_process_of_its_own(monkeypatch):

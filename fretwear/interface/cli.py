@@ -56,82 +56,82 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--q-ratio",
-        type=number(0.0),
+        type=number("q_ratio"),
         default=0.5,
         metavar="Q",
         help="benchmark tangential load Q0 / (mu P) (-), >= 0, < 1 with --static; default 0.5",
     )
     parser.add_argument(
         "--contact-nodes",
-        type=number(3, integer=True),
+        type=number("contact_nodes"),
         default=32,
         metavar="NC",
-        help="benchmark pairs across the contact window (-), >= 3; default 32",
+        help="benchmark pairs across the contact window (-); default 32",
     )
     parser.add_argument(
         "--window",
-        type=number(1.0, strict=True),
+        type=number("window"),
         default=1.25,
-        help="benchmark contact window half-width / Hertz a (-), > 1; default 1.25",
+        help="benchmark contact window half-width / Hertz a (-); default 1.25",
     )
     parser.add_argument(
         "--normal-load",
-        type=number(0.0, strict=True, unit="N/m"),
+        type=number("line_load"),
         default=2.0e5,
         metavar="P",
-        help="benchmark normal load per unit length (N/m), > 0; default 2e5",
+        help="benchmark normal load per unit length (N/m); default 2e5",
     )
     parser.add_argument(
-        "--mu", type=number(0.0), default=0.6, help="benchmark friction coefficient; default 0.6"
+        "--mu", type=number("interface_mu"), default=0.6, help="benchmark friction coefficient; default 0.6"
     )
     parser.add_argument(
         "--drive",
-        type=number(0.0, strict=True, unit="m"),
+        type=number("drive"),
         metavar="DELTA",
         help="benchmark displacement control: amplitude of the loading arm's end (m), with "
         "--arm-stiffness (replaces --q-ratio)",
     )
     parser.add_argument(
         "--arm-stiffness",
-        type=number(0.0, strict=True),
+        type=number("arm_stiffness"),
         default=2e10,
         metavar="KA",
-        help="benchmark loading arm stiffness (N/m per m), > 0; default 2e10 (with --drive)",
+        help="benchmark loading arm stiffness (N/m per m); default 2e10 (with --drive)",
     )
     parser.add_argument(
         "--f",
-        type=number(0.0, strict=True, unit="Hz"),
+        type=number("f"),
         default=50.0,
         metavar="HZ",
-        help="excitation frequency (Hz), > 0; default 50",
+        help="excitation frequency (Hz); default 50",
     )
     parser.add_argument(
         "--harmonics",
-        type=number(1, integer=True),
+        type=number("harmonics"),
         default=7,
         metavar="NH",
-        help="highest harmonic Nh (-), >= 1; default 7",
+        help="highest harmonic Nh (-); default 7",
     )
     parser.add_argument(
         "--kw",
-        type=number(0.0, strict=True, unit="1/Pa"),
+        type=number("interface_kw"),
         help="Archard coefficient K_w (1/Pa), > 0: runs a wear history",
     )
     parser.add_argument(
         "--cycles",
-        type=number(0.0, strict=True),
+        type=number("cycles"),
         default=1e6,
-        help="wear horizon (cycles), > 0; default 1e6",
+        help="wear horizon (cycles); default 1e6",
     )
     parser.add_argument(
         "--converge",
-        type=number(0.0, strict=True),
+        type=number("converge"),
         metavar="TOL",
         help="stop the wear history once the profile has converged to TOL (-)",
     )
     parser.add_argument(
         "--rtol",
-        type=number(0.0, strict=True),
+        type=number("rtol"),
         default=1e-2,
         help="slow-time step tolerance on the worn depth (-); default 1e-2",
     )
@@ -144,9 +144,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--degree",
-        type=number(1, integer=True),
+        type=number("degree"),
         metavar="D",
-        help="polynomial degree in slow time of --method polynomial, in [1, 12]; default 6",
+        help="polynomial degree in slow time of --method polynomial; default 6",
     )
     parser.add_argument(
         "--out",

@@ -70,6 +70,7 @@ import numpy as np
 
 from .._version import __version__
 from ..model import paper_model, read_model
+from ..parameters import describe
 from ..wear import DYNAMICS, METHODS
 
 __all__ = [
@@ -95,15 +96,14 @@ class SpecError(ValueError):
 
 @dataclass(frozen=True)
 class Parameter:
-    """A study parameter: unit, type, valid range and whether it may be drawn at random."""
+    """A study parameter: unit, type, valid range (from :data:`fretwear.parameters.PARAMETERS`) and whether
+    it may be drawn at random."""
 
     name: str
     unit: str
     long_name: str
     kind: type = float
-    low: float | None = None
-    strict: bool = False
-    high: float | None = None
+    table: str = ""  # its entry in fretwear.parameters.PARAMETERS (the range)
     choices: tuple[str, ...] = ()
     random: bool = True
 
@@ -113,41 +113,28 @@ class Parameter:
             if not isinstance(value, str) or value not in self.choices:
                 raise SpecError(key, f"must be one of {', '.join(map(repr, self.choices))}, got {value!r}")
             return value
-        if self.kind is int:
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise SpecError(key, f"must be an integer{self._range()}, got {value!r}")
-        elif isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise SpecError(key, f"must be a finite number{self._range()}, got {value!r}")
-        if (self.low is not None and (value <= self.low if self.strict else value < self.low)) or (
-            self.high is not None and value > self.high
-        ):
-            raise SpecError(key, f"must be{self._range()}, got {value!r}")
+        bounds = describe(self.table)
+        if self.kind is int and (isinstance(value, bool) or not isinstance(value, int)):
+            raise SpecError(key, f"must be {bounds.range_text()}, got {value!r}")
+        if not bounds.valid(value):
+            raise SpecError(key, f"must be {bounds.range_text()}, got {value!r}")
         return self.kind(value)
-
-    def _range(self) -> str:
-        parts = []
-        if self.low is not None:
-            parts.append(f"{'>' if self.strict else '>='} {self.low:g}")
-        if self.high is not None:
-            parts.append(f"<= {self.high:g}")
-        unit = f" {self.unit}" if self.unit not in ("", "-") else ""
-        return (" " + " and ".join(parts) + unit) if parts else unit
 
 
 #: every parameter a spec may set, in the order of the random streams and of the grid axes' defaults
 PARAMETERS: Mapping[str, Parameter] = {
     p.name: p
     for p in (
-        Parameter("frequency", "Hz", "excitation frequency", low=0.0, strict=True),
-        Parameter("fex", "N", "excitation amplitude on mass 1 (paper model)"),
-        Parameter("force_scale", "-", "factor on every external force (model file)"),
-        Parameter("mu", "-", "friction coefficient", low=0.0),
-        Parameter("normal_load", "N", "initial normal load F_N", low=0.0),
-        Parameter("u0", "m", "initial normal interference u0", low=0.0),
-        Parameter("kn", "N/m", "normal contact stiffness", low=0.0, strict=True),
-        Parameter("kw", "1/N", "Archard wear coefficient K_w", low=0.0),
-        Parameter("cycles", "cycles", "wear horizon", low=0.0, strict=True),
-        Parameter("harmonics", "-", "highest harmonic Nh", kind=int, low=1, high=256, random=False),
+        Parameter("frequency", "Hz", "excitation frequency", table="f"),
+        Parameter("fex", "N", "excitation amplitude on mass 1 (paper model)", table="fex"),
+        Parameter("force_scale", "-", "factor on every external force (model file)", table="force_scale"),
+        Parameter("mu", "-", "friction coefficient", table="mu"),
+        Parameter("normal_load", "N", "initial normal load F_N", table="fn"),
+        Parameter("u0", "m", "initial normal interference u0", table="u0"),
+        Parameter("kn", "N/m", "normal contact stiffness", table="kn"),
+        Parameter("kw", "1/N", "Archard wear coefficient K_w", table="kw"),
+        Parameter("cycles", "cycles", "wear horizon", table="cycles"),
+        Parameter("harmonics", "-", "highest harmonic Nh", kind=int, table="harmonics", random=False),
         Parameter("method", "", "slow-time method", kind=str, choices=("auto", *METHODS), random=False),
         Parameter(
             "dynamics",
@@ -157,7 +144,7 @@ PARAMETERS: Mapping[str, Parameter] = {
             choices=DYNAMICS,
             random=False,
         ),
-        Parameter("tol", "-", "slow-time tolerance", low=0.0, strict=True, high=1.0, random=False),
+        Parameter("tol", "-", "slow-time tolerance", table="tol", random=False),
     )
 }
 
@@ -342,9 +329,11 @@ def _table(data: Mapping[str, Any], key: str, allowed: tuple[str, ...]) -> dict[
     return table
 
 
-def _integer(key: str, value: Any, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < low:
-        raise SpecError(key, f"must be an integer >= {low}, got {value!r}")
+def _integer(key: str, value: Any, table: str) -> int:
+    """``value``, an integer in the range of :data:`fretwear.parameters.PARAMETERS` ``[table]``."""
+    bounds = describe(table)
+    if isinstance(value, bool) or not isinstance(value, int) or not bounds.valid(value):
+        raise SpecError(key, f"must be {bounds.range_text()}, got {value!r}")
     return value
 
 
@@ -376,9 +365,9 @@ def parse_spec(
     if not isinstance(title, str):
         raise SpecError("study.title", f"must be a string, got {title!r}")
     ppt = study.get("points_per_task")
-    ppt = _integer("study.points_per_task", ppt, 1) if ppt is not None else None
+    ppt = _integer("study.points_per_task", ppt, "points_per_task") if ppt is not None else None
     if points_per_task is not None:
-        ppt = _integer("--points-per-task", points_per_task, 1)
+        ppt = _integer("--points-per-task", points_per_task, "points_per_task")
 
     model_kind, model, model_file, model_text = _model(_table(data, "model", ("name", "file")), Path(base))
 
@@ -425,24 +414,26 @@ def parse_spec(
         raise SpecError(
             "wear.fractions", f"must be a non-empty list of distinct numbers in (0, 1), got {fractions!r}"
         )
-    ncycles = _integer("wear.ncycles", wear.get("ncycles", 60), 2)
+    ncycles = _integer("wear.ncycles", wear.get("ncycles", 60), "ncycles")
 
     n_samples, seed = 0, None
     if random:
         seed = study.get("seed")
         if seed is None:
             raise SpecError("study.seed", "required with random parameters: an integer >= 0")
-        seed = _integer("study.seed", seed, 0)
+        seed = _integer("study.seed", seed, "seed")
         n_samples = study.get("samples") if samples is None else samples
         if n_samples is None:
             raise SpecError("study.samples", "required with random parameters: an integer >= 1")
-        n_samples = _integer("--samples" if samples is not None else "study.samples", n_samples, 1)
+        n_samples = _integer("--samples" if samples is not None else "study.samples", n_samples, "draws")
     else:
         for name in ("seed", "samples"):
             if name in study:
                 raise SpecError(f"study.{name}", "no parameter is random (give one a distribution)")
         if samples is not None:
             raise SpecError("--samples", "the spec has no random parameter")
+    points = max(n_samples, 1) * math.prod(len(v) for v in grid.values())
+    _integer("study points (grid x samples)", points, "points")
     return StudySpec(
         title=title,
         quantities=quantities,
@@ -494,6 +485,7 @@ def _value(key: str, param: Parameter, value: Any) -> tuple[str, Any]:
     if isinstance(value, list):
         if not value:
             raise SpecError(key, "an empty list: a grid needs at least one value")
+        _integer(f"{key} (its length)", len(value), "grid_num")
         values = [param.check(f"{key}[{i}]", v) for i, v in enumerate(value)]
         if len(set(values)) != len(values):
             raise SpecError(key, f"grid values must be distinct, got {value!r}")
@@ -546,7 +538,7 @@ def _value(key: str, param: Parameter, value: Any) -> tuple[str, Any]:
         if k not in value:
             raise SpecError(f"{key}.{k}", "required for a grid (start, stop, num[, scale])")
     start, stop = param.check(f"{key}.start", value["start"]), param.check(f"{key}.stop", value["stop"])
-    num = _integer(f"{key}.num", value["num"], 1)
+    num = _integer(f"{key}.num", value["num"], "grid_num")
     scale = value.get("scale", "linear")
     if scale not in ("linear", "log"):
         raise SpecError(f"{key}.scale", f"must be 'linear' or 'log', got {scale!r}")

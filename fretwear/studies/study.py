@@ -76,6 +76,7 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
+from ..arguments import atomic, check_output, document, number
 from ..hbm import sweep
 from ..model import paper_model
 from ..wear import METHODS, describe, resolve_dynamics, resolve_method, wear_history
@@ -716,13 +717,20 @@ def run_study(
         Interrupted: the blocks written so far stay in the store; rerun to resume.
     """
     out = Path(out)
-    group, _ = _open_store(spec, out, overwrite)
-    lay = layout(spec)
-    seconds_done = np.asarray(group["task_seconds"][:])
-    pending = [t for t in range(lay.n_tasks) if np.isnan(seconds_done[t])]
-    result = StudyRun(out, spec.n_points, lay.n_tasks, resumed=lay.n_tasks - len(pending))
-    if pending:
-        _compute(spec, lay, group, pending, result, client, scheduler, workers, retries, progress, log)
+    connected = None
+    if client is None and scheduler is not None:  # an unreachable scheduler must not leave a new store
+        client, _ = connected = _start_client(scheduler, None)
+    try:
+        group, _ = _open_store(spec, out, overwrite)
+        lay = layout(spec)
+        seconds_done = np.asarray(group["task_seconds"][:])
+        pending = [t for t in range(lay.n_tasks) if np.isnan(seconds_done[t])]
+        result = StudyRun(out, spec.n_points, lay.n_tasks, resumed=lay.n_tasks - len(pending))
+        if pending:
+            _compute(spec, lay, group, pending, result, client, scheduler, workers, retries, progress, log)
+    finally:
+        if connected is not None:
+            connected[0].close()
     status = np.asarray(group["status"][:]).ravel()
     counts = np.bincount(status.astype(np.int64), minlength=len(STATUS))
     result.status_counts = {STATUS[c]: int(counts[c]) for c in range(len(STATUS)) if counts[c]}
@@ -958,26 +966,6 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
-    return value
-
-
-def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}")
-    return value
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``fretwear study`` (see :func:`run`)."""
     parser.add_argument(
@@ -1000,25 +988,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     where.add_argument(
         "--workers",
-        type=_positive_int,
+        type=number("workers"),
         metavar="N",
-        help="worker processes of the local cluster, >= 1; default: one per core",
+        help="worker processes of the local cluster; default: one per core",
     )
     parser.add_argument(
         "--samples",
         dest="draws",  # not "samples": the other commands' --samples is the time samples per period
-        type=_positive_int,
+        type=number("draws"),
         metavar="N",
-        help="number of random draws, >= 1 (overrides study.samples)",
+        help="number of random draws (overrides study.samples)",
     )
     parser.add_argument(
         "--points-per-task",
-        type=_positive_int,
+        type=number("points_per_task"),
         metavar="N",
-        help="points computed by one task, >= 1; default: about 2 s of work, >= 32 tasks",
+        help="points computed by one task; default: about 2 s of work, >= 32 tasks",
     )
     parser.add_argument(
-        "--retries", type=_count, default=2, metavar="N", help="reruns of a task that raises, >= 0; default 2"
+        "--retries",
+        type=number("retries"),
+        default=2,
+        metavar="N",
+        help="reruns of a task that raises; default 2",
     )
     parser.add_argument("--overwrite", action="store_true", help="replace a store that holds another study")
     parser.add_argument(
@@ -1027,6 +1019,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="wear_life: write the histogram of the cycles to 0.5 u0 (PNG, SVG or PDF)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+#: the formats of ``--figure`` (Matplotlib's, by suffix)
+_FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -1044,6 +1040,12 @@ def run(args: argparse.Namespace) -> int:
         print(f"fretwear study: {message}", file=sys.stderr, flush=True)
 
     try:
+        for option, path, suffixes in (("--out", args.out, ()), ("--figure", args.figure, _FIGURE_SUFFIXES)):
+            if path is not None:  # before any work: the study must not run to find it cannot be written
+                try:
+                    check_output(path, suffixes, folder=option == "--out")
+                except ValueError as exc:
+                    raise SpecError(option, str(exc)) from None
         spec = read_spec(args.spec, samples=args.draws, points_per_task=args.points_per_task)
         if args.figure is not None and "wear_life" not in spec.quantities:
             raise SpecError("--figure", "needs the quantity 'wear_life'")
@@ -1096,7 +1098,8 @@ def run(args: argparse.Namespace) -> int:
                 f"({s['n']} samples, {s['stuck']} stuck, {s['beyond_horizon']} beyond the horizon)"
             )
         if args.figure is not None:
-            wear_life_figure(ds, 0.5).savefig(args.figure, dpi=150)
+            with atomic(args.figure) as temp:
+                wear_life_figure(ds, 0.5).savefig(temp, dpi=150)
             say(f"wrote {args.figure}")
     return EXIT_OK if result.complete and not result.failed_points else EXIT_NOT_CONVERGED
 
@@ -1110,6 +1113,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "130 interrupted (rerun to resume).",
     )
     add_arguments(parser)
+    document(parser)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:

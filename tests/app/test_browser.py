@@ -378,6 +378,15 @@ def drag(page: Page, index: int, dx: int) -> None:
 # -- the first page and the sliders ------------------------------------------------------------------
 
 
+def until(state, timeout: float = TIMEOUT / 1e3):
+    """Wait until ``state()`` returns something other than None (polled), and return it."""
+    deadline = time.monotonic() + timeout
+    while (value := state()) is None:
+        assert time.monotonic() < deadline, f"state not reached in {timeout:g} s"
+        time.sleep(0.1)
+    return value
+
+
 def test_first_page_and_the_excitation_slider(open_page):
     """Symbols in labels (μ, subscripts); float noise; a slider redraws the FRF (timings: bench_app.py)."""
     page = open_page()
@@ -390,18 +399,21 @@ def test_first_page_and_the_excitation_slider(open_page):
     drag(page, 0, 40)  # the F_ex slider
     redraw = page.wait_title("FRF of mass 1, Fₑₓ = 10 N", absent=True)
     print(f"slider release to redrawn FRF: {redraw:.2f} s")
-    title = next(t for t in page.titles() if t.startswith("FRF of mass 1"))
-    value = title.split("=")[1].split()[0]
-    assert float(value) > 10 and page.box("fex").input_value() == value  # the box shows the exact value
+
+    def settled() -> tuple[str, str] | None:
+        """The F_ex of the FRF's title and of the box once they agree (the box may follow the plot:
+        the test waited on the title alone and once read the box still at '10'), else None."""
+        title = next((t for t in page.titles() if t.startswith("FRF of mass 1")), "= 10 N")
+        value, box = title.split("=")[1].split()[0], page.box("fex").input_value()
+        return (value, box) if value == box and value != "10" else None
+
+    state = until(settled)
+    assert float(state[0]) > 10  # the box shows the exact value of the plot
     handle = page.page.locator(".noUi-handle").nth(1)  # mu: keyboard steps of 0.01 add float noise
     handle.focus()
     for _ in range(7):
         handle.press("ArrowRight")
-    page.page.wait_for_function("() => document.querySelector('body') !== null")
-    deadline = time.monotonic() + 60
-    while page.box("mu").input_value() == "1" and time.monotonic() < deadline:
-        time.sleep(0.2)
-    shown = page.box("mu").input_value()
+    shown = until(lambda: page.box("mu").input_value() if page.box("mu").input_value() != "1" else None)
     assert re.fullmatch(r"1\.0\d", shown), shown  # "1.07", never "1.0699999999999998"
 
 
@@ -512,7 +524,7 @@ def test_the_accuracy_scene_fits_its_rungs_its_legend_and_its_card(open_page):
     no rung (Nh = 9), the "current settings" legend entry had no glyph; with the wear rungs on, the
     Apply button ran off the card (on a narrow window, the wear rungs' checkbox did)."""
     page = open_page("scene=accuracy&harmonics=9", first="vs wall time")
-    page.page.get_by_text("Cheapest within 0.01").wait_for()
+    page.page.get_by_text("Cheapest within 0.05").wait_for()
     page.page.locator("input[type=checkbox]").first.check()
     page.page.get_by_text("the current settings (Nh = 9, method exact) are not among the rungs").wait_for()
     page.idle()
