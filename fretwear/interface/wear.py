@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..slow_time import integrate
 from .history import InterfaceWearHistory
 from .periodic import InterfaceProblem, InterfaceSolution, solve_interface
 from .polynomial import DEFAULT_DEGREE, wear_polynomial_interface
@@ -162,50 +163,30 @@ def wear_interface(
     scale = wear_scale(sol)
     if atol is None:
         atol = 0.1 * rtol * max(scale, 1e-300)
-    N = 0.0
-    h = cycles if first_step is None else float(first_step)
-    dx_dN = np.zeros_like(sol.unknowns)  # secant predictor of the unknowns along the slow time
-    failures = 0
-    for _ in range(max_steps):
-        if N >= cycles * (1 - 1e-12):
-            break
-        # the increment bound: no pair wears more than max_increment S in one step, whatever the horizon
-        rate = float(np.abs(k1).max())
-        if rate > 0:
-            h = min(h, max_increment * scale / rate)
-        h = min(h, cycles - N)
-        x0 = sol.unknowns
-        k2, s2 = _rate(problem, w + 0.5 * h * k1, x0 + 0.5 * h * dx_dN, kw, tol)
-        k3, s3 = _rate(problem, w + 0.75 * h * k2, x0 + 0.75 * h * dx_dN, kw, tol)
-        w_new = w + h * (2 * k1 + 3 * k2 + 4 * k3) / 9
-        k4, s4 = _rate(problem, w_new, x0 + h * dx_dN, kw, tol)
-        hist.solves += 3
-        if not (s2.converged and s3.converged and s4.converged):
-            bad = next(s for s in (s2, s3, s4) if not s.converged)
-            failures += 1
-            if failures <= MAX_RETRIES:  # a bound on retries, not on h: the horizon sets no scale here
-                h *= 0.25
-                continue
-            hist.converged, hist.message = False, f"periodic solve failed near N = {N:.6g}: {bad.message}"
-            break
-        err_vec = h * (-5 * k1 / 72 + k2 / 12 + k3 / 9 - k4 / 8)
-        err = np.abs(err_vec).max() / (atol + rtol * np.abs(w_new).max())
-        failures = 0
-        if err > 1.0:
-            h *= max(0.2, 0.9 * err ** (-1 / 3))
-            continue
-        N += h
-        w = np.maximum(w_new, 0.0)
-        dx_dN = (s4.unknowns - x0) / h
-        k1, sol = k4, s4
-        problem = problem.with_wear(problem.wear, xref=sol.slip_variable[:, 0])
-        hist.record(N, w, sol)
-        if converge is not None and np.abs(k1).max() * N < converge * np.abs(w).max():
-            hist.message = f"profile converged at N = {N:.6g}"
-            break
-        h *= min(5.0, 0.9 * max(err, 1e-10) ** (-1 / 3))
-    else:
-        hist.converged, hist.message = False, f"max_steps = {max_steps} reached at N = {N:.6g}"
+    # the unknowns along the slow time: each stage starts from the secant prediction of the last step
+    state = {"x": sol.unknowns, "dx_dN": np.zeros_like(sol.unknowns), "problem": problem}
+
+    def rate(w_trial: np.ndarray, c: float, h: float):
+        k, s = _rate(state["problem"], w_trial, state["x"] + c * h * state["dx_dN"], kw, tol)
+        hist.solves += 1
+        return (k, s) if s.converged else (None, s.message)
+
+    def accept(N: float, w_new: np.ndarray, k: np.ndarray, s) -> str | None:
+        h = N - (hist.cycles[-1] if hist.cycles else 0.0)
+        state["dx_dN"], state["x"] = (s.unknowns - state["x"]) / h, s.unknowns
+        state["problem"] = state["problem"].with_wear(state["problem"].wear, xref=s.slip_variable[:, 0])
+        hist.record(N, w_new, s)
+        if converge is not None and np.abs(k).max() * N < converge * np.abs(w_new).max():
+            return f"profile converged at N = {N:.6g}"
+        return None
+
+    status, ok = integrate(rate, w, k1, cycles, accept, scale=scale, atol=atol, rtol=rtol,
+                           max_increment=max_increment, project=lambda w_trial: np.maximum(w_trial, 0.0),
+                           first_step=first_step, max_steps=max_steps, max_retries=MAX_RETRIES,
+                           shrink=0.25)  # fmt: skip
+    hist.converged = ok
+    if status != "horizon":
+        hist.message = status
     return hist.finish()
 
 

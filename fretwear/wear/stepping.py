@@ -21,6 +21,7 @@ from typing import Literal
 import numpy as np
 
 from ..model import Model
+from ..slow_time import integrate
 from .common import (
     Dynamics,
     Recorder,
@@ -113,55 +114,18 @@ def wear_stepping(
         rec.add(float(cycles), w, g, slid, sol, model)
         return done(status="stuck")
     notes = two_scale_warning(g, u0)
-    N = 0.0
-    h = float(fixed_step) if fixed_step else min(cycles, tol * u0.max() / g.max())
-    failures = 0
-    for _ in range(max_steps):
-        if N >= cycles:
-            return done(status="horizon")
-        if np.all(w >= stop_fraction * u0):
-            return done(status="worn")
-        if not fixed_step:  # the increment bound: at most max_increment u0 per step, whatever the horizon
-            h = min(h, max_increment / max(float(np.max(g / u0)), 1e-300))
-        h = min(h, cycles - N)
-        if fixed_step:
-            w_new = clip_wear(w + h * g, u0)
-            nxt = dyn(w_new)
-            if nxt is None:
-                return done(converged=False, status=f"periodic solve failed at N = {N + h:g}")
-        else:  # Bogacki-Shampine 3(2), first same as last
-            stages = []
-            for a in ((0.5,), (0.0, 0.75)):
-                ws = clip_wear(w + h * sum(c * k for c, k in zip(a, [g, *stages], strict=False)), u0)
-                r = dyn(ws, keep=False)
-                if r is None:
-                    break
-                stages.append(r[0])
-            nxt = None
-            if len(stages) == 2:
-                k2, k3 = stages
-                w_new = clip_wear(w + h * (2 * g + 3 * k2 + 4 * k3) / 9, u0)
-                increment = float(np.max(np.abs(w_new - w) / u0))
-                if increment > max_increment:  # the rate rose within the step: shorter, before solving
-                    h *= max(0.2, 0.9 * max_increment / increment)
-                    continue
-                nxt = dyn(w_new)
-            if nxt is None:
-                failures += 1  # a failed periodic solve: retry with a smaller step, then give up
-                if failures > MAX_RETRIES:  # a count, not a step size: the horizon sets no scale here
-                    return done(converged=False, status=f"periodic solve failed near N = {N:g}")
-                h *= 0.5
-                continue
-            failures = 0
-            err = h * np.abs(-5 * g / 72 + k2 / 12 + k3 / 9 - nxt[0] / 8)
-            ratio = float(np.max(err / (tol * u0)))
-            h_next = h * min(5.0, max(0.2, 0.9 * ratio ** (-1 / 3) if ratio > 0 else 5.0))
-            if ratio > 1:
-                h = h_next
-                continue
-        w, N = w_new, N + h
-        g, slid, sol = nxt
-        rec.add(N, w, g, slid, sol, model)
-        if not fixed_step:
-            h = h_next
-    return done(converged=False, status=f"step budget of {max_steps} exhausted at N = {N:g}")
+
+    def rate(w_trial: np.ndarray, c: float, _h: float):
+        # stages are trials (the warm start stays); the step's last state becomes the next guess
+        r = dyn(w_trial, keep=c == 1.0)
+        return (None, "not converged") if r is None else (r[0], r)
+
+    def accept(N: float, w_new: np.ndarray, _g: np.ndarray, r) -> str | None:
+        rec.add(N, w_new, *r, model)
+        return "worn" if np.all(w_new >= stop_fraction * u0) else None
+
+    status, ok = integrate(rate, w, g, cycles, accept, scale=u0, atol=tol * u0, max_increment=max_increment,
+                           project=lambda w_trial: clip_wear(w_trial, u0),
+                           first_step=tol * u0.max() / g.max(), fixed_step=fixed_step, max_steps=max_steps,
+                           max_retries=MAX_RETRIES)  # fmt: skip
+    return done(converged=ok, status=status)
