@@ -70,10 +70,8 @@ def test_bad_model_file_is_a_one_line_usage_error(tmp_path, capsys):
 
 
 def test_bad_option_values_are_rejected():
-    with pytest.raises(SystemExit):
-        _run(["--q-ratio", "-1"])
-    with pytest.raises(SystemExit):
-        _run(["--contact-nodes", "2"])
+    assert _run(["--q-ratio", "-1"]) == 2
+    assert _run(["--contact-nodes", "2"]) == 2
 
 
 @pytest.mark.parametrize("q", ["1", "1.05", "5"])
