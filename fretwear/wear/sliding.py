@@ -563,15 +563,26 @@ class _Job:
         self.points: dict[float, tuple] = dict(zip(table.rho.tolist(), rows, strict=True))
         self.to_u, self.from_u = _spacing(table.rho_stick)
 
-    def nearest(self, rho: float) -> list[np.ndarray]:
-        """Newton's start at ``rho``: the orbits of the samples around it, interpolated (or the nearest)."""
+    def guesses(self, rho: np.ndarray) -> np.ndarray:
+        """Newton's starts at ``rho``: the orbits of the (up to) four samples around each, interpolated
+        (Lagrange, cubic in ``rho``), shape (len(rho), 2 n); empty rows without stored orbits."""
         r = np.array(sorted(self.points))
-        k = int(np.searchsorted(r, rho))
-        around = [self.points[v][4] for v in r[max(k - 1, 0) : k + 1] if self.points[v][4].size]
-        if len(around) == 2:
-            t = (rho - r[k - 1]) / (r[k] - r[k - 1])
-            return [(1 - t) * around[0] + t * around[1]]
-        return around
+        orbits = np.array([self.points[v][4] for v in r])
+        if not orbits.size:
+            return np.zeros((len(rho), 0))
+        k = np.clip(np.searchsorted(r, rho) - 2, 0, max(len(r) - 4, 0))[:, None] + np.arange(min(4, len(r)))
+        near = r[k]  # (P, m) the samples around each rho
+        weights = np.ones(near.shape)
+        for i in range(near.shape[1]):
+            for o in range(near.shape[1]):
+                if o != i:
+                    weights[:, i] *= (rho - near[:, o]) / (near[:, i] - near[:, o])
+        return np.einsum("pm,pmn->pn", weights, orbits[k])
+
+    def problems(self, rho: np.ndarray) -> list[tuple[int, float, list]]:
+        """The solves at load ratios ``rho``: ``(frequency index, rho, [Newton's start])`` each."""
+        starts = self.guesses(rho)
+        return [(self.index, r, [y] if y.size else []) for r, y in zip(rho.tolist(), starts, strict=True)]
 
     def store(self, solves: int) -> None:
         """Write the samples back into the table, ascending in ``rho``."""
@@ -593,7 +604,7 @@ def _shoot(engine: Table, problems: list[tuple[int, float, list]], chain: bool) 
     """
     at = np.array([p[0] for p in problems], dtype=np.int64)
     g = np.array([[p[1]] for p in problems])
-    o = _orbits(engine, at, g, [p[2] for p in problems], chain, 1e-12, 30, 400)
+    o = _orbits(engine, at, g, [p[2] for p in problems], chain, 1e-10, 30, 400)
     amplitude = np.hypot(o["fre"], o["fim"]) * (2.0 / engine.periods[at])[:, None]
     half = (o["hi"] - o["lo"]) / 2
     n = engine.n
@@ -710,8 +721,7 @@ def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None
     for job in jobs:
         r0 = min(job.points, default=np.inf)
         if job not in new and r0 > job.lo:
-            below += [(job.index, float(r), job.nearest(r0))
-                      for r in job.from_u(np.linspace(job.to_u(job.lo), job.to_u(r0), 4))[:-1]]  # fmt: skip
+            below += job.problems(job.from_u(np.linspace(job.to_u(job.lo), job.to_u(r0), 4))[:-1])
     if below:
         for (i, rho, _), row in zip(below, _shoot(engine, below, False), strict=True):
             spent[i] += 1
@@ -731,29 +741,29 @@ def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None
                 continue
             s_hat = [v for _, v in free] + [job.points[k][0] for k in samples]
             x, c = q_cubic(np.array(knots), np.array(s_hat), job.table.rho_stick)
-            for a, b in pairs:
-                if a == 0.0:
-                    thirds = [b / 3, 2 * b / 3]
-                else:
-                    ua, ub = job.to_u(a), job.to_u(b)
-                    thirds = [float(job.from_u(ua + k * (ub - ua) / 3)) for k in (1, 2)]
-                checks.append((job, a, b, thirds, x, c))
-                problems += [(job.index, m, job.nearest(m)) for m in thirds]
+            a, b = np.array(pairs).T
+            ua, third = job.to_u(np.where(a > 0, a, b)), np.array([1 / 3, 2 / 3])
+            thirds = np.where((a > 0)[:, None], job.from_u(ua[:, None] + third * (job.to_u(b) - ua)[:, None]),
+                              b[:, None] * third)  # fmt: skip
+            checks.append((job, pairs, thirds, x, c))
+            problems += job.problems(thirds.ravel())
         if not problems:
             break
         rows = iter(_shoot(engine, problems, False))
-        for job, a, b, thirds, x, c in checks:
-            spent[job.index] += 2
-            error, edges = 0.0, [a]  # a failed sample counts as passed: it cannot be refined
-            for mid in thirds:
-                row = next(rows)
-                if _add(job, mid, row):
-                    edges.append(mid)
-                    q_mid = row[0] / (job.table.rho_stick - mid) ** 2
-                    error = max(error, abs(q_mid - _q_at(x, c, np.array([mid]))[0]) / q_mid)
-            if error <= tol or _small_share(x, c, a, b, error, tol, job.table.rho_stick):
-                edges.append(b)
-                job.table.verified |= set(zip(edges[:-1], edges[1:], strict=True))
+        for job, pairs, thirds, x, c in checks:
+            spent[job.index] += thirds.size
+            predicted = _q_at(x, c, thirds.ravel()).reshape(thirds.shape)
+            for (a, b), mids, q_cubic_mids in zip(pairs, thirds.tolist(), predicted, strict=True):
+                error, edges = 0.0, [a]  # a failed sample counts as passed: it cannot be refined
+                for mid, q_pred in zip(mids, q_cubic_mids, strict=True):
+                    row = next(rows)
+                    if _add(job, mid, row):
+                        edges.append(mid)
+                        q_mid = row[0] / (job.table.rho_stick - mid) ** 2
+                        error = max(error, abs(q_mid - q_pred) / q_mid)
+                if error <= tol or _small_share(x, c, a, b, error, tol, job.table.rho_stick):
+                    edges.append(b)
+                    job.table.verified |= set(zip(edges[:-1], edges[1:], strict=True))
     for job in jobs:
         job.store(spent[job.index])
 
@@ -771,8 +781,7 @@ def _shoot_at(model: Model, table: SlidingTable, rho: np.ndarray) -> tuple[dict[
     slipping = np.flatnonzero((rho < table.rho_stick) & (rho > 0))
     if not len(slipping) or table.orbit is None or not table.orbit.size:
         return out, 0
-    job = _Job(table, 0.0, 0.0, 0)
-    problems = [(0, float(rho[k]), job.nearest(float(rho[k]))) for k in slipping]
+    problems = _Job(table, 0.0, 0.0, 0).problems(rho[slipping])
     unit = model.scaled(1.0 / unit_forcing(model))
     for k, row in zip(slipping, _shoot(Table(unit, [table.omega]), problems, False), strict=True):
         if row is not None:
