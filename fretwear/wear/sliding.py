@@ -339,7 +339,7 @@ def _tail_piece(x: np.ndarray, c: np.ndarray, a: float, b: float, gt: np.ndarray
         r = mid + half * gt[k]
         s = _s(x, c, 0, r)
         part += gw[k] * (s0 - s) / (r * s * s0)
-    return math.log(b / a) / s0 + half * part
+    return (math.log(b) - math.log(a)) / s0 + half * part
 
 
 @njit(cache=True, nogil=True)
@@ -347,17 +347,17 @@ def _tail_invert(x: np.ndarray, c: np.ndarray, upper: float, rest: float, lower:
     """``v`` in ``[lower, upper]`` with ``integral_v^upper dr / (r s_hat(r)) = rest`` on the first piece.
 
     Newton's method in ``log v``, where the integral is nearly linear (slope
-    ``-1 / s_hat``), kept inside its bracket by bisection; ``v`` may underflow
-    to 0 (worn through to round-off).
+    ``-1 / s_hat``), kept inside its bracket by bisection; ``lower`` past it
+    (with ``lower = 0``: worn through to round-off, ``v`` below 5e-324).
     """
-    la, lb = (math.log(lower) if lower > 0.0 else -746.0), math.log(upper)
+    la, lb = math.log(max(lower, 5e-324)), math.log(upper)
+    if _tail_piece(x, c, math.exp(la), upper, gt, gw) <= rest:  # below the floor, or below round-off
+        return lower
     L = lb - rest * _s(x, c, 0, 0.0)  # Newton's first step, with s_hat at its gross-slip value
     for _ in range(100):
         if not (la < L < lb):
             L = 0.5 * (la + lb)
         v = math.exp(L)
-        if v == 0.0:
-            return 0.0
         g = _tail_piece(x, c, v, upper, gt, gw) - rest  # falls as L grows
         if g > 0.0:
             la = L

@@ -106,7 +106,8 @@ def test_exact_map_is_sampled_from_the_tables_and_builds_histories_on_demand():
         assert h.method == "exact" and h.info["dynamics"] == "shooting"
         at = h.at(cycles)
         np.testing.assert_allclose(wm.wear[i, :, 0], at["wear"][:, 0], rtol=2e-4, atol=1e-4 * h.u0[0])
-        np.testing.assert_allclose(wm.amplitude[i], at["amplitude"], rtol=2e-3)
+        # the map interpolates the table's response (1e-2 on q), the history solves at its records
+        np.testing.assert_allclose(wm.amplitude[i], at["amplitude"], rtol=5e-3)
     assert sorted(wm.histories._done) == [1, 2]
     joined = wm.histories + wm.histories[:1]
     assert len(joined) == 4 and joined[1] is wm.histories[1] and joined[3] is wm.histories[0]
@@ -165,7 +166,7 @@ def test_tables_are_kept_on_disk_for_the_next_process(tmp_path, monkeypatch):
     built = sliding_table(model, omega, 0.5)
     assert built.solves > 0 and len(list(tmp_path.rglob("*.npz"))) == 1
     monkeypatch.setattr(sliding, "_cache", {})  # a new process: nothing in memory
-    monkeypatch.setattr(sliding, "shooting", lambda *a, **k: pytest.fail("a table on disk needs no solve"))
+    monkeypatch.setattr(sliding, "_orbits", lambda *a, **k: pytest.fail("a table on disk needs no solve"))
     assert cached_solves(model, omega) == built.solves  # the history built on it spends none
     loaded = sliding_table(model, omega, 0.5)
     for name in ("rho", "s_hat", "amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
