@@ -48,7 +48,9 @@ def wear_exact(
     ``dynamics="shooting"`` integrates Archard's law on the exact sliding
     distance of the event-driven dynamics (:func:`fretwear.wear.sliding.sliding_table`):
     no harmonic truncation and no slow-time error, the reference of every
-    other method. ``dynamics="dlft"`` follows the DLFT load path (below).
+    other method; its history follows the wear past ``stop_fraction u0`` to the
+    horizon (status ``"worn"``), and the response of each record is a shooting
+    solution at its wear. ``dynamics="dlft"`` follows the DLFT load path (below).
 
     With one friction contact and no unilateral contact the DLFT equations are
     positively homogeneous in the forces and the friction limit, so the
