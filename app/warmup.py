@@ -1,10 +1,13 @@
 """Warm-up of a dashboard server: compiled kernels, plotting code and the default scenes' results.
 
 ``warm()`` compiles (or loads from Numba's on-disk cache) every kernel the
-scenes use, by tiny runs of each solver and slow-time method, then computes
-the results of the default settings' first scenes into the process-wide cache
-and draws their figures once, so that the first page is served from the cache
-and no later scene waits for a compilation. Two ways to run it:
+scenes use, by tiny runs of each solver and slow-time method, builds the
+sliding tables of the default exact wear map (:func:`warm_tables`: the exact
+method on the event-driven dynamics, whatever the sidebar's method), then
+computes the results of the default settings' first scenes into the
+process-wide cache and draws their figures once, so that the first page is
+served from the cache and no later scene waits for a compilation or a table.
+Two ways to run it:
 
 * ``panel serve app/app.py --setup app/warmup.py``: before the server accepts
   connections (it blocks the start-up for a few seconds);
@@ -30,7 +33,7 @@ if str(ROOT) not in sys.path:
 # idle machine one thread was as fast). SciPy's BLAS reads this when it loads, at the first computation.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-__all__ = ["compile_kernels", "warm", "warm_in_background"]
+__all__ = ["compile_kernels", "warm", "warm_in_background", "warm_tables"]
 
 log = logging.getLogger(__name__)
 _started = threading.Lock()
@@ -63,6 +66,26 @@ def compile_kernels() -> float:
     return time.perf_counter() - start
 
 
+def warm_tables() -> float:
+    """Build the sliding tables of the default exact wear map (the dashboard's settings); seconds spent.
+
+    The exact method on the event-driven dynamics over the default band, at the
+    default ``F_N``, ``mu``, ``F_ex``: one table per frequency of the map, kept
+    in memory (and on disk, :func:`fretwear.wear.sliding.cache_dir`), so that
+    the first exact wear map, and every later one at other ``F_ex``, ``mu``,
+    ``k_w`` or ``u0`` in their range, solves nothing.
+    """
+    import fretwear as fw
+    from app.backend import Backend
+    from app.state import Controls
+
+    start = time.perf_counter()
+    s = Controls().settings()
+    model = Backend().model(s.model)
+    fw.wear_map(model, s.frequencies, s.cycles, method="exact", dynamics="shooting", kw=s.kw)
+    return time.perf_counter() - start
+
+
 def warm(scenes: tuple[str, ...] = ("regimes", "wearmap"), draw: bool = True, exports: bool = False) -> float:
     """Compute the default ``scenes`` into the shared cache; seconds spent.
 
@@ -76,6 +99,7 @@ def warm(scenes: tuple[str, ...] = ("regimes", "wearmap"), draw: bool = True, ex
 
     start = time.perf_counter()
     compile_kernels()
+    warm_tables()
     session = Session()
     for key in scenes:
         session.scene = key

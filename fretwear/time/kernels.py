@@ -1103,15 +1103,19 @@ NOT_CONVERGED = -1  # attempt code of a Newton that ended without reaching the t
 
 
 @njit(cache=True, nogil=True)
-def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, step, count,
+def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, step, count, at, path,
           g, guesses, n_guesses, rigid, rigid_ok, chain, tol, max_iter, marches, max_phases, rows, start,
           y0_out, y1_out, conv_out, iters_out, att_kind, att_code, att_res, n_att,
           J_out, slid_out, work_out, visc_out, fre_out, fim_out, hi_out, lo_out, neutral_out,
           st_off, ph_off, ev_off, st_t, st_len, st_pat, st_phase, st_X, ph_t, ph_state, ph_dir,
           ev_t, ev_c, ev_kind, ev_dir):  # fmt: skip
-    """Periodic orbits at ``omegas[start:]`` by shooting, with their recorded period and its integrals.
+    """Periodic orbits of the problems ``start, start + 1, ...`` by shooting, with their recorded period.
 
-    At frequency ``i``, in a sweep (``chain``) or without guesses, the rigid
+    Problem ``i`` is frequency ``at[i]`` of the table (``omegas``, ``Ah``, ...)
+    with slip forces ``g[i]``: one call solves a frequency sweep (``at = 0, 1,
+    ...``), the load ratios of one frequency, or any mix. ``path[i]`` is the
+    parameter along which a sweep extrapolates (the frequency, the slip force).
+    In a sweep (``chain``) or without guesses, the rigid
     state ``rigid[i]`` is taken at once when ``rigid_ok[i]`` (a stuck orbit,
     without offset; the recorded period verifies it). Otherwise Newton
     (:func:`newton`, without verification) starts from each of the
@@ -1128,13 +1132,14 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
 
     Returns ``(status, need, i)``: :data:`OK` when every frequency is done,
     else :data:`NEED_PATTERN` (build pattern ``need``) or :data:`NEED_SPACE`
-    (grow the record buffers) at frequency ``i``, to be called again from ``i``.
+    (grow the record buffers) at problem ``i``, to be called again from ``i``.
     """
     n = Minv.shape[0]
-    for i in range(start, omegas.shape[0]):
-        om = omegas[i]
+    for i in range(start, at.shape[0]):
+        w = at[i]
+        om, g_i = omegas[w], g[i]
         T = 2 * math.pi / om
-        Ah_i, phi_i, series_i, step_i = Ah[i], phi[i], phi_series[i], step[i]
+        Ah_i, phi_i, series_i, step_i = Ah[w], phi[w], phi_series[w], step[w]
         iters = 0
         na = 0
         found = False
@@ -1155,9 +1160,9 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
                 if not (chain and i > 1 and conv_out[i - 1] and conv_out[i - 2]):
                     continue
                 events = ev_off[i] - ev_off[i - 1]
-                if events == 0 or events != ev_off[i - 1] - ev_off[i - 2]:
+                if events == 0 or events != ev_off[i - 1] - ev_off[i - 2] or path[i - 1] == path[i - 2]:
                     continue
-                slope = (om - omegas[i - 1]) / (omegas[i - 1] - omegas[i - 2])
+                slope = (path[i] - path[i - 1]) / (path[i - 1] - path[i - 2])
                 kind, y = EXTRAPOLATED_START, y0_out[i - 1] + slope * (y0_out[i - 1] - y0_out[i - 2])
             elif a == n_guesses[i] + 1:
                 if not (chain and i > 0 and conv_out[i - 1]):
@@ -1168,7 +1173,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
             else:
                 j = a - n_guesses[i] - 3
                 status, need, ys, _, _ = settle(
-                    Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, ys,
+                    Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g_i, ys,
                     marches[j] - marched, 0.0, max_phases,
                 )  # fmt: skip
                 if status == NEED_PATTERN:
@@ -1180,7 +1185,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
                     break
                 kind, y = MARCH_START + j, ys.copy()
             status, need, y1, ok, _, its, res, _ = newton(
-                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, tol,
+                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g_i, y, tol,
                 max_iter, max_phases, _FALSE,
             )  # fmt: skip
             if status == NEED_PATTERN:
@@ -1201,7 +1206,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
         for attempt in range(2):
             s0, p0, e0 = st_off[i], ph_off[i], ev_off[i]
             status, need, y1, J, slid, ns, nph, nev, work, visc, fre, fim, hi, lo = orbit(
-                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, 0.0,
+                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g_i, y, 0.0,
                 T, _TRUE, max_phases, rows, st_t[s0:], st_len[s0:], st_pat[s0:], st_phase[s0:], st_X[s0:],
                 ph_t[p0:], ph_state[p0:], ph_dir[p0:], ev_t[e0:], ev_c[e0:], ev_kind[e0:], ev_dir[e0:],
             )  # fmt: skip
@@ -1216,7 +1221,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
                 found = found and res <= tol
                 break
             status, need, y2, ok, _, its, _, _ = newton(
-                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g, y, tol,
+                Minv, B, C, Kmat, F, om, masks, Ah_i, force_rows, phi_i, series_i, step_i, count, g_i, y, tol,
                 max_iter, max_phases, _TRUE,
             )  # fmt: skip
             if status == NEED_PATTERN:
@@ -1234,7 +1239,7 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
         neutral_out[i] = 0
         if ns:
             for j in range(B.shape[0]):  # contacts stuck during the whole period: neutral offsets
-                stuck = g[j] > 0
+                stuck = g_i[j] > 0
                 for p in range(ph_off[i], ph_off[i + 1]):
                     stuck = stuck and ph_state[p, j] == STICK_CODE
                 neutral_out[i] += stuck
@@ -1253,4 +1258,4 @@ def solve(Minv, B, C, Kmat, F, omegas, masks, Ah, force_rows, phi, phi_series, s
             slid_out[i] = np.nan
             work_out[i] = visc_out[i] = np.nan
             fre_out[i] = fim_out[i] = hi_out[i] = lo_out[i] = np.nan
-    return OK, 0, omegas.shape[0]
+    return OK, 0, at.shape[0]

@@ -246,23 +246,32 @@ def _scaled_norm(n: int, omega: float, y: np.ndarray) -> float:
     return math.sqrt(float(u @ u + v @ v))
 
 
-def _rigid_states(table: Table, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The linear steady states with every loaded contact rigid (``B u = 0``), one per frequency of ``table``.
+def _rigid_states(table: Table, g: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The linear steady states with every loaded contact rigid (``B u = 0``), one per problem.
 
-    Returns their states at ``t = 0``, shape (W, 2 n), and whether each is
+    Problem ``p`` is frequency ``at[p]`` of ``table`` with slip forces ``g[p]``.
+    Returns their states at ``t = 0``, shape (P, 2 n), and whether each is
     the periodic orbit: every loaded contact's force ``lambda_s + Re(Lambda
     exp(i omega t))`` stays within its slip limit, ``|lambda_s| + |Lambda| <= g``
     (``B^T lambda = F - Z(omega) U`` is solved exactly for ``lambda``). What
     does not depend on ``g`` is kept in ``table.rigid`` per set of loaded contacts.
     """
-    active = [j for j in range(table.nf) if g[j] > 0]
-    mask = sum(1 << j for j in active)
-    if mask not in table.rigid:
-        table.rigid[mask] = _rigid_response(table, active)
-    states, static, amplitude = table.rigid[mask]
-    if static is None:  # no stuck motion (ok False) or no loaded contact (ok True)
-        return states, np.full(len(states), amplitude, dtype=np.bool_)
-    ok = np.all(static + amplitude <= g[active], axis=1) & np.all(np.isfinite(amplitude), axis=1)
+    states, ok = np.empty((len(at), 2 * table.n)), np.empty(len(at), dtype=np.bool_)
+    loaded = g > 0
+    for row in np.unique(loaded, axis=0):  # problems with the same loaded contacts
+        mine = np.all(loaded == row, axis=1)
+        active = np.flatnonzero(row).tolist()
+        mask = sum(1 << j for j in active)
+        if mask not in table.rigid:
+            table.rigid[mask] = _rigid_response(table, active)
+        rigid, static, amplitude = table.rigid[mask]
+        w = at[mine]
+        states[mine] = rigid[w]
+        if static is None:  # no stuck motion (ok False) or no loaded contact (ok True)
+            ok[mine] = amplitude
+        else:
+            a = amplitude[w]
+            ok[mine] = np.all(static + a <= g[mine][:, active], axis=1) & np.all(np.isfinite(a), axis=1)
     return states, ok
 
 
@@ -345,45 +354,47 @@ def _solution(table: Table, i: int, g, loads, wear, y0, y1, converged: bool, ite
     )
 
 
-def _solve(table: Table, g: np.ndarray, loads: np.ndarray, wear, guesses: list, chain: bool, tol: float,
-           max_iter: int, samples: int, transient_periods: int) -> list[ShootingSolution]:  # fmt: skip
-    """Periodic orbits at every frequency of ``table`` in one compiled call (:func:`kernels.solve`).
+def _orbits(table: Table, at: np.ndarray, g: np.ndarray, guesses: list, chain: bool, tol: float,
+            max_iter: int, transient_periods: int, path: np.ndarray | None = None) -> dict:  # fmt: skip
+    """Periodic orbits of the problems ``(at[p], g[p])`` in one compiled call (:func:`kernels.solve`).
 
-    ``guesses[i]``: the states tried first at frequency ``i``; ``chain``: then
-    the extrapolated and the previous orbits of the sweep.
+    Problem ``p``: frequency ``at[p]`` of ``table`` with slip forces ``g[p]``
+    (N, shape (nf,)); ``guesses[p]``: the states tried first; ``chain``: then
+    the orbits extrapolated along ``path`` (default the frequencies) and the
+    previous orbit. Returns the kernel's outputs per problem (arrays with a
+    first axis of length P) and the records (``rec``, ``offsets``).
     """
-    W, n, nf, D = len(table.omegas), table.n, table.nf, table.dim
+    P, n, nf, D = len(at), table.n, table.nf, table.dim
     n2 = 2 * n
+    at = np.ascontiguousarray(at, dtype=np.int64)
+    g = np.ascontiguousarray(g, dtype=float)
+    path = table.omegas[at] if path is None else np.ascontiguousarray(path, dtype=float)
     G = max((len(q) for q in guesses), default=0)
-    guess_array = np.zeros((W, max(G, 1), n2))
-    for i, q in enumerate(guesses):
+    guess_array = np.zeros((P, max(G, 1), n2))
+    for p, q in enumerate(guesses):
         for k, y in enumerate(q):
-            guess_array[i, k] = y
+            guess_array[p, k] = y
     n_guesses = np.array([len(q) for q in guesses], dtype=np.int64)
     marches = np.array([m for m in _MARCHES if m <= transient_periods], dtype=np.int64)
     A = G + 3 + len(marches)
-    y0, y1 = np.zeros((W, n2)), np.zeros((W, n2))
-    conv, iters = np.zeros(W, dtype=np.bool_), np.zeros(W, dtype=np.int64)
-    att_kind, att_code, att_res = np.zeros((W, A), np.int64), np.zeros((W, A), np.int64), np.zeros((W, A))
-    n_att = np.zeros(W, dtype=np.int64)
-    J = np.zeros((W, n2, n2))
-    slid, work, visc = np.zeros((W, nf)), np.zeros(W), np.zeros(W)
-    fre, fim = np.zeros((W, n)), np.zeros((W, n))
-    rows = table.extrema_rows
-    hi, lo = np.zeros((W, len(rows))), np.zeros((W, len(rows)))
-    neutral = np.zeros(W, dtype=np.int64)
-    offsets = [np.zeros(W + 1, dtype=np.int64) for _ in range(3)]
+    out = {
+        "y0": np.zeros((P, n2)), "y1": np.zeros((P, n2)), "converged": np.zeros(P, dtype=np.bool_),
+        "iterations": np.zeros(P, dtype=np.int64), "att_kind": np.zeros((P, A), np.int64),
+        "att_code": np.zeros((P, A), np.int64), "att_res": np.zeros((P, A)), "n_att": np.zeros(P, np.int64),
+        "J": np.zeros((P, n2, n2)), "sliding": np.zeros((P, nf)), "work": np.zeros(P), "viscous": np.zeros(P),
+        "fre": np.zeros((P, n)), "fim": np.zeros((P, n)), "hi": np.zeros((P, len(table.extrema_rows))),
+        "lo": np.zeros((P, len(table.extrema_rows))), "neutral": np.zeros(P, dtype=np.int64),
+    }  # fmt: skip
+    offsets = [np.zeros(P + 1, dtype=np.int64) for _ in range(3)]
     per_period = int(1.5 * np.max(table.periods[:, None] / table.step[:, : table.count])) + 16
-    rec = Records.empty(W * per_period, W * 8 + 16, D, nf)
-    rigid, rigid_ok = _rigid_states(table, g)
+    rec = Records.empty(P * per_period, P * 8 + 16, D, nf)
+    rigid, rigid_ok = _rigid_states(table, g, at)
     start = 0
     while True:
         status, need, start = kernels.solve(
-            table.Minv, table.B, table.C, table.K, table.forces, table.omegas, *table.stacked(), g,
-            guess_array, n_guesses, rigid, rigid_ok, chain, tol, max_iter, marches, _MAX_PHASES, rows, start,
-            y0, y1, conv, iters,
-            att_kind, att_code, att_res, n_att, J, slid, work, visc, fre, fim, hi, lo, neutral, *offsets,
-            *rec.args(),
+            table.Minv, table.B, table.C, table.K, table.forces, table.omegas, *table.stacked(), at, path, g,
+            guess_array, n_guesses, rigid, rigid_ok, chain, tol, max_iter, marches, _MAX_PHASES,
+            table.extrema_rows, start, *out.values(), *offsets, *rec.args(),
         )  # fmt: skip
         if status == kernels.NEED_PATTERN:
             table.require(int(need))
@@ -391,22 +402,37 @@ def _solve(table: Table, g: np.ndarray, loads: np.ndarray, wear, guesses: list, 
             rec = rec.grown(2)
         else:
             break
+    out["rec"], out["offsets"] = rec, offsets
+    return out
+
+
+def _solve(table: Table, g: np.ndarray, loads: np.ndarray, wear, guesses: list, chain: bool, tol: float,
+           max_iter: int, samples: int, transient_periods: int) -> list[ShootingSolution]:  # fmt: skip
+    """Periodic orbits at every frequency of ``table`` with slip forces ``g`` (:func:`_orbits`).
+
+    ``guesses[i]``: the states tried first at frequency ``i``; ``chain``: then
+    the extrapolated and the previous orbits of the sweep.
+    """
+    W = len(table.omegas)
+    o = _orbits(table, np.arange(W), np.tile(g, (W, 1)), guesses, chain, tol, max_iter, transient_periods)
+    rec, y0, y1, conv, J, slid = o["rec"], o["y0"], o["y1"], o["converged"], o["J"], o["sliding"]
+    fourier = o["fre"] + 1j * o["fim"]
     out = []
-    fourier = fre + 1j * fim
     for i in range(W):
-        message = "" if conv[i] else _message(att_kind[i, : n_att[i]], att_code[i, : n_att[i]],
-                                              att_res[i, : n_att[i]], tol)  # fmt: skip
-        (s0, s1), (p0, p1), (e0, e1) = (o[i : i + 2] for o in offsets)
+        n_att = o["n_att"][i]
+        message = "" if conv[i] else _message(o["att_kind"][i, :n_att], o["att_code"][i, :n_att],
+                                              o["att_res"][i, :n_att], tol)  # fmt: skip
+        (s0, s1), (p0, p1), (e0, e1) = (off[i : i + 2] for off in o["offsets"])
         orbit = None
         if s1 > s0:
             orbit = partial(make_trajectory, table, i, rec, slice(s0, s1), slice(p0, p1), slice(e0, e1),
                             t0=0.0, t1=table.periods[i], times=None, y=y1[i], J=J[i], sliding=slid[i], g=g,
-                            work=work[i], viscous=visc[i], fourier=fourier[i])  # fmt: skip
+                            work=o["work"][i], viscous=o["viscous"][i], fourier=fourier[i])  # fmt: skip
         else:
             message = f"{message}; the orbit could not be evaluated (its period march failed)".lstrip("; ")
-        out.append(_solution(table, i, g, loads, wear, y0[i], y1[i], bool(conv[i]), iters[i], message,
-                             samples, J[i], neutral[i], fourier[i], hi[i], lo[i], slid[i], work[i], visc[i],
-                             orbit))  # fmt: skip
+        out.append(_solution(table, i, g, loads, wear, y0[i], y1[i], bool(conv[i]), o["iterations"][i],
+                             message, samples, J[i], o["neutral"][i], fourier[i], o["hi"][i], o["lo"][i],
+                             slid[i], o["work"][i], o["viscous"][i], orbit))  # fmt: skip
     return out
 
 
@@ -606,7 +632,10 @@ def steady_state(
     """
     eng, g, loads = engine_loads(model, omega, wear)
     samples = _check_samples(samples)
-    y = _rigid_states(eng, g)[0][0] if y_guess is None else check_state(eng, y_guess, "y_guess").copy()
+    if y_guess is None:
+        y = _rigid_states(eng, g[None], np.zeros(1, np.int64))[0][0]
+    else:
+        y = check_state(eng, y_guess, "y_guess").copy()
     while True:
         status, need, y, marched, change = kernels.settle(
             *model_arrays(eng), *eng.arrays(), g, y, int(max_periods), float(tol), _MAX_PHASES

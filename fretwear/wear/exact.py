@@ -11,7 +11,6 @@ integrates in closed form on each piece: no slow-time error.
 from __future__ import annotations
 
 import time
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -25,9 +24,13 @@ from .common import (
     resolve_dynamics,
     two_scale_warning,
 )
-from .sliding import cached_solves, sliding_table, unit_forcing
+from .sliding import _shoot_at, cached_solves, sliding_table, sliding_tables, unit_forcing
 
 __all__ = ["wear_exact", "exact_path_applies", "exact_wear_map"]
+
+#: the tables meet their tolerance down to this fraction of the starting load ratio (w = 0.99 u0); below,
+#: their cubic runs to the frictionless knot at rho = 0, checked there too
+_DEEP = 1e-2
 
 
 def exact_path_applies(model: Model) -> bool:
@@ -53,8 +56,10 @@ def wear_exact(
     ``samples`` are given) integrates Archard's law on the exact sliding
     distance of the event-driven dynamics (:func:`fretwear.wear.sliding.sliding_table`):
     no harmonic truncation and no slow-time error, the reference of every
-    other method. ``dynamics="dlft"`` follows the DLFT load path (below): an
-    exact slow time on approximate dynamics (truncated at ``Nh = harmonics``,
+    other method; its history follows the wear past ``stop_fraction u0`` to the
+    horizon (status ``"worn"``), and the response of each record is a shooting
+    solution at its wear. ``dynamics="dlft"`` follows the DLFT load path (below):
+    an exact slow time on approximate dynamics (truncated at ``Nh = harmonics``,
     default 21).
 
     With one friction contact and no unilateral contact the DLFT equations are
@@ -171,57 +176,68 @@ def _spread(w: np.ndarray, count: int) -> np.ndarray:
 def _wear_on_table(
     model: Model, omega: float, kw: float, cycles: float, stop_fraction: float, max_records: int
 ) -> WearHistory:
-    """:func:`wear_exact` on the exact dynamics: Archard's law integrated on the sliding table."""
+    """:func:`wear_exact` on the exact dynamics: Archard's law integrated on the sliding table.
+
+    The wear follows its true value up to the horizon, past ``stop_fraction u0``
+    too (then the status is ``"worn"``): ``max_records`` records evenly spread
+    in wear up to the horizon or ``stop_fraction u0``, with the table's samples
+    in that range, then 20 records geometric in ``N`` up to the horizon. The
+    response of every record (sliding distance, amplitudes) comes from a
+    shooting solve at its load ratio, seeded by the table's orbits.
+    """
     start = time.perf_counter()
     contact = model.friction[0]
     u0, kn, mu = contact.u0, contact.kn, contact.mu
     fex = unit_forcing(model)
     rho0 = mu * contact.normal_load() / fex
     arrays = dict(u0=np.array([u0]), kn=np.array([kn]), kw=kw)
-    rho_end = rho0 * (1.0 - stop_fraction)
     solves0 = cached_solves(model, omega)
-    table = sliding_table(model, omega, rho_end, rho0)
+    table = sliding_table(model, omega, _DEEP * rho0, rho0)
 
     def history(rho: np.ndarray, N: np.ndarray, **status) -> WearHistory:
-        at = table.interpolate(rho)
+        at, solves = _shoot_at(model, table, rho)
         wear = u0 - rho * fex / (mu * kn)
         load = kn * (u0 - wear)
         slid = fex * at["s_hat"]
         return WearHistory(omega, "exact", N, wear[:, None], load[:, None], (kw * load * slid)[:, None],
                            slid[:, None], fex * at["amplitude"], fex * at["half_peak_to_peak"],
-                           fex * at["relative_half_peak_to_peak"], **arrays, solves=table.solves - solves0,
-                           wall_time=time.perf_counter() - start, info={"dynamics": "shooting",
-                           "table_size": len(table.rho), "rho_stick": table.rho_stick}, **status)  # fmt: skip
+                           fex * at["relative_half_peak_to_peak"], **arrays,
+                           solves=table.solves - solves0 + solves, wall_time=time.perf_counter() - start,
+                           info={"dynamics": "shooting", "table_size": len(table.rho),
+                                 "rho_stick": table.rho_stick}, **status)  # fmt: skip
 
     if rho0 >= table.rho_stick:  # stuck for good: no slip, no wear
         return history(np.array([rho0, rho0]), np.array([0.0, cycles]), status="stuck")
     scale = 1.0 / (kw * kn * fex)
-    rho_end = max(rho_end, table.rho[0])  # a failed first sample leaves the table short (noted below)
-    rho_stop = float(table.load_ratio(rho0, np.array([cycles / scale]), rho_end)[0])
-    status = "horizon" if rho_stop > rho_end else "worn"
+    floor = _floor(table, rho0)
+    rho_end = float(table.load_ratio(rho0, np.array([cycles / scale]), floor)[0])  # at the horizon
+    rho_worn = max(rho0 * (1.0 - stop_fraction), floor)
+    worn = rho_end <= rho_worn
     # records evenly spread in wear (rho is affine in w), plus the samples of the table in range
-    rho = np.linspace(rho0, rho_stop, max_records)
-    inside = table.rho[(table.rho < rho0) & (table.rho > rho_stop)]
+    rho = np.linspace(rho0, max(rho_end, rho_worn), max_records)
+    inside = table.rho[(table.rho < rho0) & (table.rho > rho[-1])]
     rho = np.unique(np.concatenate([rho, inside[_spread(inside, max_records)] if len(inside) else []]))[::-1]
     N = scale * table.cycles(rho0, rho)
+    if worn and table.free is not None and N[-1] < cycles:  # past the worn state, geometric in N
+        tail = np.geomspace(N[-1], cycles, 21)[1:]
+        rho, N = np.append(rho, table.load_ratio(rho0, tail / scale, floor)), np.append(N, tail)
     notes = [f"shooting failed at {len(table.failures)} load ratios (left out)"] if table.failures else []
-    hist = history(rho, N, status=status)
+    hist = history(rho, N, status="worn" if worn else "horizon")
     hist.warnings = two_scale_warning(hist.rate[:1, 0], np.array([u0])) + notes
     return hist
 
 
-def exact_wear_map(
-    model: Model, omegas, cycles, *, kw: float, stop_fraction: float = 0.99, workers: int = 2
-) -> dict[str, np.ndarray]:
+def exact_wear_map(model: Model, omegas, cycles, *, kw: float, workers: int = 2) -> dict[str, np.ndarray]:
     """Wear and response over frequency x cycle count on the exact dynamics, all frequencies at once.
 
-    The sliding table of each frequency (built in a thread pool when missing)
-    gives ``rho(N)`` by inverting the closed-form Archard quadrature
+    The sliding table of each frequency (the missing ones built together,
+    :func:`~fretwear.wear.sliding.sliding_tables`) gives ``rho(N)`` by inverting
+    the closed-form Archard quadrature
     (:meth:`~fretwear.wear.sliding.SlidingTable.load_ratio`), then
     ``w = u0 - rho F_ex / (mu k_n)`` and the response per unit forcing
     interpolated at ``rho``: no history is recorded and nothing is
-    interpolated in ``N``. Past ``stop_fraction`` of ``u0`` the last state is
-    held, as in :func:`fretwear.studies.wear_map`.
+    interpolated in ``N``. The wear follows its true value to ``u0`` (the
+    gross-slip tail of the tables: ``u0 - w`` decays exponentially in ``N``).
 
     Parameters
     ----------
@@ -233,8 +249,6 @@ def exact_wear_map(
         Cycle counts, ascending, >= 0.
     kw : float
         Archard coefficient ``K_w`` (1/N), > 0.
-    stop_fraction : float
-        Wear fraction of ``u0`` where the contact counts as worn through.
     workers : int
         Threads that build missing tables.
 
@@ -255,25 +269,22 @@ def exact_wear_map(
     u0, kn, mu = contact.u0, contact.kn, contact.mu
     fex = unit_forcing(model)
     rho0 = mu * contact.normal_load() / fex
-    rho_end = rho0 * (1.0 - stop_fraction)
-
-    def table(omega):
-        return sliding_table(model, float(omega), rho_end, rho0)
-
-    if workers > 1 and len(omegas) > 1:
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            tables = list(pool.map(table, omegas))
-    else:
-        tables = [table(w) for w in omegas]
+    tables = sliding_tables(model, omegas, _DEEP * rho0, rho0, workers=workers)
     integral = kw * kn * fex * cycles  # K_w k_n F_ex N: the Archard integral reached after N cycles
     order = np.argsort(integral, kind="stable")
     rho = np.empty((len(omegas), len(cycles)))
     for i, t in enumerate(tables):
-        floor = min(max(rho_end, t.rho[0]), rho0) if len(t.rho) else rho0
-        rho[i, order] = t.load_ratio(rho0, integral[order], floor)
+        rho[i, order] = t.load_ratio(rho0, integral[order], _floor(t, rho0))
     out = {"wear": (u0 - rho * fex / (mu * kn))[:, :, None]}
     rows = [t.interpolate(r) for t, r in zip(tables, rho, strict=True)]
     for name in ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
         out[name] = fex * np.stack([row[name] for row in rows])
     out["stuck"] = np.array([rho0 >= t.rho_stick for t in tables])
     return out
+
+
+def _floor(table, rho0: float) -> float:
+    """The lowest load ratio the wear can reach on ``table``: 0 (worn through) from its frictionless knot."""
+    if table.free is not None:
+        return 0.0
+    return min(table.rho[0], rho0) if len(table.rho) else rho0

@@ -11,19 +11,22 @@ Archard's law ``dw/dN = K_w F_N s`` becomes (eq. 30c-d)
     dN = -d rho / (K_w k_n F_ex rho s_hat(rho)),
 
 a one-dimensional quadrature for any ``F_ex``, ``mu``, ``K_w``, ``u0`` and
-``k_n``. :func:`sliding_table` samples ``s_hat`` by shooting on the exact
+``k_n``. :func:`sliding_tables` samples ``s_hat`` by shooting on the exact
 event-driven dynamics (:func:`fretwear.time.shooting`), adaptively in ``rho``
 until a monotone cubic in ``q = s_hat / (rho_stick - rho)^2`` (smooth up to
 the stick threshold, where ``s_hat`` vanishes quadratically) is accurate to
-``tol``, and keeps the
-table in a process-wide cache, extended when a lower ``rho`` is asked for.
-The table also holds the response amplitudes per unit forcing, so that the
-records of a wear history are exact as well.
+``tol``, and keeps the table in a process-wide cache (and on disk), extended
+when a lower ``rho`` is asked for. Every refinement pass of every frequency is
+one compiled call (the kernels release the GIL: a thread per chunk of
+frequencies). A last knot at ``rho = 0``, the frictionless response, carries
+the quadrature to the gross-slip limit, where ``rho`` decays exponentially in
+``N`` and the wear tends to ``u0``. The table also holds the response
+amplitudes per unit forcing and the periodic states of its samples (the
+guesses of later solves at nearby load ratios).
 """
 
 from __future__ import annotations
 
-import bisect
 import hashlib
 import logging
 import math
@@ -32,6 +35,7 @@ import pickle
 import tempfile
 import threading
 import zipfile
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -42,18 +46,25 @@ from numba import njit
 from .._version import __version__
 from ..hbm.problem import Problem
 from ..model import Model
-from ..time import shooting
+from ..time.patterns import Table
+from ..time.shooting import _orbits
 
-__all__ = ["SlidingTable", "sliding_table", "cached_solves", "cache_dir", "unit_forcing"]
+__all__ = ["SlidingTable", "sliding_table", "sliding_tables", "cached_solves", "cache_dir", "unit_forcing"]
 
 log = logging.getLogger(__name__)
 
 #: the last sample sits this far below the stick threshold (relative): closer, s_hat ~ 1e-8 loses digits
 _TOP = 1e-4
+#: relative error of the cubic in ``q`` (or share of the cycles) each interval meets: 1e-2 let an extended
+#: table put the cycles to 0.5 u0 2.5e-3 off direct time integration; 3e-3 keeps them within 2e-4
+#: (+35 % solves for a map from scratch)
+TOL = 3e-3
 #: samples of a first table, evenly spaced in log(rho / (rho_stick - rho))
 _FIRST = 8
 #: a first table reaches this factor below the load ratio asked for (F_ex up to this factor larger)
 _REACH = 4.0
+#: the response quantities of a table besides s_hat (per unit forcing)
+_RESPONSE = ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak")
 
 
 def unit_forcing(model: Model) -> float:
@@ -69,9 +80,9 @@ class SlidingTable:
     quadratic maximum: the slip phase lasts ``~ sqrt(rho_stick - rho)`` and
     slides ``~ (rho_stick - rho)^2``. The table therefore interpolates
     ``q = s_hat / (rho_stick - rho)^2``, smooth and positive up to the
-    threshold, by a monotone cubic (PCHIP) through the samples and a last knot
+    threshold, by a monotone cubic (PCHIP) through the samples, a last knot
     at ``rho_stick`` (the end slope extrapolated over the last ``1e-4`` of
-    ``rho_stick``).
+    ``rho_stick``) and, with :attr:`free`, a first knot at ``rho = 0``.
 
     Attributes
     ----------
@@ -89,6 +100,12 @@ class SlidingTable:
         Half peak-to-peak relative displacement per unit forcing (m/N).
     stuck : dict of ndarray
         The same response quantities of the stuck structure (any ``rho >= rho_stick``).
+    free : dict or None
+        ``s_hat`` and the response quantities of the frictionless structure
+        (``rho = 0``, gross slip), the table's first knot; None: the table
+        starts at its first sample.
+    orbit : ndarray, shape (K, 2 n), or None
+        Periodic state ``(u, v)`` at ``t = 0`` of each sample (per unit forcing).
     solves : int
         Shooting solves spent.
     failures : list of float
@@ -107,6 +124,8 @@ class SlidingTable:
     half_peak_to_peak: np.ndarray
     relative_half_peak_to_peak: np.ndarray
     stuck: dict
+    free: dict | None = None
+    orbit: np.ndarray | None = field(default=None, repr=False)
     solves: int = 0
     failures: list[float] = field(default_factory=list)
     verified: set = field(default_factory=set, repr=False)
@@ -165,13 +184,19 @@ class SlidingTable:
         return _invert(x, c, float(rho_from), v, float(rho_floor), _GAUSS_T, _GAUSS_W)
 
     def _interpolants(self) -> tuple[np.ndarray, np.ndarray, dict]:
-        """Knots (the samples and ``rho_stick``), the cubic coefficients of ``q``, the response cubics."""
-        if not self._built or len(self._built[0]) != len(self.rho) + 1:  # the table grew
-            x, c = q_cubic(self.rho, self.s_hat, self.rho_stick)
-            response = {}
-            for name in ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
-                y = np.vstack([getattr(self, name), self.stuck[name][None]])
-                response[name] = partial(_evaluate, x, pchip(x, y))
+        """Knots (0 with :attr:`free`, the samples, ``rho_stick``), the ``q`` cubic, the response cubics."""
+        knots = len(self.rho) + 1 + (self.free is not None)
+        if not self._built or len(self._built[0]) != knots:  # the table grew
+            rho, s_hat = self.rho, self.s_hat
+            rows = {name: getattr(self, name) for name in _RESPONSE}
+            if self.free is not None:
+                rho, s_hat = np.append(0.0, rho), np.append(self.free["s_hat"], s_hat)
+                rows = {name: np.vstack([self.free[name][None], y]) for name, y in rows.items()}
+            x, c = q_cubic(rho, s_hat, self.rho_stick)
+            response = {
+                name: partial(_evaluate, x, pchip(x, np.vstack([y, self.stuck[name][None]])))
+                for name, y in rows.items()
+            }
             self._built = (x, c, response)
         return self._built
 
@@ -263,17 +288,26 @@ def _q_at(x: np.ndarray, c: np.ndarray, vs: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
+def _s(x: np.ndarray, c: np.ndarray, j: int, v: float) -> float:
+    """``s_hat = (rho_stick - v)^2 q`` at ``v`` on piece ``j``."""
+    return (x[-1] - v) ** 2 * _q(x, c, j, v)
+
+
+@njit(cache=True, nogil=True)
 def _piece(x: np.ndarray, c: np.ndarray, j: int, a: float, b: float, gt: np.ndarray, gw: np.ndarray) -> float:
-    """``integral_a^b dr / (r s_hat(r))`` on piece ``j``, ``0 < a <= b < rho_stick = x[-1]``.
+    """``integral_a^b dr / (r s_hat(r))`` on piece ``j``, ``0 <= a <= b < rho_stick = x[-1]``.
 
     With ``t = 1 / (rho_stick - r)``, ``dr / (rho_stick - r)^2 = dt`` and the
     integral is ``integral dt / (r q(r))``: smooth and bounded up to the
     threshold. Gauss-Legendre on sub-intervals of ``t`` in geometric
     progression, at most a factor 2 in ``t`` and in ``r`` each (the ends of a
     piece near the threshold or near ``rho = 0`` vary on their own scale).
+    The piece from the knot ``rho = 0`` is :func:`_tail_piece`.
     """
     if b <= a:
         return 0.0
+    if x[j] == 0.0:
+        return _tail_piece(x, c, a, b, gt, gw)
     top = x[-1]
     ta, tb = 1.0 / (top - a), 1.0 / (top - b)
     n = int(math.ceil(math.log2(tb / ta) + math.log2(b / a))) + 1
@@ -289,6 +323,55 @@ def _piece(x: np.ndarray, c: np.ndarray, j: int, a: float, b: float, gt: np.ndar
         total += half * part
         lo = hi
     return total
+
+
+@njit(cache=True, nogil=True)
+def _tail_piece(x: np.ndarray, c: np.ndarray, a: float, b: float, gt: np.ndarray, gw: np.ndarray) -> float:
+    """``integral_a^b dr / (r s_hat(r))`` on the first piece, from the knot ``rho = 0`` (inf for ``a = 0``).
+
+    Gross slip: ``s_hat`` tends to the frictionless ``s_0`` and the integral
+    diverges as ``log(b / a) / s_0``, in closed form; the rest,
+    ``(s_0 - s_hat) / (r s_hat s_0)``, is smooth on ``[0, b]`` (``b`` at most a
+    quarter of ``rho_stick``): one Gauss-Legendre rule.
+    """
+    if a <= 0.0:
+        return math.inf
+    s0 = _s(x, c, 0, 0.0)
+    half, mid = 0.5 * (b - a), 0.5 * (b + a)
+    part = 0.0
+    for k in range(len(gt)):
+        r = mid + half * gt[k]
+        s = _s(x, c, 0, r)
+        part += gw[k] * (s0 - s) / (r * s * s0)
+    return (math.log(b) - math.log(a)) / s0 + half * part
+
+
+@njit(cache=True, nogil=True)
+def _tail_invert(x: np.ndarray, c: np.ndarray, upper: float, rest: float, lower: float, gt, gw) -> float:
+    """``v`` in ``[lower, upper]`` with ``integral_v^upper dr / (r s_hat(r)) = rest`` on the first piece.
+
+    Newton's method in ``log v``, where the integral is nearly linear (slope
+    ``-1 / s_hat``), kept inside its bracket by bisection; ``lower`` past it
+    (with ``lower = 0``: worn through to round-off, ``v`` below 5e-324).
+    """
+    la, lb = math.log(max(lower, 5e-324)), math.log(upper)
+    if _tail_piece(x, c, math.exp(la), upper, gt, gw) <= rest:  # below the floor, or below round-off
+        return lower
+    L = lb - rest * _s(x, c, 0, 0.0)  # Newton's first step, with s_hat at its gross-slip value
+    for _ in range(100):
+        if not (la < L < lb):
+            L = 0.5 * (la + lb)
+        v = math.exp(L)
+        g = _tail_piece(x, c, v, upper, gt, gw) - rest  # falls as L grows
+        if g > 0.0:
+            la = L
+        else:
+            lb = L
+        step = g * _s(x, c, 0, v)
+        L += step
+        if abs(step) <= 1e-15 * max(1.0, abs(L)) or lb - la <= 1e-15 * max(1.0, abs(lb)):
+            break
+    return max(math.exp(L), lower)
 
 
 @njit(cache=True, nogil=True)
@@ -337,6 +420,9 @@ def _invert(x, c, top: float, targets: np.ndarray, floor: float, gt, gw) -> np.n
                 return out
             done, upper, j = done + piece, lower, j - 1
         rest = want - done  # solve integral_v^upper = rest on [lower, upper]
+        if x[j] == 0.0:  # the gross-slip tail: rho decays exponentially in N
+            out[i] = _tail_invert(x, c, upper, rest, lower, gt, gw)
+            continue
         a, b = lower, upper
         v = upper - rest * upper * (rc - upper) ** 2 * _q(x, c, j, upper)  # Newton's first step
         for _ in range(100):
@@ -378,8 +464,8 @@ def cached_solves(model: Model, omega: float) -> int:
 
 # -- on disk: the tables outlive the process -----------------------------------------------------
 #: version of the file layout below (a new layout ignores the old files)
-_FORMAT = 1
-_ARRAYS = ("rho", "s_hat", "amplitude", "half_peak_to_peak", "relative_half_peak_to_peak")
+_FORMAT = 2
+_ARRAYS = ("rho", "s_hat", *_RESPONSE, "orbit")
 
 
 def cache_dir() -> Path | None:
@@ -423,10 +509,14 @@ def _load(key: tuple) -> SlidingTable | None:
         with np.load(path, allow_pickle=False) as data:
             if float(data["omega"]) != key[-1]:
                 return None
-            stuck = {name: data[f"stuck_{name}"] for name in _ARRAYS[2:]}
+            stuck = {name: data[f"stuck_{name}"] for name in _RESPONSE}
+            free = None
+            if "free_s_hat" in data:
+                free = {name: data[f"free_{name}"] for name in ("s_hat", *_RESPONSE)}
             return SlidingTable(
-                float(data["omega"]), float(data["rho_stick"]), *(data[name] for name in _ARRAYS), stuck,
-                solves=int(data["solves"]), failures=data["failures"].tolist(),
+                float(data["omega"]), float(data["rho_stick"]), *(data[name] for name in _ARRAYS[:-1]), stuck,
+                free=free, orbit=data["orbit"], solves=int(data["solves"]),
+                failures=data["failures"].tolist(),
                 verified={tuple(pair) for pair in data["verified"].tolist()}, checked=tuple(data["checked"]),
             )  # fmt: skip
     except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile):
@@ -448,7 +538,8 @@ def _save(key: tuple, table: SlidingTable) -> None:
                 failures=np.array(table.failures, dtype=float), checked=np.array(table.checked, dtype=float),
                 verified=np.array(sorted(table.verified), dtype=float).reshape(-1, 2),
                 **{name: getattr(table, name) for name in _ARRAYS},
-                **{f"stuck_{name}": table.stuck[name] for name in _ARRAYS[2:]},
+                **{f"stuck_{name}": table.stuck[name] for name in _RESPONSE},
+                **{f"free_{name}": value for name, value in (table.free or {}).items()},
             )  # fmt: skip
         os.replace(tmp.name, path)
     except OSError:
@@ -466,50 +557,67 @@ def _key(model: Model, omega: float) -> tuple:
     )  # fmt: skip
 
 
-def _response(sol) -> tuple:
-    return (
-        float(sol.sliding_distance[0]),
-        np.asarray(sol.amplitude, dtype=float),
-        np.asarray(sol.half_peak_to_peak, dtype=float),
-        np.asarray(sol.relative_half_peak_to_peak, dtype=float),
-    )
+class _Job:
+    """A table to extend: its samples, the range ``[lo, hi]`` to meet, its row in the pattern table."""
+
+    def __init__(self, table: SlidingTable, lo: float, hi: float, index: int):
+        self.table, self.lo, self.hi, self.index = table, lo, hi, index
+        orbit = table.orbit if table.orbit is not None else np.zeros((len(table.rho), 0))
+        rows = zip(table.s_hat, *(getattr(table, name) for name in _RESPONSE), orbit, strict=True)
+        self.points: dict[float, tuple] = dict(zip(table.rho.tolist(), rows, strict=True))
+        self.to_u, self.from_u = _spacing(table.rho_stick)
+
+    def guesses(self, rho: np.ndarray) -> np.ndarray:
+        """Newton's starts at ``rho``: the orbits of the (up to) four samples around each, interpolated
+        (Lagrange, cubic in ``rho``), shape (len(rho), 2 n); empty rows without stored orbits."""
+        r = np.array(sorted(self.points))
+        orbits = np.array([self.points[v][4] for v in r])
+        if not orbits.size:
+            return np.zeros((len(rho), 0))
+        k = np.clip(np.searchsorted(r, rho) - 2, 0, max(len(r) - 4, 0))[:, None] + np.arange(min(4, len(r)))
+        near = r[k]  # (P, m) the samples around each rho
+        weights = np.ones(near.shape)
+        for i in range(near.shape[1]):
+            for o in range(near.shape[1]):
+                if o != i:
+                    weights[:, i] *= (rho - near[:, o]) / (near[:, i] - near[:, o])
+        return np.einsum("pm,pmn->pn", weights, orbits[k])
+
+    def problems(self, rho: np.ndarray) -> list[tuple[int, float, list]]:
+        """The solves at load ratios ``rho``: ``(frequency index, rho, [Newton's start])`` each."""
+        starts = self.guesses(rho)
+        return [(self.index, r, [y] if y.size else []) for r, y in zip(rho.tolist(), starts, strict=True)]
+
+    def store(self, solves: int) -> None:
+        """Write the samples back into the table, ascending in ``rho``."""
+        t, r = self.table, np.array(sorted(self.points))
+        rows = [self.points[v] for v in r]
+        t.rho, t.s_hat = r, np.array([row[0] for row in rows])
+        for k, name in enumerate(_RESPONSE, start=1):
+            setattr(t, name, np.array([row[k] for row in rows]))
+        t.orbit = np.array([row[4] for row in rows])
+        t.solves += solves
 
 
-class _Sampler:
-    """Shooting on the unit-forcing structure with slip force ``rho`` (wear sets the slip force)."""
+def _shoot(engine: Table, problems: list[tuple[int, float, list]], chain: bool) -> list[tuple | None]:
+    """Periodic orbits of ``(frequency index, rho, guesses)`` under unit forcing with slip force ``rho``.
 
-    def __init__(self, model: Model, omega: float, rho_max: float):
-        f = unit_forcing(model)
-        self.model = model.scaled(1.0 / f).with_friction(mu=1.0, kn=1.0, u0=rho_max)
-        self.omega, self.rho_max = omega, rho_max
-        self.solves = 0
-        self.solved: list[float] = []  # ascending load ratios of the converged solves
-        self.guesses: dict[float, np.ndarray] = {}
-
-    def __call__(self, rho: float):
-        """``(s_hat, amplitude, half p2p, relative half p2p)`` at ``rho``, or ``None`` when shooting fails."""
-        guess = None
-        if self.solved:  # the orbit of the nearest load ratio solved so far
-            k = bisect.bisect(self.solved, rho)
-            near = min(self.solved[max(k - 1, 0) : k + 1], key=lambda r: abs(r - rho))
-            guess = self.guesses[near]
-        sol = self._shoot(rho, guess)
-        if (sol is None or not sol.converged) and guess is not None:
-            sol = self._shoot(rho, None)
-        if sol is None or not sol.converged:
-            return None
-        if rho not in self.guesses:
-            bisect.insort(self.solved, rho)
-        self.guesses[rho] = np.asarray(sol.unknowns)
-        return _response(sol)
-
-    def _shoot(self, rho: float, guess):
-        try:
-            return shooting(self.model, self.omega, guess, wear=np.array([self.rho_max - rho]))
-        except (RuntimeError, ValueError):  # a failed solve: this sample is left out (table.failures)
-            return None
-        finally:
-            self.solves += 1
+    One compiled call for all (:func:`fretwear.time.shooting._orbits`).
+    Returns per problem ``(s_hat, amplitude, half p2p, relative half p2p, y0)``
+    per unit forcing, or None where shooting failed (left out of the table).
+    """
+    at = np.array([p[0] for p in problems], dtype=np.int64)
+    g = np.array([[p[1]] for p in problems])
+    o = _orbits(engine, at, g, [p[2] for p in problems], chain, 1e-10, 30, 400)
+    amplitude = np.hypot(o["fre"], o["fim"]) * (2.0 / engine.periods[at])[:, None]
+    half = (o["hi"] - o["lo"]) / 2
+    n = engine.n
+    return [
+        (float(o["sliding"][k, 0]), amplitude[k], half[k, :n], half[k, n:], o["y0"][k])
+        if o["converged"][k] and np.isfinite(o["sliding"][k, 0])
+        else None
+        for k in range(len(problems))
+    ]
 
 
 def _stick_threshold(model: Model, omega: float) -> float:
@@ -536,60 +644,245 @@ def _spacing(rho_stick: float):
     return (lambda r: np.log(r / (rho_stick - r))), (lambda u: rho_stick / (1.0 + np.exp(-u)))
 
 
-def _adapt(table: SlidingTable, sampler: _Sampler, lo: float, hi: float, tol: float, max_solves: int) -> None:
-    """Add samples to ``table`` down to ``lo`` until the cubic in ``q`` predicts the two new samples at the
-    thirds of every interval that meets ``[lo, hi]`` within ``tol`` (relative).
+def _first_samples(engine: Table, jobs: list[_Job]) -> None:
+    """The ends (frictionless and stuck responses) and the first samples of new tables.
+
+    The first samples lie evenly in ``log(rho / (rho_stick - rho))`` from
+    ``lo / _REACH`` up to ``_TOP`` below the threshold; the k-th samples of all
+    frequencies are one sweep, each solve seeded by the orbits of its
+    neighbours in frequency.
+    """
+    ends = [(job.index, 0.0, []) for job in jobs] + [(job.index, 2.0 * max(job.table.rho_stick, 1.0), [])
+                                                    for job in jobs]  # fmt: skip
+    rows = _shoot(engine, ends, False)
+    for job, free, stuck in zip(jobs, rows[: len(jobs)], rows[len(jobs) :], strict=True):
+        if stuck is None:
+            raise RuntimeError("shooting failed on the stuck structure")
+        job.table.stuck = dict(zip(_RESPONSE, stuck[1:4], strict=True))
+        if free is not None:  # else the table starts at its first sample (and wear holds below it)
+            # the frictionless relative motion is harmonic: it slides 4 times its amplitude per period
+            response = dict(zip(_RESPONSE, free[1:4], strict=True))
+            job.table.free = {"s_hat": 4.0 * float(free[3][0]), **response}
+    grids = [job.from_u(np.linspace(job.to_u(job.lo / _REACH), job.to_u(job.table.rho_stick * (1.0 - _TOP)),
+                                    _FIRST)) for job in jobs]  # fmt: skip
+    for k in range(_FIRST):
+        problems = [(job.index, float(grid[k]), []) for job, grid in zip(jobs, grids, strict=True)]
+        for (_, rho, _), job, row in zip(problems, jobs, _shoot(engine, problems, True), strict=True):
+            _add(job, rho, row)
+
+
+def _add(job: _Job, rho: float, row: tuple | None) -> bool:
+    """Record a solve at ``rho``: a sample, or a failure (left out); whether it is a sample."""
+    if row is None:
+        job.table.failures.append(rho)
+        return False
+    job.points[rho] = row
+    return True
+
+
+#: the smallest relative change of the load ratio whose cycles must meet the tolerance (wear to 0.1 u0)
+_WINDOW = 1.1
+
+
+def _small_share(
+    x: np.ndarray, c: np.ndarray, a: float, b: float, error: float, tol: float, top: float
+) -> bool:
+    """True when a relative error ``error`` of ``1 / s_hat`` on ``[a, b]`` moves the cycles of any wear
+    over a factor ``_WINDOW`` of the load ratio that contains ``[a, b]`` by at most ``tol`` (relative).
+
+    Near the sudden changes of ``s_hat`` where a stick phase appears or vanishes,
+    the cubic meets ``tol`` pointwise only on tiny intervals (tens of solves for
+    each); their share of any number of cycles is what matters.
+    """
+    if a <= 0.0:
+        return False
+    share = _integrals(x, c, b, np.array([a, b / _WINDOW]), _GAUSS_T, _GAUSS_W)
+    after = np.inf
+    if a * _WINDOW < top:
+        after = _integrals(x, c, a * _WINDOW, np.array([a]), _GAUSS_T, _GAUSS_W)[0]
+    return bool(error * share[0] <= tol * min(share[1], after))
+
+
+def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None:
+    """Sample the tables of ``jobs`` until the cubic in ``q`` predicts the two new samples at the thirds
+    of every interval that meets ``[lo, hi]`` within ``tol`` (relative); one compiled call per pass.
 
     Two checks per interval, not one: a single midpoint can sit where the
     cubic's error changes sign and pass by chance (seen: 2.5 % off between two
-    samples whose midpoint agreed to 1e-3).
+    samples whose midpoint agreed to 1e-3). An interval also passes when its
+    error changes the cycles over any factor ``_WINDOW`` of the load ratio by
+    at most ``tol`` (:func:`_small_share`). The interval from the knot
+    ``rho = 0`` to the first sample is checked at its thirds in ``rho``.
     """
-    t = table
-    rows = zip(t.s_hat, t.amplitude, t.half_peak_to_peak, t.relative_half_peak_to_peak, strict=True)
-    points = dict(zip(t.rho.tolist(), rows, strict=True))
-    to_u, from_u = _spacing(t.rho_stick)
-    top = t.rho_stick * (1.0 - _TOP)
-    if not len(t.rho):
-        starts = from_u(np.linspace(to_u(lo), to_u(top), _FIRST))
-    elif t.rho[0] > lo:
-        starts = from_u(np.linspace(to_u(lo), to_u(t.rho[0]), 4))[:-1]
-    else:
-        starts = []
-    for r in starts:
-        if (got := sampler(float(r))) is not None:
-            points[float(r)] = got
-    verified = table.verified
-    while sampler.solves < max_solves and len(points) >= 2:
-        r = np.array(sorted(points))
-        pairs = [(a, b) for a, b in zip(r[:-1], r[1:], strict=True) if a < hi and b > lo]
-        todo = [(a, b) for a, b in pairs if (a, b) not in verified and b > a * (1 + 1e-9)]
-        if not todo:
+    engine = Table(model, [job.table.omega for job in jobs])
+    spent = dict.fromkeys(range(len(jobs)), 0)
+    new = [job for job in jobs if not job.points]
+    if new:
+        for job in new:
+            spent[job.index] += 2 + _FIRST
+        _first_samples(engine, new)
+    below = []  # an existing table extended below its lowest sample: three samples, from its lowest orbit
+    for job in jobs:
+        r0 = min(job.points, default=np.inf)
+        if job not in new and r0 > job.lo:
+            below += job.problems(job.from_u(np.linspace(job.to_u(job.lo), job.to_u(r0), 4))[:-1])
+    if below:
+        for (i, rho, _), row in zip(below, _shoot(engine, below, False), strict=True):
+            spent[i] += 1
+            _add(jobs[i], rho, row)
+    while True:
+        problems, checks = [], []
+        for job in jobs:
+            if job.table.solves + spent[job.index] >= max_solves or len(job.points) < 2:
+                continue
+            samples = sorted(job.points)
+            free = [] if job.table.free is None else [(0.0, job.table.free["s_hat"])]
+            knots = [k for k, _ in free] + samples
+            pairs = [(a, b) for a, b in zip(knots[:-1], knots[1:], strict=False)
+                     if (a < job.hi and b > job.lo or a == 0.0) and (a, b) not in job.table.verified
+                     and b > max(a * (1 + 1e-9), 1e-9 * job.table.rho_stick)]  # fmt: skip
+            if not pairs:
+                continue
+            s_hat = [v for _, v in free] + [job.points[k][0] for k in samples]
+            x, c = q_cubic(np.array(knots), np.array(s_hat), job.table.rho_stick)
+            a, b = np.array(pairs).T
+            ua, third = job.to_u(np.where(a > 0, a, b)), np.array([1 / 3, 2 / 3])
+            thirds = np.where((a > 0)[:, None], job.from_u(ua[:, None] + third * (job.to_u(b) - ua)[:, None]),
+                              b[:, None] * third)  # fmt: skip
+            checks.append((job, pairs, thirds, x, c))
+            problems += job.problems(thirds.ravel())
+        if not problems:
             break
-        x, c = q_cubic(r, np.array([points[k][0] for k in r]), t.rho_stick)
-        for a, b in todo:
-            ua, ub = to_u(a), to_u(b)
-            thirds = [float(from_u(ua + k * (ub - ua) / 3)) for k in (1, 2)]
-            good = True
-            for mid in thirds:
-                got = sampler(mid)
-                if got is None:
-                    table.failures.append(mid)
-                    continue
-                points[mid] = got
-                q_mid = got[0] / (t.rho_stick - mid) ** 2
-                good &= bool(abs(q_mid - _q_at(x, c, np.array([mid]))[0]) <= tol * q_mid)
-            if good:  # both checks passed (a failed sample counts as passed: it cannot be refined)
-                edges = [a, *[m for m in thirds if m in points], b]
-                verified |= set(zip(edges[:-1], edges[1:], strict=True))
-            if sampler.solves >= max_solves:
-                break
-    r = np.array(sorted(points))
-    table.rho = r
-    table.s_hat = np.array([points[k][0] for k in r])
-    table.amplitude = np.array([points[k][1] for k in r])
-    table.half_peak_to_peak = np.array([points[k][2] for k in r])
-    table.relative_half_peak_to_peak = np.array([points[k][3] for k in r])
-    table.solves = sampler.solves
+        rows = iter(_shoot(engine, problems, False))
+        for job, pairs, thirds, x, c in checks:
+            spent[job.index] += thirds.size
+            predicted = _q_at(x, c, thirds.ravel()).reshape(thirds.shape)
+            for (a, b), mids, q_cubic_mids in zip(pairs, thirds.tolist(), predicted, strict=True):
+                error, edges = 0.0, [a]  # a failed sample counts as passed: it cannot be refined
+                for mid, q_pred in zip(mids, q_cubic_mids, strict=True):
+                    row = next(rows)
+                    if _add(job, mid, row):
+                        edges.append(mid)
+                        q_mid = row[0] / (job.table.rho_stick - mid) ** 2
+                        error = max(error, abs(q_mid - q_pred) / q_mid)
+                if error <= tol or _small_share(x, c, a, b, error, tol, job.table.rho_stick):
+                    edges.append(b)
+                    job.table.verified |= set(zip(edges[:-1], edges[1:], strict=True))
+    for job in jobs:
+        job.store(spent[job.index])
+
+
+def _shoot_at(model: Model, table: SlidingTable, rho: np.ndarray) -> tuple[dict[str, np.ndarray], int]:
+    """The exact response per unit forcing at load ratios ``rho`` (the table's quantities), by shooting.
+
+    One compiled call, each solve seeded by the orbits of the table's samples
+    around it; the stuck response at and above ``rho_stick``. Where shooting
+    fails, the table's interpolation stands in. Returns the quantities and
+    the number of solves.
+    """
+    rho = np.asarray(rho, dtype=float)
+    out = table.interpolate(rho)
+    slipping = np.flatnonzero((rho < table.rho_stick) & (rho > 0))
+    if not len(slipping) or table.orbit is None or not table.orbit.size:
+        return out, 0
+    problems = _Job(table, 0.0, 0.0, 0).problems(rho[slipping])
+    unit = model.scaled(1.0 / unit_forcing(model))
+    for k, row in zip(slipping, _shoot(Table(unit, [table.omega]), problems, False), strict=True):
+        if row is not None:
+            for name, value in zip(("s_hat", *_RESPONSE), row[:4], strict=True):
+                out[name][k] = value
+    return out, len(problems)
+
+
+def sliding_tables(
+    model: Model,
+    omegas,
+    rho_min: float,
+    rho_max: float | None = None,
+    *,
+    tol: float = TOL,
+    max_solves: int = 2000,
+    workers: int = 1,
+) -> list[SlidingTable]:
+    """The exact ``s_hat(rho)`` of ``model`` at each of ``omegas`` (rad/s), sampled down to ``rho_min`` (N/N).
+
+    Cached per structure and frequency (whatever the forcing amplitude, ``mu``,
+    ``u0``, ``k_n``); a later call with a lower ``rho_min`` extends the table.
+    The missing tables are built together: each refinement pass of a chunk of
+    frequencies is one compiled call, the chunks in ``workers`` threads.
+
+    Parameters
+    ----------
+    model : Model
+        One friction contact, no unilateral contact (positive definite mass).
+    omegas : array_like, shape (nf,)
+        Excitation frequencies (rad/s), > 0.
+    rho_min, rho_max : float
+        Range of load ratios ``mu F_N / F_ex`` where the tables must meet ``tol``,
+        ``0 < rho_min``; default ``rho_max``: the stick threshold. Below its
+        lowest sample a table follows its cubic to the frictionless knot at
+        ``rho = 0`` (checked at the thirds of that interval too).
+    tol : float
+        Relative error of the cubic in ``q = s_hat / (rho_stick - rho)^2``, checked
+        at the thirds of every interval (in ``log(rho / (rho_stick - rho))``)
+        before those samples join the table. The number of cycles it gives is
+        more accurate: within 1e-3 of direct time integration with wear at 0.55,
+        0.7, 0.9 and 1.1 Hz on the paper model (10 N; tests and benchmark).
+    max_solves : int
+        Budget of shooting solves per table.
+    workers : int
+        Threads that build missing tables (>= 1).
+    """
+    if len(model.friction) != 1 or model.normal:
+        raise ValueError("sliding_table needs exactly one friction contact and no unilateral contact")
+    if not (np.isfinite(rho_min) and rho_min > 0):
+        raise ValueError(f"rho_min must be a finite load ratio > 0, got {rho_min!r}")
+    omegas = np.atleast_1d(np.asarray(omegas, dtype=float))
+    keys = [_key(model, w) for w in omegas]
+    unique = sorted(set(keys))  # locks taken in one global order: no deadlock between callers
+    with _lock:
+        locks = [_locks.setdefault(key, threading.Lock()) for key in unique]
+    for lock in locks:
+        lock.acquire()
+    try:
+        jobs, tables = [], {}
+        for key in unique:
+            table = _lookup(key)
+            if table is None:
+                omega = key[-1]
+                table = SlidingTable(omega, _stick_threshold(model, omega), np.zeros(0), np.zeros(0),
+                                     np.zeros((0, model.n_dofs)), np.zeros((0, model.n_dofs)),
+                                     np.zeros((0, len(model.contacts))), {}, failures=[])  # fmt: skip
+            tables[key] = table
+            lo = min(rho_min, table.rho_stick * (1 - 1e-2))
+            hi = table.rho_stick if rho_max is None else min(rho_max, table.rho_stick)
+            if table.rho_stick > 0 and lo < hi and not _complete(table, lo, hi):
+                jobs.append((key, _Job(table, lo, hi, 0)))
+        jobs.sort(key=lambda item: item[0][-1])  # by frequency: the first samples sweep it
+        chunks = [c for c in np.array_split(np.arange(len(jobs)), max(1, min(workers, len(jobs)))) if len(c)]
+        work = []
+        for chunk in chunks:
+            mine = [jobs[i][1] for i in chunk]
+            for index, job in enumerate(mine):
+                job.index = index
+            work.append(mine)
+        unit = model.scaled(1.0 / unit_forcing(model))
+        if len(work) > 1:
+            with ThreadPoolExecutor(max_workers=len(work)) as pool:
+                list(pool.map(lambda mine: _refine(unit, mine, tol, max_solves), work))
+        elif work:
+            _refine(unit, work[0], tol, max_solves)
+        for key, job in jobs:
+            if _complete(job.table, job.lo, job.hi):
+                job.table.checked = (min(job.lo, job.table.checked[0]), max(job.hi, job.table.checked[1]))
+            _cache[key] = job.table
+            _save(key, job.table)
+        for key, table in tables.items():
+            _cache.setdefault(key, table)
+        return [tables[key] for key in keys]
+    finally:
+        for lock in locks:
+            lock.release()
 
 
 def sliding_table(
@@ -598,68 +891,8 @@ def sliding_table(
     rho_min: float,
     rho_max: float | None = None,
     *,
-    tol: float = 1e-2,
+    tol: float = TOL,
     max_solves: int = 2000,
 ) -> SlidingTable:
-    """The exact ``s_hat(rho)`` of ``model`` at ``omega`` (rad/s), sampled down to ``rho_min`` (N/N).
-
-    Cached per structure and frequency (whatever the forcing amplitude, ``mu``,
-    ``u0``, ``k_n``); a later call with a lower ``rho_min`` extends the table.
-
-    Parameters
-    ----------
-    model : Model
-        One friction contact, no unilateral contact (positive definite mass).
-    omega : float
-        Excitation frequency (rad/s), > 0.
-    rho_min, rho_max : float
-        Range of load ratios ``mu F_N / F_ex`` where the table must meet ``tol``,
-        ``0 < rho_min``; default ``rho_max``: the stick threshold.
-    tol : float
-        Relative error of the cubic in ``q = s_hat / (rho_stick - rho)^2``, checked
-        at the thirds of every interval (in ``log(rho / (rho_stick - rho))``)
-        before those samples join the table. The number of cycles it gives is
-        more accurate: within 1e-3 of direct time integration with wear at 0.55,
-        0.7, 0.9 and 1.1 Hz on the paper model (10 N; tests and benchmark).
-    max_solves : int
-        Budget of shooting solves.
-    """
-    if len(model.friction) != 1 or model.normal:
-        raise ValueError("sliding_table needs exactly one friction contact and no unilateral contact")
-    if not (np.isfinite(rho_min) and rho_min > 0):
-        raise ValueError(f"rho_min must be a finite load ratio > 0, got {rho_min!r}")
-    key = _key(model, omega)
-    with _lock:
-        lock = _locks.setdefault(key, threading.Lock())
-    with lock:  # tables of other frequencies are built at the same time in other threads
-        table = _lookup(key)
-        solves = -1 if table is None else table.solves
-        if table is None:
-            rho_stick = _stick_threshold(model, omega)
-            stuck = _stuck_response(model, omega, rho_stick)
-            table = SlidingTable(omega, rho_stick, np.zeros(0), np.zeros(0), np.zeros((0, model.n_dofs)),
-                                 np.zeros((0, model.n_dofs)), np.zeros((0, len(model.contacts))), stuck,
-                                 failures=[])  # fmt: skip
-            _cache[key] = table
-        lo = min(rho_min, table.rho_stick * (1 - 1e-2))
-        hi = table.rho_stick if rho_max is None else min(rho_max, table.rho_stick)
-        if table.rho_stick > 0 and lo < hi and not _complete(table, lo, hi):
-            if not len(table.rho):  # a first build also covers F_ex up to _REACH times larger
-                lo /= _REACH
-            sampler = _Sampler(model, omega, 2.0 * table.rho_stick)
-            sampler.solves = table.solves
-            _adapt(table, sampler, lo, hi, tol, max_solves)
-            if _complete(table, lo, hi):
-                table.checked = (min(lo, table.checked[0]), max(hi, table.checked[1]))
-        if table.solves != solves:  # new or grown
-            _save(key, table)
-        return table
-
-
-def _stuck_response(model: Model, omega: float, rho_stick: float) -> dict[str, np.ndarray]:
-    """Response per unit forcing of the stuck structure (exact, linear)."""
-    sampler = _Sampler(model, omega, 2.0 * max(rho_stick, 1.0))
-    got = sampler(2.0 * max(rho_stick, 1.0) * 0.75)  # any slip force above the threshold
-    if got is None:
-        raise RuntimeError("shooting failed on the stuck structure")
-    return {"amplitude": got[1], "half_peak_to_peak": got[2], "relative_half_peak_to_peak": got[3]}
+    """The exact ``s_hat(rho)`` of ``model`` at ``omega`` (rad/s): :func:`sliding_tables` at one frequency."""
+    return sliding_tables(model, [omega], rho_min, rho_max, tol=tol, max_solves=max_solves)[0]

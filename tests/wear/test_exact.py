@@ -106,7 +106,8 @@ def test_exact_map_is_sampled_from_the_tables_and_builds_histories_on_demand():
         assert h.method == "exact" and h.info["dynamics"] == "shooting"
         at = h.at(cycles)
         np.testing.assert_allclose(wm.wear[i, :, 0], at["wear"][:, 0], rtol=2e-4, atol=1e-4 * h.u0[0])
-        np.testing.assert_allclose(wm.amplitude[i], at["amplitude"], rtol=2e-3)
+        # the map interpolates the table's response (1e-2 on q), the history solves at its records
+        np.testing.assert_allclose(wm.amplitude[i], at["amplitude"], rtol=5e-3)
     assert sorted(wm.histories._done) == [1, 2]
     joined = wm.histories + wm.histories[:1]
     assert len(joined) == 4 and joined[1] is wm.histories[1] and joined[3] is wm.histories[0]
@@ -165,7 +166,7 @@ def test_tables_are_kept_on_disk_for_the_next_process(tmp_path, monkeypatch):
     built = sliding_table(model, omega, 0.5)
     assert built.solves > 0 and len(list(tmp_path.rglob("*.npz"))) == 1
     monkeypatch.setattr(sliding, "_cache", {})  # a new process: nothing in memory
-    monkeypatch.setattr(sliding, "shooting", lambda *a, **k: pytest.fail("a table on disk needs no solve"))
+    monkeypatch.setattr(sliding, "_orbits", lambda *a, **k: pytest.fail("a table on disk needs no solve"))
     assert cached_solves(model, omega) == built.solves  # the history built on it spends none
     loaded = sliding_table(model, omega, 0.5)
     for name in ("rho", "s_hat", "amplitude", "half_peak_to_peak", "relative_half_peak_to_peak"):
@@ -181,3 +182,44 @@ def test_tables_are_kept_on_disk_for_the_next_process(tmp_path, monkeypatch):
     assert sliding_table(model, omega, 0.5).solves > 0
     monkeypatch.setenv("FRETWEAR_CACHE_DIR", "")
     assert sliding.cache_dir() is None
+
+
+def test_wear_follows_its_gross_slip_tail_to_u0():
+    """Past 0.99 u0 the map and the history follow the true wear (no hold at stop_fraction)."""
+    from fretwear.wear.sliding import unit_forcing
+
+    model, omega = fw.paper_model(fex=10), OMEGA
+    cycles = np.array([0.0, 2e4, 3e4, 4e4])
+    wm = fw.wear_map(model, [0.7], cycles, method="exact", dynamics="shooting", kw=1e-11)
+    w = wm.wear_fraction[0, :, 0]
+    assert w[-1] > 0.9999 and np.all(np.diff(w) > 0) and np.all(w < 1)
+    # independent: rho = mu F_N / F_ex decays as d rho / dN = -K_w k_n F_ex rho s_hat(rho); deep in gross
+    # slip s_hat is the frictionless value 4 |B u| per unit forcing (linear response, no contact force)
+    table = sliding_table(model, omega, 0.01)
+    c = model.friction[0]
+    B = model.relative_map(model.friction)
+    Z = model.K - omega**2 * model.M + 1j * omega * model.C
+    s0 = 4 * abs(B @ np.linalg.solve(Z, model.force_cos - 1j * model.force_sin))[0] / unit_forcing(model)
+    assert table.free["s_hat"] == pytest.approx(s0, rel=1e-9)
+    rate = 1e-11 * c.kn * unit_forcing(model) * s0  # 1 / cycles: 1 - w / u0 ~ exp(-rate N) at the end
+    one_minus = 1 - w[1:]
+    np.testing.assert_allclose(np.log(one_minus[1:] / one_minus[:-1]), -rate * np.diff(cycles[1:]), rtol=5e-3)
+    # the history continues past stop_fraction to the horizon, and agrees with the map
+    h = fw.wear_history(model, omega, "exact", dynamics="shooting", kw=1e-11, cycles=4e4)
+    assert h.status == "worn" and h.cycles[-1] == 4e4
+    assert h.wear_fraction[-1, 0] == pytest.approx(w[-1], rel=1e-9)
+    # and direct time integration with wear agrees at 0.9999 u0
+    from fretwear.wear.time_integration import integrate_wear
+
+    direct = integrate_wear(model, omega, 4e4, kw=1e-11, tol=1e-4, stop_fraction=0.9999)
+    assert h.cycles_to(0.9999) == pytest.approx(direct.cycles_to(0.9999), rel=2e-3)
+
+
+def test_history_records_are_shooting_solutions_at_their_wear():
+    model = fw.paper_model(fex=10)
+    h = fw.wear_history(model, OMEGA, "exact", dynamics="shooting", kw=1e-11, cycles=2e4)
+    for k in (0, len(h.cycles) // 3, len(h.cycles) - 1):
+        sol = fw.shooting(model, OMEGA, wear=h.wear[k])
+        np.testing.assert_allclose(h.amplitude[k], sol.amplitude, rtol=1e-8)
+        np.testing.assert_allclose(h.half_peak_to_peak[k], sol.half_peak_to_peak, rtol=1e-8)
+        np.testing.assert_allclose(h.sliding_distance[k], sol.sliding_distance, rtol=1e-8)

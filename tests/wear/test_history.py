@@ -114,3 +114,18 @@ def test_where_the_exact_dynamics_do_not_apply_dlft_runs_and_the_label_says_so()
 def test_only_the_exact_answer_is_called_exact(method, dynamics, nh, label):
     assert describe(method, dynamics, nh) == label
     assert (label == "exact") == (method == "exact" and dynamics == "shooting")
+
+
+def test_a_sliding_table_extended_to_higher_loads_keeps_the_exact_answers_accuracy(monkeypatch, references):
+    """A table first built for a low load ratio (F_ex = 14 N, mu = 0.8: rho up to 0.57) and then extended
+    up to the 6 N case's (rho 1.67) gave cycles to 0.5 u0 2.5e-3 off direct time integration (18
+    samples), where a table built for the 6 N case alone is within 1e-4: the extension must refine as a
+    new table does."""
+    from fretwear.wear import sliding
+
+    monkeypatch.setenv("FRETWEAR_CACHE_DIR", "")  # no table from disk: the order of the builds matters
+    monkeypatch.setattr(sliding, "_cache", {})
+    fex, f, kw = CASES[1]
+    fw.wear_history(fw.paper_model(fex=14.0, mu=0.8), TWO_PI * f, kw=kw, cycles=1e3)
+    hist = fw.wear_history(fw.paper_model(fex=fex), TWO_PI * f, kw=kw, cycles=1e9)
+    assert abs(hist.cycles_to(0.5) / references[CASES[1]].cycles_to(0.5) - 1) < 1e-3
