@@ -318,7 +318,8 @@ def scheduler(tmp_path_factory):
             procs.append(
                 _dask("worker", "--scheduler-file", str(file), "--nthreads", "1", "--host", "127.0.0.1")
             )
-        with distributed.Client(scheduler_file=str(file), timeout="30s") as client:
+        # not the default client: one left set as default (dask's scheduler config) outlives this module
+        with distributed.Client(scheduler_file=str(file), timeout="30s", set_as_default=False) as client:
             client.wait_for_workers(2, timeout=60)
             yield client
             client.shutdown()  # the scheduler and the workers' nannies exit
