@@ -230,7 +230,7 @@ def run(args: argparse.Namespace) -> int:
                 f"({s['n']} samples, {s['stuck']} stuck, {s['beyond_horizon']} beyond the horizon)"
             )
         if args.figure is not None:
-            from ..figures.study import wear_life_figure
+            from ..figures.study import wear_life_figure  # the command's figure: plotting only here
 
             with atomic(args.figure) as temp:
                 wear_life_figure(ds, 0.5).savefig(temp, dpi=150)
