@@ -172,13 +172,13 @@ def test_a_study_spec_goes_through_the_same_checks(capsys, folder, line, needle)
 
 
 def test_an_unreachable_scheduler_leaves_no_store(capsys, folder, monkeypatch):
-    from fretwear.studies import study
+    from fretwear.studies import run
     from fretwear.studies.spec import SpecError
 
     def unreachable(scheduler, workers):
         raise SpecError("--scheduler", f"cannot reach a Dask scheduler at {scheduler!r}: timed out")
 
-    monkeypatch.setattr(study, "_start_client", unreachable)
+    monkeypatch.setattr(run, "_start_client", unreachable)
     argv = ["study", SPEC, "--samples", "4", "--out", "s.zarr", "--scheduler", "tcp://127.0.0.1:9"]
     before = _listing(folder)
     assert cli.main(argv) == 2

@@ -5,7 +5,8 @@
 :mod:`~fretwear.figures.export` writes figures (PNG, SVG, HTML) and tables (CSV),
 :mod:`~fretwear.figures.record` stamps them with their parameters and reads and
 writes the settings files of the dashboard and the CLI,
-:mod:`~fretwear.figures.paper` computes and writes the paper's figure set.
+:mod:`~fretwear.figures.paper` computes and writes the paper's figure set,
+:mod:`~fretwear.figures.study` draws the result of a study (``fretwear study``).
 """
 
 from .export import (
@@ -34,6 +35,7 @@ from .plots import (
 )
 from .record import caption, csv_header, parameter_record, parse_settings, read_settings, settings_json
 from .sketch import model_sketch, sketch_scale
+from .study import wear_life_figure
 
 __all__ = [
     "FIGURE_FORMATS",
@@ -64,4 +66,5 @@ __all__ = [
     "styled",
     "wear_curve",
     "wear_map_figure",
+    "wear_life_figure",
 ]

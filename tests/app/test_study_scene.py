@@ -77,8 +77,8 @@ def no_solver(monkeypatch):
         raise AssertionError("a solver was called")
 
     entries = [("fretwear.hbm.periodic", "solve_periodic"), ("fretwear.hbm.continuation", "sweep"),
-               ("fretwear.wear.history", "wear_history"), ("fretwear.studies.study", "compute_block"),
-               ("fretwear.studies.study", "sweep"), ("fretwear.studies.study", "wear_history"),
+               ("fretwear.wear.history", "wear_history"), ("fretwear.studies.run", "compute_block"),
+               ("fretwear.studies.compute", "sweep"), ("fretwear.studies.compute", "wear_history"),
                ("fretwear.studies.study", "run_study")]  # fmt: skip
     for module, name in entries:
         module = import_module(module)  # the module, not a function of the package named like it

@@ -19,8 +19,10 @@ import numpy as np
 import pytest
 
 import fretwear as fw
+from fretwear.figures import wear_life_figure
+from fretwear.studies import compute, store, study
+from fretwear.studies import run as study_run
 from fretwear.studies import spec as study_spec
-from fretwear.studies import study
 
 xr = pytest.importorskip("xarray")
 zarr = pytest.importorskip("zarr")
@@ -206,9 +208,9 @@ def test_frf_block_matches_a_sweep_and_a_model_file_matches_the_paper_model(tmp_
     )
     spec = study_spec.read_spec(path)
     freqs = spec.grid["frequency"]
-    res = study.compute_block(study.Work.of(spec), {"frequency": freqs})
+    res = compute.compute_block(compute.Work.of(spec), {"frequency": freqs})
     ref = fw.sweep(fw.paper_model(fex=6.0), 2 * np.pi * freqs, 5).solutions
-    assert np.all(res["status"] == study.OK)
+    assert np.all(res["status"] == compute.OK)
     np.testing.assert_allclose(res["amplitude"], [s.amplitude for s in ref], rtol=1e-8)
     np.testing.assert_allclose(
         res["sliding_distance"], [s.sliding_distance for s in ref], rtol=1e-8, atol=1e-14
@@ -222,12 +224,12 @@ def test_wear_block_matches_a_wear_map_and_flags_stuck_and_horizon_points(tmp_pa
         "cycles = 2e3\nharmonics = 5\n[wear]\nncycles = 7\nfractions = [0.1, 0.9]\n"
     )
     spec = study_spec.read_spec(path)
-    res = study.compute_block(study.Work.of(spec), {"frequency": spec.grid["frequency"]})
+    res = compute.compute_block(compute.Work.of(spec), {"frequency": spec.grid["frequency"]})
     wm = fw.wear_map(fw.paper_model(), [0.3, 0.7], spec.cycle_grid(), kw=1e-11, harmonics=5)
     np.testing.assert_allclose(res["wear_fraction"], wm.wear_fraction[:, :, 0], rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(res["wear_amplitude"], wm.amplitude, rtol=1e-12)
     # 0.3 Hz sticks: infinite life; at 0.7 Hz 10 % of u0 wears off within 2000 cycles, 90 % does not
-    assert res["status"].tolist() == [study.STUCK, study.HORIZON]
+    assert res["status"].tolist() == [compute.STUCK, compute.HORIZON]
     assert np.isinf(res["cycles_to"][0]).all()
     assert 0 < res["cycles_to"][1, 0] < 2e3 and np.isnan(res["cycles_to"][1, 1])
 
@@ -248,19 +250,19 @@ def test_local_cluster_matches_direct_calls_and_archard_scaling(local_run, spec_
     codes = ds.status.values
     invalid = draws["mu"] < 0  # drawn out of range: NaN with its status, the study goes on
     assert invalid.any() and (~invalid).sum() >= 8
-    assert np.all(codes[invalid] == study.INVALID) and np.isnan(ds.cycles_to.values[invalid]).all()
+    assert np.all(codes[invalid] == compute.INVALID) and np.isnan(ds.cycles_to.values[invalid]).all()
     assert status == study.EXIT_NOT_CONVERGED
     life = ds.cycles_to.values
     for i in np.flatnonzero(~invalid)[:4]:
         model = fw.paper_model(fex=draws["fex"][i], mu=draws["mu"][i])
         h = fw.wear_history(model, 2 * np.pi * 0.7, "exact", kw=1e-11, cycles=1e7, harmonics=9)
         np.testing.assert_allclose(life[i, 0], [h.cycles_to(f) for f in (0.1, 0.5, 0.9)], rtol=1e-12)
-    ok = codes[:, 0] == study.OK
+    ok = codes[:, 0] == compute.OK
     assert ok.sum() >= 6
     # Archard: cycles to a wear fraction scale as 1 / K_w (exact load path: no slow-time error)
     np.testing.assert_allclose(life[ok, 1], life[ok, 0] / 2, rtol=1e-9)
     assert np.all(np.diff(life[ok], axis=-1) > 0)  # more wear takes more cycles
-    stuck = codes == study.STUCK
+    stuck = codes == compute.STUCK
     assert np.all(np.isinf(life[stuck]))
 
 
@@ -269,13 +271,13 @@ def test_wear_life_summary_and_figure(local_run):
     one = ds.sel(kw=1e-11)
     summary = study.wear_life_summary(one, 0.5)
     life = one.cycles_to.sel(fraction=0.5).values
-    usable = np.isin(one.status.values, (study.OK, study.STUCK, study.HORIZON))
+    usable = np.isin(one.status.values, (compute.OK, compute.STUCK, compute.HORIZON))
     ranked = np.where(np.isnan(life), np.inf, life)[usable]
     assert summary["n"] == usable.sum() and summary["left_out"] == (~usable).sum()
     for key, q in (("median", 0.5), ("q05", 0.05), ("q95", 0.95)):  # empirical quantile: a sample value
         assert summary[key] in ranked
         assert np.mean(ranked <= summary[key]) >= q and np.mean(ranked < summary[key]) < q
-    fig = study.wear_life_figure(one, 0.5)
+    fig = wear_life_figure(one, 0.5)
     ax = fig.axes[0]
     assert ax.get_xscale() == "log" and len(ax.patches) > 0
     assert {line.get_xdata()[0] for line in ax.lines if len(line.get_xdata())} == {
@@ -316,7 +318,8 @@ def scheduler(tmp_path_factory):
             procs.append(
                 _dask("worker", "--scheduler-file", str(file), "--nthreads", "1", "--host", "127.0.0.1")
             )
-        with distributed.Client(scheduler_file=str(file), timeout="30s") as client:
+        # not the default client: one left set as default (dask's scheduler config) outlives this module
+        with distributed.Client(scheduler_file=str(file), timeout="30s", set_as_default=False) as client:
             client.wait_for_workers(2, timeout=60)
             yield client
             client.shutdown()  # the scheduler and the workers' nannies exit
@@ -353,7 +356,7 @@ def test_distributed_scheduler_gives_the_same_result(scheduler, spec_path, local
     status = study.main([str(spec_path), "--out", str(out), "--scheduler", scheduler.scheduler.address])
     err = capsys.readouterr().err
     assert status == study.EXIT_NOT_CONVERGED, err  # the drawn negative mu
-    invalid = int((local_run[1].status == study.INVALID).sum())
+    invalid = int((local_run[1].status == compute.INVALID).sum())
     assert "on 2 workers" in err and f"invalid {invalid}" in err and "[####" in err  # progress bar
     xr.testing.assert_identical(_data(xr.open_zarr(out)), _data(local_run[1]))
 
@@ -383,7 +386,7 @@ def test_a_killed_worker_is_replaced_and_the_result_is_identical(scheduler, spec
 def test_a_task_the_cluster_loses_is_resubmitted(spec_path, local_run, tmp_path, monkeypatch):
     # A block whose every Dask retry fails outside the numerics (as a task does when the workers
     # holding it die more often than Dask allows) is submitted again, not left as a hole.
-    compute, attempts = study.compute_block, tmp_path / "attempts"
+    compute_block, attempts = study_run.compute_block, tmp_path / "attempts"
     attempts.mkdir()
 
     def flaky(work, params):  # Dask pickles the task function: count the attempts in files
@@ -392,9 +395,9 @@ def test_a_task_the_cluster_loses_is_resubmitted(spec_path, local_run, tmp_path,
             f.write(".")
         if len(tally.read_text()) <= 3:  # the first run and Dask's two retries
             raise OSError("connection to the worker lost")
-        return compute(work, params)
+        return compute_block(work, params)
 
-    monkeypatch.setattr(study, "compute_block", flaky)
+    monkeypatch.setattr(study_run, "compute_block", flaky)  # the task run_study submits
     spec = study_spec.read_spec(spec_path)
     local = dict(processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0")
     with distributed.Client(**local) as client:
@@ -423,7 +426,7 @@ def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
     done = np.isfinite(seconds)
     assert 2 <= done.sum() < len(done)
     # one point per task; Ctrl-C waits for the block being written (data and mark) to be whole
-    not_computed = np.sum(xr.open_zarr(out).status.values == study.NOT_COMPUTED)
+    not_computed = np.sum(xr.open_zarr(out).status.values == compute.NOT_COMPUTED)
     assert not_computed == np.sum(~done)
     assert study.main([*args, *address]) == study.EXIT_NOT_CONVERGED
     assert f"computed {(~done).sum()} tasks ({done.sum()} already in the store)" in capsys.readouterr().err
@@ -443,11 +446,11 @@ def test_the_shipped_study_computes_the_exact_answer():
     agree with direct time integration with wear within 1e-3."""
     spec = study_spec.read_spec(DATA / "wear_life.toml", samples=3)
     assert spec.fixed["dynamics"] == "auto" and "harmonics" not in spec.fixed
-    ds, _ = study._template(spec, study.layout(spec))
+    ds, _ = store.template(spec, study.layout(spec))
     assert ds.attrs["wear_method"] == "exact"  # the store says what ran
     draws = spec.draws()
-    out = study.compute_block(study.Work.of(spec), draws)
-    assert np.all(out["status"] == study.OK)
+    out = compute.compute_block(compute.Work.of(spec), draws)
+    assert np.all(out["status"] == compute.OK)
     for i in range(3):
         model = fw.paper_model(fex=draws["fex"][i], mu=draws["mu"][i])
         omega = 2 * np.pi * 0.7
@@ -466,8 +469,8 @@ def test_a_study_takes_every_method_and_dynamics_the_cli_takes(method, dynamics)
     text = (f'[study]\nquantities = ["wear_life"]\n[parameters]\nfrequency = 0.7\ncycles = 1e5\n'
             f'method = "{method}"\ndynamics = "{dynamics}"\n')  # fmt: skip
     spec = study_spec.parse_spec(study_spec.tomllib.loads(text), text=text)
-    out = study.compute_block(study.Work.of(spec), {})
+    out = compute.compute_block(compute.Work.of(spec), {})
     model = fw.paper_model()
     h = fw.wear_history(model, 2 * np.pi * 0.7, method, kw=1e-11, cycles=1e5, dynamics=dynamics)
-    assert out["status"][0] == study.OK
+    assert out["status"][0] == compute.OK
     np.testing.assert_allclose(out["cycles_to"][0], [h.cycles_to(f) for f in (0.1, 0.5, 0.9)], rtol=1e-9)

@@ -1,0 +1,208 @@
+"""What one task of a study computes: the points of a block, each a model, a sweep or a wear history.
+
+:func:`compute_block` is the Dask task; every failure of a point is recorded as a status code
+(:data:`STATUS`) and a message, never raised, so that a study goes on past it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from ..hbm import sweep
+from ..model import paper_model
+from ..wear import METHODS, describe, resolve_dynamics, resolve_method, wear_history
+from ..wear.polynomial import DEFAULT_HARMONICS as POLYNOMIAL_HARMONICS
+from .spec import FRF_HARMONICS, StudySpec
+
+__all__ = ["FAILED", "STATUS", "Work", "compute_block", "method_label", "outputs", "point_method"]
+
+#: status codes of a point, in increasing severity (a point's status is the worst of its quantities')
+STATUS = ("not_computed", "ok", "stuck", "horizon", "not_converged", "invalid", "error")
+NOT_COMPUTED, OK, STUCK, HORIZON, NOT_CONVERGED, INVALID, ERROR = range(len(STATUS))
+FAILED = (NOT_CONVERGED, INVALID, ERROR)
+
+
+@dataclass(frozen=True)
+class Work:
+    """What every task needs: the quantities, the base model and the fixed settings."""
+
+    quantities: tuple[str, ...]
+    model_kind: str
+    model: Any
+    fixed: dict[str, Any]
+    fractions: tuple[float, ...]
+    cycle_grid: np.ndarray | None
+
+    @classmethod
+    def of(cls, spec: StudySpec) -> Work:
+        return cls(
+            spec.quantities,
+            spec.model_kind,
+            spec.model,
+            spec.fixed,
+            spec.fractions,
+            spec.cycle_grid() if "wear" in spec.quantities else None,
+        )
+
+
+def outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...]]]:
+    """Variables of the quantities: name -> (extra dimensions, extra shape)."""
+    model = work.model
+    n, nc, nf = model.n_dofs, len(model.contacts), len(model.friction)
+    out: dict[str, tuple[tuple[str, ...], tuple[int, ...]]] = {}
+    if "frf" in work.quantities:
+        out.update(
+            amplitude=(("dof",), (n,)),
+            relative_amplitude=(("contact",), (nc,)),
+            sliding_distance=(("friction_contact",), (nf,)),
+            friction_energy=(("friction_contact",), (nf,)),
+        )
+    if "wear_life" in work.quantities:
+        out["cycles_to"] = (("fraction",), (len(work.fractions),))
+    if "wear" in work.quantities:
+        nN = len(work.cycle_grid)
+        out.update(wear_fraction=(("cycles",), (nN,)), wear_amplitude=(("cycles", "dof"), (nN, n)))
+    return out
+
+
+def _model(work: Work, p: Mapping[str, Any]):
+    """The model at one point (raises ``ValueError`` for invalid parameters)."""
+    if work.model_kind == "paper":
+        kn = p["kn"]
+        fn = p["normal_load"] if "normal_load" in p else kn * p["u0"]
+        return paper_model(fex=p["fex"], mu=p["mu"], normal_load=fn, kn=kn)
+    model = work.model
+    changes = {k: p[k] for k in ("mu", "kn", "u0") if k in p}
+    if changes:
+        model = model.with_friction(**changes)
+    if "normal_load" in p:  # the same initial load on every friction contact: u0 = F_N / kn per contact
+        if not (math.isfinite(p["normal_load"]) and p["normal_load"] >= 0):
+            raise ValueError(f"normal_load must be finite and >= 0 N, got {p['normal_load']!r}")
+        friction = tuple(replace(c, u0=p["normal_load"] / c.kn) for c in model.friction)
+        model = replace(model, friction=friction)
+    if "force_scale" in p:
+        model = model.scaled(p["force_scale"])
+    return model
+
+
+def point_method(model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
+    """The slow-time method that runs at a point and the options it takes, as :func:`wear_history`
+    and ``fretwear wear`` resolve them (``auto``: the exact method where it applies)."""
+    name = resolve_method(model, p["method"])
+    taken = METHODS[name].options
+    options = {k: p[k] for k in ("harmonics", "tol", "dynamics") if p.get(k) is not None and k in taken}
+    if "dynamics" in taken:  # the dynamics that ran, not "auto"
+        options["dynamics"] = resolve_dynamics(
+            model, options.get("dynamics", "auto"), options.get("harmonics")
+        )
+    return name, options
+
+
+def method_label(model, p: Mapping[str, Any]) -> str:
+    """What :func:`point_method` runs, scheme and dynamics apart (:func:`fretwear.wear.describe`)."""
+    name, options = point_method(model, p)
+    dynamics = options.get("dynamics", "time" if name == "time" else "dlft")
+    nh = options.get("harmonics", POLYNOMIAL_HARMONICS if name == "polynomial" else None)
+    return describe(name, dynamics, nh)
+
+
+def _wear_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i: int) -> int:
+    """Wear quantities at point ``i``: fills ``out`` and returns the status code."""
+    model = _model(work, p)
+    name, options = point_method(model, p)
+    with warnings.catch_warnings():  # the two-scale warning: the spec chose kw and the horizon
+        warnings.simplefilter("ignore")
+        h = wear_history(model, 2 * np.pi * p["frequency"], name, kw=p["kw"], cycles=p["cycles"], **options)
+    failed = not h.converged or h.status not in ("horizon", "worn", "stuck")
+    stuck = h.status == "stuck"
+    if "cycles_to" in out:
+        out["cycles_to"][i] = np.inf if stuck else [h.cycles_to(f) for f in work.fractions]
+    if "wear_fraction" in out:
+        sampled = h.at(work.cycle_grid)
+        fraction = sampled["wear"][:, 0] / h.u0[0]
+        amplitude = sampled["amplitude"]
+        if failed:  # the curve stops early: nothing past its end
+            beyond = work.cycle_grid > h.cycles[-1]
+            fraction[beyond], amplitude[beyond] = np.nan, np.nan
+        out["wear_fraction"][i], out["wear_amplitude"][i] = fraction, amplitude
+    if failed:
+        return NOT_CONVERGED
+    if stuck:
+        return STUCK
+    return HORIZON if "cycles_to" in out and np.isnan(out["cycles_to"][i]).any() else OK
+
+
+def _frf_points(work: Work, params: Mapping[str, np.ndarray], idx: np.ndarray, out, status, messages) -> None:
+    """Periodic responses at the points ``idx`` (same parameters but the frequency): one sweep."""
+    p = {k: v[idx[0]] for k, v in params.items()}
+    try:
+        model = _model(work, p)
+        swept = sweep(model, 2 * np.pi * params["frequency"][idx], int(p.get("harmonics", FRF_HARMONICS)))
+    except Exception as exc:  # noqa: BLE001 - a failed point is recorded, never an aborted study
+        code = INVALID if isinstance(exc, ValueError) else ERROR
+        status[idx] = np.maximum(status[idx], code)
+        messages.append((int(idx[0]), f"{type(exc).__name__}: {exc}"))
+        return
+    for i, sol in zip(idx, swept.solutions, strict=True):
+        if not sol.converged:
+            status[i] = max(status[i], NOT_CONVERGED)
+            messages.append((int(i), f"not converged: {sol.message} (residual {sol.residual:.3g})"))
+            continue
+        out["amplitude"][i] = sol.amplitude
+        out["relative_amplitude"][i] = sol.relative_amplitude
+        out["sliding_distance"][i] = sol.sliding_distance
+        out["friction_energy"][i] = sol.friction_energy
+        status[i] = max(status[i], OK)
+
+
+def compute_block(work: Work, params: Mapping[str, np.ndarray]) -> dict[str, Any]:
+    """Compute the points of one block (a Dask task).
+
+    Parameters
+    ----------
+    work : Work
+        Quantities, base model and fixed settings.
+    params : dict of ndarray
+        The varying parameters at each point of the block (flattened, C order).
+
+    Returns
+    -------
+    dict
+        One array per variable (points first), ``status`` (codes of :data:`STATUS`),
+        ``seconds`` (compute time), ``cpu_seconds`` (CPU time of the worker process: less than
+        ``seconds`` when other processes take the core) and ``messages`` (point index, reason) of
+        the failures.
+    """
+    start, cpu = time.perf_counter(), time.process_time()
+    n = len(next(iter(params.values()))) if params else 1
+    points = {k: np.broadcast_to(np.asarray(v), (n,)) for k, v in params.items()}
+    points.update({k: np.full(n, v, dtype=object) for k, v in work.fixed.items() if k not in points})
+    out = {name: np.full((n, *shape), np.nan) for name, (_, shape) in outputs(work).items()}
+    status = np.zeros(n, dtype=np.int8)
+    messages: list[tuple[int, str]] = []
+    if "frf" in work.quantities:
+        others = [k for k in points if k != "frequency"]
+        keys = [tuple(points[k][i] for k in others) for i in range(n)]
+        groups: dict[tuple, list[int]] = {}
+        for i, key in enumerate(keys):
+            groups.setdefault(key, []).append(i)
+        for idx in groups.values():
+            _frf_points(work, points, np.array(idx), out, status, messages)
+    if work.quantities != ("frf",):
+        for i in range(n):
+            p = {k: v[i] for k, v in points.items()}
+            try:
+                code = _wear_point(work, p, out, i)
+            except Exception as exc:  # noqa: BLE001 - a failed point is recorded, never an aborted study
+                code = INVALID if isinstance(exc, ValueError) else ERROR
+                messages.append((i, f"{type(exc).__name__}: {' '.join(str(exc).split())}"))
+            status[i] = max(status[i], code)
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+    return {**out, "status": status, "seconds": seconds, "cpu_seconds": cpu, "messages": messages}
