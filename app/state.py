@@ -246,7 +246,6 @@ class Controls(param.Parameterized):
 
     _physical = ("fex", "mu", "normal_load", "kw", "fmin", "fmax", "horizon")
 
-
     def __init__(self, **params: Any) -> None:
         preset = params.get("preset", DEFAULT_PRESET)
         if preset != CUSTOM and preset in PRESETS:

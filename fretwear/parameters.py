@@ -173,7 +173,8 @@ _ROWS = (
     ("mu", "mu", "", 0.0, 10.0, "<", "friction coefficient",
      "> 0: a friction contact (at 0 nothing sticks, the load ratio r = F_ex / (mu F_N) of the dashboard's "
      "regime map is infinite; a frictionless contact is a model file's); no dry contact has mu > 10",
-     dict(default=1.0, control="mu", html="μ: friction coefficient", glossary="mu", slider=(0.05, 2.0, 0.01))),
+     dict(default=1.0, control="mu", html="μ: friction coefficient", glossary="mu",
+          slider=(0.05, 2.0, 0.01))),
     ("fn", "F_N", "N", 0.0, 1e4, "<", "initial normal load",
      "> 0: a loaded contact (at 0 the interference u0 = F_N / kn is 0 and a wear history has no w / u0; "
      "the wear commands refused it already); 1e4 N is 1000 x the paper's load",
@@ -182,7 +183,8 @@ _ROWS = (
     ("u0", "u0", "m", 0.0, 1e-3, "<", "initial normal interference (F_N = kn u0)",
      "> 0 as F_N; 1 mm is 1000 x the paper's u0 (kn u0 = 1e4 N at the paper's kn)"),
     ("kn", "k_n", "N/m", 0.0, 1e12, "<", "normal contact stiffness",
-     "> 0: the spring carries the load; 1e12 N/m on 1 kg is a 1.6e5 Hz contact mode, a typo", dict(default=1e7)),
+     "> 0: the spring carries the load; 1e12 N/m on 1 kg is a 1.6e5 Hz contact mode, a typo",
+     dict(default=1e7)),
     # -- wear
     ("kw", "k_w", "1/N", 0.0, 1e-4, "<", "Archard wear coefficient of a lumped contact (dw/dN = k_w F_N s)",
      "k_w = 0 is no wear (frf and point compute that): the slow time k_w kn N vanishes and the cycles "

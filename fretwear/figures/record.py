@@ -72,7 +72,20 @@ _RECORD = tuple(
     (key, PARAMETERS[key].symbol or PARAMETERS[key].label, PARAMETERS[key].unit)
     if key in PARAMETERS
     else (key, key, {"N": "cycles"}.get(key, ""))
-    for key in ("fex", "mu", "fn", "kw", "harmonics", "method", "dynamics", "tol", "degree", "cycles", "f", "N")
+    for key in (
+        "fex",
+        "mu",
+        "fn",
+        "kw",
+        "harmonics",
+        "method",
+        "dynamics",
+        "tol",
+        "degree",
+        "cycles",
+        "f",
+        "N",
+    )  # fmt: skip
 )
 #: the symbols of the record in each markup: Unicode text, Matplotlib's mathtext, HTML
 MARKUP = {

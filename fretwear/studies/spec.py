@@ -149,8 +149,12 @@ PARAMETERS: Mapping[str, Parameter] = {
         Parameter("cycles", "cycles"),
         Parameter("harmonics", "harmonics", random=False),
         Parameter("method", choices=("auto", *METHODS), random=False, note="slow-time method"),
-        Parameter("dynamics", choices=DYNAMICS, random=False,
-                  note="periodic dynamics of the exact and stepping methods"),  # fmt: skip
+        Parameter(
+            "dynamics",
+            choices=DYNAMICS,
+            random=False,
+            note="periodic dynamics of the exact and stepping methods",
+        ),  # fmt: skip
         Parameter("tol", "tol", random=False),
     )
 }
