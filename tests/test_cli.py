@@ -269,7 +269,7 @@ def test_point_not_converged_exit_status(capsys, monkeypatch):
         (["linear", *BAND, "--kn", "-1", "--out", "x.csv"], "--kn: must be a number > 0 and <= 1e+12 N/m"),
         (["linear", *BAND, "--state", "sliding", "--out", "x.csv"], "--state: invalid choice"),
         (["point", "--f", "abc"], "--f: must be a number > 0 and <= 100000 Hz"),
-        (["point", "--f", "1", "--mu", "-1"], "--mu: must be a number >= 0"),
+        (["point", "--f", "1", "--mu", "-1"], "--mu: must be a number > 0"),
         (["point", "--f", "1", "--fn", "-3"], "--fn: must be a number > 0 and <= 10000 N"),
         (["point", "--f", "1", "--u0", "-1e-6"], "--u0:"),
         (["point", "--f", "1", "--fn", "5", "--u0", "1e-6"], "--u0: not allowed with argument --fn"),
