@@ -36,7 +36,7 @@ from .glossary import glossary_markdown, help_mark, term
 from .live import live_pane
 from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, CycleScene, Scene
 from .session import Session
-from .state import CUSTOM, LADDERS, METHODS, PRESETS, number_text, parse_number
+from .state import CUSTOM, LADDERS, METHODS, NUMBERS, PRESETS, number_text, parse_number
 
 __all__ = ["build_page", "document_dispatch", "ExportSettings", "NumberInput"]
 
@@ -207,10 +207,12 @@ class BandInput(pn.Column):
     valid band.
     """
 
-    def __init__(self, controls, start: float, end: float) -> None:
+    def __init__(self, controls) -> None:
+        low, high = NUMBERS["fmin"], NUMBERS["fmax"]
+        start, end, step = low.slider
         self._slider = pn.widgets.RangeSlider(
-            start=start, end=end, step=0.01, value=(controls.fmin, controls.fmax), show_value=False,
-            sizing_mode="stretch_width", margin=(4, 10),
+            start=start, end=max(end, high.slider[1]), step=step, value=(controls.fmin, controls.fmax),
+            show_value=False, sizing_mode="stretch_width", margin=(4, 10),
         )  # fmt: skip
         self._low, self._high = (
             pn.widgets.TextInput(
@@ -219,7 +221,7 @@ class BandInput(pn.Column):
             for n in ("fmin", "fmax")
         )
         super().__init__(
-            _label("Frequency band f<sub>min</sub> to f<sub>max</sub> (Hz)", None),
+            _label(f"Frequency band {low.html} to {high.html} ({low.unit})", None),
             pn.Row(self._slider, sizing_mode="stretch_width", margin=0),
             pn.Row(
                 pn.pane.HTML("from", margin=(8, 4, 0, 10)),
@@ -324,8 +326,12 @@ def _sidebar(session: Session) -> list:
     c.param.watch(show_preset, "preset")
     show_preset()
 
-    def number(name, label, glossary, start, end, step, **kw):
-        return NumberInput(c, name, label, glossary, start, end, step, c.type_text, lambda: c.typed, **kw)
+    def number(name):
+        """The control ``name`` as the parameter table declares it: label, glossary note and slider."""
+        p = NUMBERS[name]
+        label = p.html + (", slider over log<sub>10</sub>" if p.log else "")
+        return NumberInput(c, name, label, p.glossary, *p.slider, c.type_text, lambda: c.typed,
+                           integer=p.integer, log=p.log)  # fmt: skip
 
     def selected(name, label, glossary):
         return NumberInput(session, name, label, glossary, 0, 1, 1, session.type_text,
@@ -345,44 +351,23 @@ def _sidebar(session: Session) -> list:
     c.param.watch(lambda e: setattr(dynamics, "value", e.new), "dynamics")
     advanced = _lazy_card(
         "More settings",
-        lambda: [
-            number("normal_load", "F<sub>N</sub>: initial normal load (N)", "F_N", 1, 50, 0.5),
-            number(
-                "tol",
-                "Tolerance (fraction of u<sub>0</sub>), slider over log<sub>10</sub>",
-                "tolerance",
-                -4,
-                -1,
-                0.1,
-                log=True,
-            ),  # fmt: skip
-            number("n_frequencies", "Frequencies of the maps", None, 5, 201, 1, integer=True),
-            number("n_cycles", "Cycle counts of the wear map", None, 10, 200, 1, integer=True),
-        ],
+        lambda: [number(name) for name in ("normal_load", "tol", "n_frequencies", "n_cycles")],
     )
     return [
         _label("<b>Preset</b>: one lesson each", None),
         preset,
         lesson,
-        number("fex", "F<sub>ex</sub>: excitation on mass 1 (N)", "F_ex", 0.5, 30, 0.1),
-        number("mu", "μ: friction coefficient", "mu", 0.05, 2, 0.01),
-        number(
-            "kw",
-            "k<sub>w</sub>: Archard coefficient (1/N), slider over log<sub>10</sub>",
-            "k_w",
-            -14,
-            -6,
-            0.1,
-            log=True,
-        ),  # fmt: skip
-        number("horizon", "Cycle horizon (cycles), slider over log<sub>10</sub>", "N", 2, 8, 0.1, log=True),
-        BandInput(c, 0.05, 3.0),
-        number("harmonics", "N<sub>h</sub>: harmonics", "Nh", 1, 64, 1, integer=True),
+        number("fex"),
+        number("mu"),
+        number("kw"),
+        number("horizon"),
+        BandInput(c),
+        number("harmonics"),
         _label("Slow-time method", "method"),
         method,
         _label("Dynamics of the exact and stepping methods", "dynamics"),
         dynamics,
-        number("degree", "Degree of the polynomial method", None, 1, 12, 1, integer=True),
+        number("degree"),
         advanced,
         _label("<b>Selected point</b> (click the wear map)", None, margin=(12, 10, 0, 10)),
         pn.Row(selected("frequency", "f (Hz)", None), selected("cycles", "N (cycles)", "N"), margin=0),

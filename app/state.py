@@ -24,6 +24,7 @@ import numpy as np
 import param
 
 import fretwear
+from fretwear.parameters import CONTROLS, Parameter
 from fretwear.studies.maps import LazyHistories
 
 from .backend import Backend, Cancelled, Failure, ModelSpec, Progress, ResultCache
@@ -35,6 +36,7 @@ __all__ = [
     "CUSTOM",
     "DEFAULT_PRESET",
     "CONTROL_KEYS",
+    "NUMBERS",
     "LADDERS",
     "number_text",
     "parse_number",
@@ -171,37 +173,13 @@ PRESETS: dict[str, Preset] = {
 CUSTOM = "custom"
 DEFAULT_PRESET = "Paper, Fₑₓ = 10 N: regimes"
 
-#: (name, low, high, integer, unit) of every control: the valid ranges shown to the user
-_RANGES = {
-    "fex": ("F_ex", 0.0, 1e3, False, "N"),
-    "mu": ("mu", 0.0, 10.0, False, ""),
-    "normal_load": ("F_N", 0.0, 1e4, False, "N"),
-    "kw": ("k_w", 0.0, 1e-4, False, "1/N"),
-    "harmonics": ("Nh", 1, 64, True, ""),
-    "degree": ("polynomial degree", 1, 12, True, ""),
-    "fmin": ("f min", 0.0, 20.0, False, "Hz"),
-    "fmax": ("f max", 0.0, 20.0, False, "Hz"),
-    "horizon": ("cycle horizon", 10, 1e9, True, "cycles"),
-    "tol": ("tolerance", 0.0, 0.5, False, "u0"),
-    "n_frequencies": ("frequencies", 3, 401, True, ""),
-    "n_cycles": ("cycle points", 4, 400, True, ""),
-}
-#: key of each control in a settings record (URL query, settings file), named like the CLI options
+#: the sidebar's numbers, by control: valid range, default, label and slider from the one parameter table
+NUMBERS = CONTROLS
+#: key of each control in a settings record (URL query, settings file): the table's name, as the CLI options
 CONTROL_KEYS = {
-    "fex": "fex",
-    "mu": "mu",
-    "normal_load": "fn",
-    "kw": "kw",
-    "horizon": "cycles",
-    "harmonics": "harmonics",
+    **{name: p.name for name, p in NUMBERS.items()},
     "method": "method",
     "dynamics": "dynamics",
-    "degree": "degree",
-    "tol": "tol",
-    "fmin": "fmin",
-    "fmax": "fmax",
-    "n_frequencies": "nf",
-    "n_cycles": "ncycles",
 }
 
 
@@ -237,8 +215,19 @@ def type_text(owner: param.Parameterized, name: str, text: str) -> None:
         owner.param.update(typed=typed, **{name: value})
 
 
+def _number(p: Parameter) -> param.Number:
+    """The control of parameter ``p``: its default, its slider's range as soft bounds and its doc (unit)."""
+    unit = f" ({p.unit})" if p.unit else ""
+    doc = f"{p.doc[0].upper()}{p.doc[1:]}{unit}"
+    return param.Number(p.default, allow_None=True, softbounds=p.soft_bounds, doc=doc)
+
+
 class Controls(param.Parameterized):
     """What the sidebar edits, in the units shown; see :meth:`problems`.
+
+    Its numbers (:data:`NUMBERS`) are made from the parameter table
+    (:data:`fretwear.parameters.CONTROLS`): default, slider range as soft bounds,
+    and the valid range :meth:`problems` checks.
 
     Number boxes set a value with :meth:`type_text`: a text that is not a
     number is kept in :attr:`typed` and reported as typed, and nothing is
@@ -246,19 +235,6 @@ class Controls(param.Parameterized):
     """
 
     preset = param.Selector(default=DEFAULT_PRESET, objects=[CUSTOM, *PRESETS], doc="Preset")
-    fex = param.Number(
-        10.0, allow_None=True, softbounds=(0.5, 30.0), doc="Excitation amplitude F_ex on mass 1 (N)"
-    )
-    mu = param.Number(1.0, allow_None=True, softbounds=(0.05, 2.0), doc="Friction coefficient mu (-)")
-    normal_load = param.Number(
-        10.0, allow_None=True, softbounds=(1.0, 50.0), doc="Initial normal load F_N (N)"
-    )
-    kw = param.Number(1e-11, allow_None=True, doc="Archard wear coefficient k_w (1/N)")
-    harmonics = param.Number(7, allow_None=True, softbounds=(1, 64), doc="Harmonics Nh")
-    degree = param.Number(4, allow_None=True, softbounds=(1, 12), doc="Degree of the polynomial method")
-    fmin = param.Number(0.3, allow_None=True, softbounds=(0.05, 3.0), doc="Lowest frequency (Hz)")
-    fmax = param.Number(1.3, allow_None=True, softbounds=(0.05, 3.0), doc="Highest frequency (Hz)")
-    horizon = param.Number(1e5, allow_None=True, doc="Cycle horizon of the wear studies")
     method = param.Selector(default="exact", objects=list(METHODS), doc="Slow-time method")
     dynamics = param.Selector(
         default="shooting",
@@ -266,11 +242,6 @@ class Controls(param.Parameterized):
         doc="Periodic dynamics of the exact and stepping methods: the exact event-driven dynamics "
         "(shooting) or harmonic balance (DLFT, truncated at Nh: an approximation)",
     )
-    tol = param.Number(
-        1e-2, allow_None=True, doc="Tolerance of stepping and time integration (fraction of u0)"
-    )
-    n_frequencies = param.Number(41, allow_None=True, softbounds=(5, 201), doc="Frequencies of the maps")
-    n_cycles = param.Number(60, allow_None=True, softbounds=(10, 200), doc="Cycle counts of the wear map")
     typed = param.Dict({}, doc="Texts typed into number boxes that are not numbers, by control")
 
     _physical = ("fex", "mu", "normal_load", "kw", "fmin", "fmax", "horizon")
@@ -309,20 +280,13 @@ class Controls(param.Parameterized):
     def problems(self) -> list[str]:
         """One message per invalid control (empty when every value is valid)."""
         out = []
-        for name, (label, low, high, integer, unit) in _RANGES.items():
+        for name, p in NUMBERS.items():
             value = getattr(self, name)
-            unit = f" {unit}" if unit else ""
-            kind = "a whole number" if integer else "a number"
-            op = ">=" if integer else ">"
-            valid = f"{label} must be {kind} {op} {low:g} and <= {high:g}{unit}"
+            valid = f"{p.label} must be {p.range_text(whole=True)}"
             if name in self.typed:
                 text = self.typed[name]
                 out.append(f"{valid}, got {text!r}" if text.strip() else f"{valid}; the box is empty")
-                continue
-            ok = isinstance(value, (int, float)) and math.isfinite(value)
-            ok = ok and (value >= low if integer else value > low) and value <= high
-            ok = ok and (not integer or float(value).is_integer())
-            if not ok:
+            elif not p.valid(value):
                 out.append(f"{valid}, got {shown(value)}")
         if not out and self.fmin >= self.fmax:
             out.append(f"f min must be below f max, got {self.fmin:g} >= {self.fmax:g} Hz")
@@ -340,7 +304,7 @@ class Controls(param.Parameterized):
             degree=int(self.degree),
             fmin=float(self.fmin),
             fmax=float(self.fmax),
-            horizon=float(int(self.horizon)),
+            horizon=float(self.horizon),
             method=self.method,
             dynamics=self.dynamics,
             tol=float(self.tol),
@@ -353,10 +317,14 @@ class Controls(param.Parameterized):
         out = {}
         for name, key in CONTROL_KEYS.items():
             value = getattr(self, name)
-            if isinstance(value, float) and value.is_integer() and _RANGES.get(name, (0,) * 4)[3]:
+            if isinstance(value, float) and value.is_integer() and name in NUMBERS and NUMBERS[name].integer:
                 value = int(value)
             out[key] = value
         return out
+
+
+for _name, _p in NUMBERS.items():
+    Controls.param.add_parameter(_name, _number(_p))
 
 
 @dataclass(frozen=True)

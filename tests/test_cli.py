@@ -269,8 +269,8 @@ def test_point_not_converged_exit_status(capsys, monkeypatch):
         (["linear", *BAND, "--kn", "-1", "--out", "x.csv"], "--kn: must be a number > 0 and <= 1e+12 N/m"),
         (["linear", *BAND, "--state", "sliding", "--out", "x.csv"], "--state: invalid choice"),
         (["point", "--f", "abc"], "--f: must be a number > 0 and <= 100000 Hz"),
-        (["point", "--f", "1", "--mu", "-1"], "--mu: must be a number >= 0"),
-        (["point", "--f", "1", "--fn", "-3"], "--fn: must be a number >= 0 and <= 10000 N"),
+        (["point", "--f", "1", "--mu", "-1"], "--mu: must be a number > 0"),
+        (["point", "--f", "1", "--fn", "-3"], "--fn: must be a number > 0 and <= 10000 N"),
         (["point", "--f", "1", "--u0", "-1e-6"], "--u0:"),
         (["point", "--f", "1", "--fn", "5", "--u0", "1e-6"], "--u0: not allowed with argument --fn"),
         (["point", "--f", "1", "--model", "missing.toml"], "--model: missing.toml: cannot read file"),
@@ -352,7 +352,7 @@ def test_cost_command(tmp_path, capsys):
         (["wear", "--f", "0.7", "--tol", "2", "--out", "x.csv"], "--tol"),
         (["map", "--fmin", "1", "--fmax", "0.5", "--out", "x.csv"], "--fmax"),
         (["cost", "--f", "0.7", "--kw", "1e-11", "--out", "x.csv"], "--kw and --cycles"),
-        (["wear", "--f", "0.7", "--fn", "0", "--out", "x.csv"], "u0"),
+        (["wear", "--f", "0.7", "--fn", "0", "--out", "x.csv"], "--fn: must be a number > 0"),
     ],
 )
 def test_wear_bad_input(tmp_path, monkeypatch, capsys, argv, fragment):

@@ -45,7 +45,7 @@ BAD = [
     (["frf", "--harmonics", "1000", "--out", "x.csv"], "--harmonics: must be an integer in [1, 64]"),
     (["point", "--f", "0.7", "--harmonics", "1000"], "--harmonics"),
     (["figures", "--harmonics", "1000", "--out", "figs"], "--harmonics"),
-    (["map", "--nf", "1e8", "--out", "x.csv"], "--nf: must be an integer in [1, 401], got '1e8'"),
+    (["map", "--nf", "1e8", "--out", "x.csv"], "--nf: must be an integer in [2, 401], got '1e8'"),
     (["map", "--ncycles", "1e8", "--out", "x.csv"], "--ncycles"),
     (["study", SPEC, "--samples", "1e8", "--out", "s.zarr"], "--samples"),
     (["figures", "--nf", "1e5", "--out", "figs"], "--nf"),

@@ -23,6 +23,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ..parameters import PARAMETERS, Parameter
+
 __all__ = [
     "SETTINGS_KEYS",
     "MODEL",
@@ -38,46 +40,52 @@ __all__ = [
 #: the model every dashboard figure is drawn for
 MODEL = "paper 2-DOF (Salles et al., section 2.1), kn = 1e7 N/m"
 
-#: keys of a settings record: (type, meaning with its unit)
-SETTINGS_KEYS: dict[str, tuple[type, str]] = {
-    "fex": (float, "excitation amplitude F_ex on mass 1 (N)"),
-    "mu": (float, "friction coefficient mu (-)"),
-    "fn": (float, "initial normal load F_N (N)"),
-    "kw": (float, "Archard coefficient k_w (1/N)"),
-    "cycles": (float, "cycle horizon of the wear studies (cycles)"),
-    "harmonics": (int, "harmonics Nh (-)"),
+#: the keys of a settings record, in its order: the numbers of :data:`fretwear.parameters.PARAMETERS` (type,
+#: meaning and unit from there) and the choices below
+_SETTINGS_ORDER = ("fex", "mu", "fn", "kw", "cycles", "harmonics", "method", "dynamics", "degree", "tol",
+                   "fmin", "fmax", "nf", "ncycles", "f", "N", "scene", "quantity", "target", "ladder",
+                   "rungs")  # fmt: skip
+#: the keys that are no number of the table: (type, meaning with its unit)
+_CHOICES: dict[str, tuple[type, str]] = {
     "method": (str, "slow-time method"),
     "dynamics": (str, "periodic dynamics of the exact and stepping methods: shooting (exact) or dlft"),
-    "degree": (int, "degree of the polynomial method (-)"),
-    "tol": (float, "tolerance of stepping and time integration (fraction of u0)"),
-    "fmin": (float, "lowest frequency (Hz)"),
-    "fmax": (float, "highest frequency (Hz)"),
-    "nf": (int, "frequencies of the maps (-)"),
-    "ncycles": (int, "cycle counts of the wear map (-)"),
-    "f": (float, "selected frequency (Hz)"),
     "N": (float, "selected cycle count (cycles)"),
     "scene": (str, "dashboard scene"),
     "quantity": (str, "error measure of the accuracy scene"),
-    "target": (float, "target relative error of the accuracy scene (-)"),
     "ladder": (str, "ladder of the accuracy scene"),
     "rungs": (bool, "wear rungs of the accuracy scene"),
 }
 
-#: (key, name, unit) of the parameter record, in its order; names and units in ASCII, marked up by
-#: :data:`MARKUP` in captions
-_RECORD = (
-    ("fex", "F_ex", "N"),
-    ("mu", "mu", ""),
-    ("fn", "F_N", "N"),
-    ("kw", "k_w", "1/N"),
-    ("harmonics", "Nh", ""),
-    ("method", "method", ""),
-    ("dynamics", "dynamics", ""),
-    ("tol", "tolerance", "u0"),
-    ("degree", "degree", ""),
-    ("cycles", "horizon", "cycles"),
-    ("f", "f", "Hz"),
-    ("N", "N", "cycles"),
+
+def _setting(p: Parameter) -> tuple[type, str]:
+    return (int if p.integer else float), f"{p.doc} ({p.unit or '-'})"
+
+
+#: keys of a settings record: (type, meaning with its unit)
+SETTINGS_KEYS: dict[str, tuple[type, str]] = {
+    key: _CHOICES[key] if key in _CHOICES else _setting(PARAMETERS[key]) for key in _SETTINGS_ORDER
+}
+
+#: (key, name, unit) of the parameter record, in its order; names and units in ASCII (the table's
+#: symbols), marked up by :data:`MARKUP` in captions
+_RECORD = tuple(
+    (key, PARAMETERS[key].symbol or PARAMETERS[key].label, PARAMETERS[key].unit)
+    if key in PARAMETERS
+    else (key, key, {"N": "cycles"}.get(key, ""))
+    for key in (
+        "fex",
+        "mu",
+        "fn",
+        "kw",
+        "harmonics",
+        "method",
+        "dynamics",
+        "tol",
+        "degree",
+        "cycles",
+        "f",
+        "N",
+    )  # fmt: skip
 )
 #: the symbols of the record in each markup: Unicode text, Matplotlib's mathtext, HTML
 MARKUP = {

@@ -96,16 +96,29 @@ class SpecError(ValueError):
 
 @dataclass(frozen=True)
 class Parameter:
-    """A study parameter: unit, type, valid range (from :data:`fretwear.parameters.PARAMETERS`) and whether
-    it may be drawn at random."""
+    """A study parameter: its entry ``table`` of :data:`fretwear.parameters.PARAMETERS` (unit, type, valid
+    range, default, description), or its ``choices``; and whether it may be drawn at random."""
 
     name: str
-    unit: str
-    long_name: str
-    kind: type = float
-    table: str = ""  # its entry in fretwear.parameters.PARAMETERS (the range)
+    table: str = ""  # its entry in fretwear.parameters.PARAMETERS
     choices: tuple[str, ...] = ()
     random: bool = True
+    note: str = ""  # what the spec adds to the table's description
+
+    @property
+    def kind(self) -> type:
+        """``str`` for a choice, else ``int`` or ``float`` as the table says."""
+        return str if not self.table else int if describe(self.table).integer else float
+
+    @property
+    def unit(self) -> str:
+        """The table's unit (``"-"`` for a pure number, ``""`` for a choice)."""
+        return describe(self.table).unit or "-" if self.table else ""
+
+    @property
+    def long_name(self) -> str:
+        """The table's description (and the spec's note)."""
+        return " ".join(filter(None, (describe(self.table).doc if self.table else "", self.note)))
 
     def check(self, key: str, value: Any) -> Any:
         """``value`` converted to the parameter's type, or :class:`SpecError` naming ``key``."""
@@ -125,26 +138,24 @@ class Parameter:
 PARAMETERS: Mapping[str, Parameter] = {
     p.name: p
     for p in (
-        Parameter("frequency", "Hz", "excitation frequency", table="f"),
-        Parameter("fex", "N", "excitation amplitude on mass 1 (paper model)", table="fex"),
-        Parameter("force_scale", "-", "factor on every external force (model file)", table="force_scale"),
-        Parameter("mu", "-", "friction coefficient", table="mu"),
-        Parameter("normal_load", "N", "initial normal load F_N", table="fn"),
-        Parameter("u0", "m", "initial normal interference u0", table="u0"),
-        Parameter("kn", "N/m", "normal contact stiffness", table="kn"),
-        Parameter("kw", "1/N", "Archard wear coefficient K_w", table="kw"),
-        Parameter("cycles", "cycles", "wear horizon", table="cycles"),
-        Parameter("harmonics", "-", "highest harmonic Nh", kind=int, table="harmonics", random=False),
-        Parameter("method", "", "slow-time method", kind=str, choices=("auto", *METHODS), random=False),
+        Parameter("frequency", "f"),
+        Parameter("fex", "fex", note="(paper model)"),
+        Parameter("force_scale", "force_scale"),
+        Parameter("mu", "mu"),
+        Parameter("normal_load", "fn"),
+        Parameter("u0", "u0"),
+        Parameter("kn", "kn"),
+        Parameter("kw", "kw"),
+        Parameter("cycles", "cycles"),
+        Parameter("harmonics", "harmonics", random=False),
+        Parameter("method", choices=("auto", *METHODS), random=False, note="slow-time method"),
         Parameter(
             "dynamics",
-            "",
-            "periodic dynamics of the exact and stepping methods",
-            kind=str,
             choices=DYNAMICS,
             random=False,
-        ),
-        Parameter("tol", "-", "slow-time tolerance", table="tol", random=False),
+            note="periodic dynamics of the exact and stepping methods",
+        ),  # fmt: skip
+        Parameter("tol", "tol", random=False),
     )
 }
 
@@ -157,10 +168,12 @@ QUANTITIES: Mapping[str, tuple[str, ...]] = {
 
 #: values of the parameters a spec leaves out (the paper model's are those of section 2.1); ``harmonics``
 #: has none: the wear quantities then run on the exact dynamics, the ``frf`` on :data:`FRF_HARMONICS`
-DEFAULTS: Mapping[str, Any] = {"kw": 1e-11, "method": "auto", "dynamics": "auto"}
-#: ``Nh`` of the ``frf`` quantity when the spec gives no ``harmonics``
-FRF_HARMONICS = 21
-PAPER_DEFAULTS: Mapping[str, float] = {"fex": 10.0, "mu": 1.0, "normal_load": 10.0, "kn": 1e7}
+DEFAULTS: Mapping[str, Any] = {"kw": describe("kw").default, "method": "auto", "dynamics": "auto"}
+#: ``Nh`` of the ``frf`` quantity when the spec gives no ``harmonics`` (the table's for a study)
+FRF_HARMONICS = describe("harmonics").default_for("study")
+PAPER_DEFAULTS: Mapping[str, float] = {
+    name: describe(PARAMETERS[name].table).default for name in ("fex", "mu", "normal_load", "kn")
+}
 
 #: model names that a spec may give and that this version does not provide
 UNAVAILABLE_MODELS = ("interface_benchmark", "benchmark")
@@ -568,12 +581,6 @@ def _wear_checks(quantities, params, fixed, grid) -> None:
             "parameters.cycles",
             "must be one value with the quantity 'wear' (its cycle grid is log-spaced from 1 to the horizon)",
         )
-    for name in ("normal_load", "u0"):
-        values = np.atleast_1d(grid.get(name, fixed.get(name, 1.0)))
-        if np.any(values <= 0):
-            raise SpecError(
-                f"parameters.{name}", "must be > 0 for the wear quantities (a contact that wears)"
-            )
     if "dynamics" in params and not _stepping(fixed, grid):
         raise SpecError(
             "parameters.dynamics", "only the methods 'exact' and 'stepping' (or 'auto') take dynamics"
