@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fretwear import cli, paper_model, solve_periodic
+from fretwear import cli, paper_model, solve_periodic, wear_history
 from fretwear.hbm.continuation import sweep
 from fretwear.hbm.linear import linear_frf
 from fretwear.model import jenkins_oscillator
@@ -442,11 +442,11 @@ def test_settings_file_of_the_dashboard(tmp_path, capsys):
     out = tmp_path / "w.csv"
     assert cli.main(["wear", "--settings", str(path), "--out", str(out)]) == 0
     model = paper_model(fex=14, mu=0.8)
-    ref = cli.wear_history(model, 2 * np.pi * 0.6, "exact", kw=1e-10, cycles=2000, harmonics=3)
+    ref = wear_history(model, 2 * np.pi * 0.6, "exact", kw=1e-10, cycles=2000, harmonics=3)
     _, rows = read_csv(out)
     np.testing.assert_allclose(column(rows, "w"), ref.wear[:, 0], rtol=1e-12)
     assert cli.main(["wear", "--settings", str(path), "--f", "0.9", "--out", str(out)]) == 0
-    ref = cli.wear_history(model, 2 * np.pi * 0.9, "exact", kw=1e-10, cycles=2000, harmonics=3)
+    ref = wear_history(model, 2 * np.pi * 0.9, "exact", kw=1e-10, cycles=2000, harmonics=3)
     np.testing.assert_allclose(column(read_csv(out)[1], "w"), ref.wear[:, 0], rtol=1e-12)
     capsys.readouterr()
     path.write_text('{"mu": -1}')
@@ -500,8 +500,9 @@ USED = """
 import json, sys
 import fretwear.compile as c
 from fretwear import cli
+from fretwear.cli.shared import model_and_names
 args = cli.build_parser().parse_args(sys.argv[1:])
-needs = cli._kernel_needs(args, cli._model(args)[0])
+needs = cli.COMMANDS[args.command].kernel_needs(args, model_and_names(args)[0])
 cli.main(sys.argv[1:])
 used = {e for k in c.KERNELS.values() for e in k.entry_points if c._dispatcher(e).overloads}
 print(json.dumps([sorted(used), sorted({e for n in needs for e in c.NEEDS[n].entry_points})]))
