@@ -49,8 +49,9 @@ Layout
 ------
 One module per command (:mod:`~fretwear.cli.frf`, ``linear``, ``point``,
 ``wear``, ``map``, ``cost``, ``figures``, ``interface``, ``study``), each with
-``add_parser(commands)`` and ``run(args)`` (and ``kernel_needs(args, model)``
-where it runs compiled kernels); what several use is in :mod:`fretwear.cli.shared`.
+its ``HELP`` and ``DESCRIPTION``, ``add_arguments(parser)`` and ``run(args)``
+(and ``kernel_needs(args, model)`` where it runs compiled kernels); what
+several use is in :mod:`fretwear.cli.shared`.
 """
 
 from __future__ import annotations
@@ -116,8 +117,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     parser.commands = commands.choices  # type: ignore[attr-defined]  # name -> subcommand parser
-    for command in COMMANDS.values():
-        command.add_parser(commands)
+    for name, command in COMMANDS.items():
+        command.add_arguments(commands.add_parser(name, help=command.HELP, description=command.DESCRIPTION))
     for sub in commands.choices.values():
         document(sub)
     return parser

@@ -22,15 +22,17 @@ from .shared import (
 OUT_SUFFIXES = (".csv",)
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``cost`` and its options among the ``commands``."""
-    cost = commands.add_parser(
-        "cost",
-        help="what accuracy costs: error vs wall time over a ladder of settings (CSV)",
-        description="Runs a ladder of discretisations (Nh, samples, slow-time tolerance, polynomial degree, "
-        "methods) at one frequency against a converged reference (shooting; with --kw and --cycles also "
-        "w(N) against stepping with shooting dynamics) and writes error vs wall time per rung.",
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear cost --help``
+HELP = "what accuracy costs: error vs wall time over a ladder of settings (CSV)"
+DESCRIPTION = (
+    "Runs a ladder of discretisations (Nh, samples, slow-time tolerance, polynomial degree, "
+    "methods) at one frequency against a converged reference (shooting; with --kw and --cycles also "
+    "w(N) against stepping with shooting dynamics) and writes error vs wall time per rung."
+)
+
+
+def add_arguments(cost: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear cost`` on ``cost``."""
     option(cost, "--f", "excitation frequency (Hz)", required=True, metavar="HZ")
     add_model_options(cost)
     option(cost, "--kw", "Archard coefficient (1/N): adds wear rungs")

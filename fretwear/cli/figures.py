@@ -14,14 +14,16 @@ from .shared import EXIT_OK, UsageError, add_settings_option, check, option
 _FORMATS = ("png", "svg", "html", "csv")
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``figures`` and its options among the ``commands``."""
-    figures = commands.add_parser(
-        "figures",
-        help="the paper's figure set (Fig. 5-14 equivalents), headless",
-        description="Computes the paper's figures 5-14 for the 2-DOF example and writes figNN.{png,svg,csv} "
-        "(and .html with --formats) to --out. Needs matplotlib and holoviews (installed with fretwear).",
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear figures --help``
+HELP = "the paper's figure set (Fig. 5-14 equivalents), headless"
+DESCRIPTION = (
+    "Computes the paper's figures 5-14 for the 2-DOF example and writes figNN.{png,svg,csv} "
+    "(and .html with --formats) to --out. Needs matplotlib and holoviews (installed with fretwear)."
+)
+
+
+def add_arguments(figures: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear figures`` on ``figures``."""
     figures.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
     option(figures, "--harmonics", "highest harmonic Nh (-); default 21", default=21, metavar="NH")
     option(figures, "--kw", "Archard coefficient K_w (1/N); default 1e-11", default=1e-11)

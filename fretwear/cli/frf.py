@@ -31,13 +31,13 @@ from .shared import (
 OUT_SUFFIXES = (".csv",)
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``frf`` and its options among the ``commands``."""
-    frf = commands.add_parser(
-        "frf",
-        help="nonlinear frequency response (CSV)",
-        description="Nonlinear frequency response by HBM + DLFT, written as CSV (one row per frequency).",
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear frf --help``
+HELP = "nonlinear frequency response (CSV)"
+DESCRIPTION = "Nonlinear frequency response by HBM + DLFT, written as CSV (one row per frequency)."
+
+
+def add_arguments(frf: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear frf`` on ``frf``."""
     add_model_options(frf)
     add_band_options(frf)
     add_out_option(frf)

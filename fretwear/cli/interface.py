@@ -1,8 +1,8 @@
 """The ``fretwear interface`` command: the cylinder-on-flat benchmark or an interface model file.
 
-``add_parser(commands)`` declares the command, ``add_arguments(parser)`` its
-options on an ``argparse`` (sub)parser, and ``run(args)`` executes them and
-returns the exit status (0 success, 2 bad input, 3 a solve did not converge, static gross slip included, 130
+``add_arguments(parser)`` declares the options on an ``argparse`` (sub)parser
+and ``run(args)`` executes them and returns the exit status (0 success, 2
+bad input, 3 a solve did not converge, static gross slip included, 130
 interrupted by Ctrl-C: one line, no output file). Three modes:
 
 * ``--static``: the quasi-static limit (normal load, then the tangential load
@@ -48,17 +48,13 @@ OUT_SUFFIXES = (".csv", ".json")
 COLUMNS = ("cycles", "x", "w", "pressure", "slip", "state_fraction_stick")
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``interface`` and its options among the ``commands``."""
-    add_arguments(
-        commands.add_parser(
-            "interface",
-            help="a contact interface of many nodes: cylinder on flat, or an interface model file",
-            description="The cylinder-on-flat fretting benchmark (2-D plane strain, scikit-fem) or an "
-            "interface model file: the quasi-static limit (--static, JSON), one periodic solve, or a "
-            "wear history with pressure redistribution (CSV, one row per record and contact node).",
-        )
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear interface --help``
+HELP = "a contact interface of many nodes: cylinder on flat, or an interface model file"
+DESCRIPTION = (
+    "The cylinder-on-flat fretting benchmark (2-D plane strain, scikit-fem) or an "
+    "interface model file: the quasi-static limit (--static, JSON), one periodic solve, or a "
+    "wear history with pressure redistribution (CSV, one row per record and contact node)."
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -25,13 +25,13 @@ from .shared import (
 OUT_SUFFIXES = (".csv",)
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``linear`` and its options among the ``commands``."""
-    linear = commands.add_parser(
-        "linear",
-        help="linear FRFs with every contact stuck or open (CSV)",
-        description="Linear frequency responses with every contact stuck (rigid) or open, written as CSV.",
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear linear --help``
+HELP = "linear FRFs with every contact stuck or open (CSV)"
+DESCRIPTION = "Linear frequency responses with every contact stuck (rigid) or open, written as CSV."
+
+
+def add_arguments(linear: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear linear`` on ``linear``."""
     add_model_options(linear)
     add_band_options(linear)
     add_out_option(linear)

@@ -36,16 +36,18 @@ from .shared import wear_kernel_needs as kernel_needs
 OUT_SUFFIXES = (".csv", ".npz", *FIGURE_SUFFIXES)
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``map`` and its options among the ``commands``."""
-    wmap = commands.add_parser(
-        "map",
-        help="wear map over frequency x cycles (CSV long format, NPZ, or the figure)",
-        description="Wear map W(f, N) (paper Fig. 7) with the response, over linspace(fmin, fmax, nf) "
-        "and the cycle counts 0 then ncycles - 1 log-spaced over the four decades up to --cycles (the "
-        "dashboard's grid). CSV long format (f_hz, cycles, w, ...), NumPy NPZ arrays when --out ends in "
-        ".npz, or the figure when it ends in .png, .svg or .html (with its parameters as caption).",
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear map --help``
+HELP = "wear map over frequency x cycles (CSV long format, NPZ, or the figure)"
+DESCRIPTION = (
+    "Wear map W(f, N) (paper Fig. 7) with the response, over linspace(fmin, fmax, nf) "
+    "and the cycle counts 0 then ncycles - 1 log-spaced over the four decades up to --cycles (the "
+    "dashboard's grid). CSV long format (f_hz, cycles, w, ...), NumPy NPZ arrays when --out ends in "
+    ".npz, or the figure when it ends in .png, .svg or .html (with its parameters as caption)."
+)
+
+
+def add_arguments(wmap: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear map`` on ``wmap``."""
     add_model_options(wmap)
     add_band_options(wmap, "nf", 41, "number of frequencies (-)")
     option(wmap, "--ncycles", "number of log-spaced cycle counts (-); default 60", default=60)

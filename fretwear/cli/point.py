@@ -24,14 +24,13 @@ from .shared import (
     record,
 )
 
+#: the line of ``fretwear --help``, and the description of ``fretwear point --help``
+HELP = "response at one frequency (JSON on stdout)"
+DESCRIPTION = "Periodic response at one frequency, printed as JSON."
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``point`` and its options among the ``commands``."""
-    point = commands.add_parser(
-        "point",
-        help="response at one frequency (JSON on stdout)",
-        description="Periodic response at one frequency, printed as JSON.",
-    )
+
+def add_arguments(point: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear point`` on ``point``."""
     option(point, "--f", "excitation frequency (Hz)", required=True, metavar="HZ")
     add_model_options(point)
     add_solver_options(point)

@@ -1,25 +1,23 @@
 """``fretwear study``: the parameter study of a TOML spec on Dask, results in Zarr. A thin adapter: the
-command's options and run are :func:`fretwear.studies.study.add_arguments` and
-:func:`~fretwear.studies.study.run` (which check the spec and the outputs themselves)."""
+options and the run are those of :mod:`fretwear.studies.study` (``add_arguments``, ``run``), which checks
+the spec and the outputs itself."""
 
 from __future__ import annotations
 
 import argparse
 
 from ..studies import study
+from ..studies.study import add_arguments
 
+__all__ = ["HELP", "DESCRIPTION", "add_arguments", "check_args", "run"]
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``study`` and its options among the ``commands``."""
-    study.add_arguments(
-        commands.add_parser(
-            "study",
-            help="parameter study on Dask, results in Zarr",
-            description="Runs the parameter study of a TOML spec on a Dask cluster (local by default) and "
-            "writes an xarray Dataset to a Zarr store, chunk by chunk; rerun the same command to finish "
-            "an interrupted study. Read the result with xarray.open_zarr(RESULT).",
-        )
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear study --help``
+HELP = "parameter study on Dask, results in Zarr"
+DESCRIPTION = (
+    "Runs the parameter study of a TOML spec on a Dask cluster (local by default) and "
+    "writes an xarray Dataset to a Zarr store, chunk by chunk; rerun the same command to finish "
+    "an interrupted study. Read the result with xarray.open_zarr(RESULT)."
+)
 
 
 def check_args(args: argparse.Namespace) -> None:

@@ -31,14 +31,16 @@ from .shared import wear_kernel_needs as kernel_needs
 OUT_SUFFIXES = (".csv", *FIGURE_SUFFIXES)
 
 
-def add_parser(commands: argparse._SubParsersAction) -> None:
-    """Declare ``wear`` and its options among the ``commands``."""
-    wear = commands.add_parser(
-        "wear",
-        help="wear evolution at one frequency (CSV)",
-        description="Fretting wear w(N) over the cycle count N at one frequency, by slow-time stepping, "
-        "the polynomial slow-time DLFT or direct time integration, written as CSV.",
-    )
+#: the line of ``fretwear --help``, and the description of ``fretwear wear --help``
+HELP = "wear evolution at one frequency (CSV)"
+DESCRIPTION = (
+    "Fretting wear w(N) over the cycle count N at one frequency, by slow-time stepping, "
+    "the polynomial slow-time DLFT or direct time integration, written as CSV."
+)
+
+
+def add_arguments(wear: argparse.ArgumentParser) -> None:
+    """Declare the options of ``fretwear wear`` on ``wear``."""
     option(wear, "--f", "excitation frequency (Hz)", required=True, metavar="HZ")
     add_model_options(wear)
     add_wear_options(wear)
