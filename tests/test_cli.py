@@ -141,7 +141,7 @@ def test_frf_reports_non_converged_points(tmp_path, capsys, monkeypatch):
         result.solutions[1].converged, result.solutions[1].residual = False, 0.25
         return result
 
-    monkeypatch.setattr(cli, "sweep", failing_sweep)
+    monkeypatch.setattr(cli.frf, "sweep", failing_sweep)
     out = tmp_path / "frf.csv"
     code, _, err = run(capsys, "frf", *BAND, "--harmonics", "3", "--out", str(out))
     assert code == cli.EXIT_NOT_CONVERGED == 3
@@ -243,7 +243,7 @@ def test_point_not_converged_exit_status(capsys, monkeypatch):
         sol.converged, sol.message = False, "no convergence in 50 iterations"
         return sol
 
-    monkeypatch.setattr(cli, "solve_periodic", failing)
+    monkeypatch.setattr(cli.point, "solve_periodic", failing)
     code, out, err = run(capsys, "point", "--f", "0.7", "--harmonics", "3")
     assert code == cli.EXIT_NOT_CONVERGED
     assert json.loads(out)["converged"] is False and "NOT converged" in err
@@ -299,7 +299,7 @@ def test_library_value_error_becomes_a_message(capsys, monkeypatch):
     def reject(*args, **kwargs):
         raise ValueError("eps must be finite and > 0 N/m,\n got -1")
 
-    monkeypatch.setattr(cli, "solve_periodic", reject)
+    monkeypatch.setattr(cli.point, "solve_periodic", reject)
     code, out, err = run(capsys, "point", "--f", "1")
     assert (code, out) == (2, "")
     assert err == "fretwear point: error: eps must be finite and > 0 N/m, got -1\n"
