@@ -176,7 +176,7 @@ def run(args: argparse.Namespace) -> int:
     from ..interface.static import static_benchmark
     from ..interface.wear import wear_interface
 
-    compile_notice(args.command, kernel_needs(args))
+    compile_notice("interface", kernel_needs(args))
     try:
         if args.static and not args.model and args.q_ratio >= 1:
             raise ValueError(
