@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fretwear import cli, paper_model, solve_periodic
+from fretwear import cli, paper_model, solve_periodic, wear_history
 from fretwear.hbm.continuation import sweep
 from fretwear.hbm.linear import linear_frf
 from fretwear.model import jenkins_oscillator
@@ -141,7 +141,7 @@ def test_frf_reports_non_converged_points(tmp_path, capsys, monkeypatch):
         result.solutions[1].converged, result.solutions[1].residual = False, 0.25
         return result
 
-    monkeypatch.setattr(cli, "sweep", failing_sweep)
+    monkeypatch.setattr(cli.frf, "sweep", failing_sweep)
     out = tmp_path / "frf.csv"
     code, _, err = run(capsys, "frf", *BAND, "--harmonics", "3", "--out", str(out))
     assert code == cli.EXIT_NOT_CONVERGED == 3
@@ -243,7 +243,7 @@ def test_point_not_converged_exit_status(capsys, monkeypatch):
         sol.converged, sol.message = False, "no convergence in 50 iterations"
         return sol
 
-    monkeypatch.setattr(cli, "solve_periodic", failing)
+    monkeypatch.setattr(cli.point, "solve_periodic", failing)
     code, out, err = run(capsys, "point", "--f", "0.7", "--harmonics", "3")
     assert code == cli.EXIT_NOT_CONVERGED
     assert json.loads(out)["converged"] is False and "NOT converged" in err
@@ -299,7 +299,7 @@ def test_library_value_error_becomes_a_message(capsys, monkeypatch):
     def reject(*args, **kwargs):
         raise ValueError("eps must be finite and > 0 N/m,\n got -1")
 
-    monkeypatch.setattr(cli, "solve_periodic", reject)
+    monkeypatch.setattr(cli.point, "solve_periodic", reject)
     code, out, err = run(capsys, "point", "--f", "1")
     assert (code, out) == (2, "")
     assert err == "fretwear point: error: eps must be finite and > 0 N/m, got -1\n"
@@ -442,11 +442,11 @@ def test_settings_file_of_the_dashboard(tmp_path, capsys):
     out = tmp_path / "w.csv"
     assert cli.main(["wear", "--settings", str(path), "--out", str(out)]) == 0
     model = paper_model(fex=14, mu=0.8)
-    ref = cli.wear_history(model, 2 * np.pi * 0.6, "exact", kw=1e-10, cycles=2000, harmonics=3)
+    ref = wear_history(model, 2 * np.pi * 0.6, "exact", kw=1e-10, cycles=2000, harmonics=3)
     _, rows = read_csv(out)
     np.testing.assert_allclose(column(rows, "w"), ref.wear[:, 0], rtol=1e-12)
     assert cli.main(["wear", "--settings", str(path), "--f", "0.9", "--out", str(out)]) == 0
-    ref = cli.wear_history(model, 2 * np.pi * 0.9, "exact", kw=1e-10, cycles=2000, harmonics=3)
+    ref = wear_history(model, 2 * np.pi * 0.9, "exact", kw=1e-10, cycles=2000, harmonics=3)
     np.testing.assert_allclose(column(read_csv(out)[1], "w"), ref.wear[:, 0], rtol=1e-12)
     capsys.readouterr()
     path.write_text('{"mu": -1}')
@@ -500,8 +500,9 @@ USED = """
 import json, sys
 import fretwear.compile as c
 from fretwear import cli
+from fretwear.cli.shared import model_and_names
 args = cli.build_parser().parse_args(sys.argv[1:])
-needs = cli._kernel_needs(args, cli._model(args)[0])
+needs = cli.COMMANDS[args.command].kernel_needs(args, model_and_names(args)[0])
 cli.main(sys.argv[1:])
 used = {e for k in c.KERNELS.values() for e in k.entry_points if c._dispatcher(e).overloads}
 print(json.dumps([sorted(used), sorted({e for n in needs for e in c.NEEDS[n].entry_points})]))

@@ -84,7 +84,7 @@ def test_cli_prints_the_notice_once_only_when_kernels_must_compile(monkeypatch, 
 )
 def test_each_command_announces_the_kernels_it_runs(argv, needs):
     args = cli.build_parser().parse_args(argv)
-    assert cli._kernel_needs(args, paper_model()) == needs
+    assert cli.COMMANDS[args.command].kernel_needs(args, paper_model()) == needs
 
 
 def test_warm_in_processes_runs_each_part_in_a_process_of_its_own(monkeypatch):
@@ -159,7 +159,7 @@ def test_an_edit_of_a_callee_module_makes_its_callers_cached_code_stale(tmp_path
 
     assert probe("ask") == "False"  # an empty cache
     assert probe("run") == "True"  # compiled and cached
-    with open(src / "fretwear" / "cli.py", "a") as f:
+    with open(src / "fretwear" / "cli" / "shared.py", "a") as f:
         f.write("\n# an edit of a module without kernels\n")
     assert probe("ask") == "True"
     with open(src / "fretwear" / "hbm" / "dense.py", "a") as f:

@@ -31,7 +31,7 @@ Layers, bottom up:
   (eq. 25-29, :func:`wear_polynomial_interface`, ``wear_interface(method="polynomial")``);
 * :mod:`~fretwear.interface.time_integration`: direct time integration with the
   same contact law (backward Euler, :func:`integrate_interface`), the check;
-* :mod:`~fretwear.interface.cli`: the ``fretwear interface`` command.
+* the ``fretwear interface`` command is :mod:`fretwear.cli.interface`.
 """
 
 from importlib import import_module

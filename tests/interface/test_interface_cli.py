@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from fretwear.interface.cli import COLUMNS, add_arguments, run
+from fretwear.cli.interface import COLUMNS, add_arguments, run
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.modelfile import write_interface_model
 

@@ -6,7 +6,7 @@ import csv
 import numpy as np
 import pytest
 
-from fretwear.interface.cli import add_arguments, run
+from fretwear.cli.interface import add_arguments, run
 from fretwear.interface.contact import STICK
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.periodic import InterfaceProblem

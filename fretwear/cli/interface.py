@@ -26,138 +26,81 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import os
 import sys
-from typing import TextIO
 
 import numpy as np
 
-from ..arguments import number
+from .shared import (
+    EXIT_INTERRUPTED,
+    EXIT_NOT_CONVERGED,
+    EXIT_OK,
+    EXIT_USAGE,
+    add_out_option,
+    compile_notice,
+    option,
+    text_output,
+)
 
-__all__ = ["add_arguments", "run", "COLUMNS"]
-
-EXIT_OK, EXIT_USAGE, EXIT_NOT_CONVERGED, EXIT_INTERRUPTED = 0, 2, 3, 130
+#: the suffixes of --out ("-" or none: stdout); .json: the quasi-static limit (--static)
+OUT_SUFFIXES = (".csv", ".json")
 
 #: CSV columns of the per-pair output
 COLUMNS = ("cycles", "x", "w", "pressure", "slip", "state_fraction_stick")
 
 
+#: the line of ``fretwear --help``, and the description of ``fretwear interface --help``
+HELP = "a contact interface of many nodes: cylinder on flat, or an interface model file"
+DESCRIPTION = (
+    "The cylinder-on-flat fretting benchmark (2-D plane strain, scikit-fem) or an "
+    "interface model file: the quasi-static limit (--static, JSON), one periodic solve, or a "
+    "wear history with pressure redistribution (CSV, one row per record and contact node)."
+)
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Declare the options of ``fretwear interface`` on ``parser``."""
-    parser.add_argument(
-        "--model",
-        metavar="FILE.toml",
-        help="interface model file (matrices + contact pairs); default: the cylinder-on-flat benchmark",
-    )
-    parser.add_argument(
-        "--static",
-        action="store_true",
-        help="quasi-static limit: normal load, then the tangential load; JSON on stdout",
-    )
-    parser.add_argument(
-        "--q-ratio",
-        type=number("q_ratio"),
-        default=0.5,
-        metavar="Q",
-        help="benchmark tangential load Q0 / (mu P) (-), >= 0, < 1 with --static; default 0.5",
-    )
-    parser.add_argument(
-        "--contact-nodes",
-        type=number("contact_nodes"),
-        default=32,
-        metavar="NC",
-        help="benchmark pairs across the contact window (-); default 32",
-    )
-    parser.add_argument(
-        "--window",
-        type=number("window"),
-        default=1.25,
-        help="benchmark contact window half-width / Hertz a (-); default 1.25",
-    )
-    parser.add_argument(
-        "--normal-load",
-        type=number("line_load"),
-        default=2.0e5,
-        metavar="P",
-        help="benchmark normal load per unit length (N/m); default 2e5",
-    )
-    parser.add_argument(
-        "--mu", type=number("interface_mu"), default=0.6, help="benchmark friction coefficient; default 0.6"
-    )
-    parser.add_argument(
-        "--drive",
-        type=number("drive"),
-        metavar="DELTA",
-        help="benchmark displacement control: amplitude of the loading arm's end (m), with "
-        "--arm-stiffness (replaces --q-ratio)",
-    )
-    parser.add_argument(
-        "--arm-stiffness",
-        type=number("arm_stiffness"),
-        default=2e10,
-        metavar="KA",
-        help="benchmark loading arm stiffness (N/m per m); default 2e10 (with --drive)",
-    )
-    parser.add_argument(
-        "--f",
-        type=number("f"),
-        default=50.0,
-        metavar="HZ",
-        help="excitation frequency (Hz); default 50",
-    )
-    parser.add_argument(
-        "--harmonics",
-        type=number("harmonics"),
-        default=7,
-        metavar="NH",
-        help="highest harmonic Nh (-); default 7",
-    )
-    parser.add_argument(
-        "--kw",
-        type=number("interface_kw"),
-        help="Archard coefficient K_w (1/Pa), > 0: runs a wear history",
-    )
-    parser.add_argument(
-        "--cycles",
-        type=number("cycles"),
-        default=1e6,
-        help="wear horizon (cycles); default 1e6",
-    )
-    parser.add_argument(
-        "--converge",
-        type=number("converge"),
-        metavar="TOL",
-        help="stop the wear history once the profile has converged to TOL (-)",
-    )
-    parser.add_argument(
-        "--rtol",
-        type=number("rtol"),
-        default=1e-2,
-        help="slow-time step tolerance on the worn depth (-); default 1e-2",
-    )
-    parser.add_argument(
-        "--method",
-        choices=("stepping", "polynomial"),
-        default="stepping",
-        help="slow-time method of the wear history: adaptive stepping (default) or the polynomial method "
-        "(one nonlinear solve over [0, --cycles])",
-    )
-    parser.add_argument(
-        "--degree",
-        type=number("degree"),
-        metavar="D",
-        help="polynomial degree in slow time of --method polynomial; default 6",
-    )
-    parser.add_argument(
-        "--out",
-        metavar="FILE.csv",
-        help="CSV file to write ('-' or omitted: stdout); with --static a .json or a .csv file",
-    )
+    parser.add_argument("--model", metavar="FILE.toml",
+                        help="interface model file (matrices + contact pairs); default: the cylinder-on-flat "
+                        "benchmark")  # fmt: skip
+    parser.add_argument("--static", action="store_true", help="quasi-static limit: normal load, then the "
+                        "tangential load; JSON on stdout")  # fmt: skip
+    option(parser, "--q-ratio", "benchmark tangential load Q0 / (mu P) (-), >= 0, < 1 with --static; "
+           "default 0.5", default=0.5, metavar="Q")  # fmt: skip
+    option(parser, "--contact-nodes", "benchmark pairs across the contact window (-); default 32", default=32,
+           metavar="NC")  # fmt: skip
+    option(parser, "--window", "benchmark contact window half-width / Hertz a (-); default 1.25",
+           default=1.25)  # fmt: skip
+    option(parser, "--normal-load", "benchmark normal load per unit length (N/m); default 2e5",
+           name="line_load", default=2.0e5, metavar="P")  # fmt: skip
+    option(parser, "--mu", "benchmark friction coefficient; default 0.6", name="interface_mu", default=0.6)
+    option(parser, "--drive", "benchmark displacement control: amplitude of the loading arm's end (m), with "
+           "--arm-stiffness (replaces --q-ratio)", metavar="DELTA")  # fmt: skip
+    option(parser, "--arm-stiffness", "benchmark loading arm stiffness (N/m per m); default 2e10 (with "
+           "--drive)", default=2e10, metavar="KA")  # fmt: skip
+    option(parser, "--f", "excitation frequency (Hz); default 50", default=50.0, metavar="HZ")
+    option(parser, "--harmonics", "highest harmonic Nh (-); default 7", default=7, metavar="NH")
+    option(parser, "--kw", "Archard coefficient K_w (1/Pa), > 0: runs a wear history", name="interface_kw")
+    option(parser, "--cycles", "wear horizon (cycles); default 1e6", default=1e6)
+    option(parser, "--converge", "stop the wear history once the profile has converged to TOL (-)",
+           metavar="TOL")  # fmt: skip
+    option(parser, "--rtol", "slow-time step tolerance on the worn depth (-); default 1e-2", default=1e-2)
+    parser.add_argument("--method", choices=("stepping", "polynomial"), default="stepping",
+                        help="slow-time method of the wear history: adaptive stepping (default) or the "
+                        "polynomial method (one nonlinear solve over [0, --cycles])")  # fmt: skip
+    option(parser, "--degree", "polynomial degree in slow time of --method polynomial; default 6",
+           metavar="D")  # fmt: skip
+    add_out_option(parser, "CSV file to write ('-' or omitted: stdout); with --static a .json or a .csv file",
+                   required=False)  # fmt: skip
+
+
+def kernel_needs(args: argparse.Namespace, model=None) -> tuple[str, ...]:
+    """The computations of :data:`fretwear.compile.NEEDS` that the command runs."""
+    return () if args.static else ("interface",)
 
 
 def _model(args: argparse.Namespace):
-    from .fe import cylinder_on_flat
-    from .modelfile import read_interface_model
+    from ..interface.fe import cylinder_on_flat
+    from ..interface.modelfile import read_interface_model
 
     if args.model:
         return read_interface_model(args.model)
@@ -175,8 +118,8 @@ def _model(args: argparse.Namespace):
 
 def _static_summary(cond) -> dict:
     """Quasi-static state of a model file: its static load, then its ``cos`` pattern applied statically."""
-    from .contact import SLIP, STICK
-    from .static import second_moment_half_width, solve_static
+    from ..interface.contact import SLIP, STICK
+    from ..interface.static import second_moment_half_width, solve_static
 
     res = solve_static(cond, tangential_scale=1.0)
     out = dict(converged=res.converged, message=res.message, regime="gross slip" if res.gross_slip else None)
@@ -209,33 +152,10 @@ def _rows(cycles: float, x: np.ndarray, w, pressure, slip, stick):
 
 def _write(path: str | None, rows, columns=COLUMNS) -> None:
     """CSV on stdout, or in ``path`` whole or not at all (written aside, then renamed)."""
-    if path in (None, "-"):
-        writer = csv.writer(sys.stdout)
-        writer.writerow(columns)
-        writer.writerows(rows)
-        return
-    with _whole_file(path) as fh:
+    with text_output(path) as fh:
         writer = csv.writer(fh)
         writer.writerow(columns)
         writer.writerows(rows)
-
-
-class _whole_file:
-    """``open(path, "w")`` on a neighbour file renamed to ``path`` on success, removed on any failure."""
-
-    def __init__(self, path: str) -> None:
-        self.path, self.part = path, f"{path}.part"
-
-    def __enter__(self) -> TextIO:
-        self.fh = open(self.part, "w", newline="")
-        return self.fh
-
-    def __exit__(self, kind, exc, tb) -> None:
-        self.fh.close()
-        if kind is None:
-            os.replace(self.part, self.path)
-        else:
-            os.unlink(self.part)
 
 
 def _write_static(path: str | None, out: dict) -> None:
@@ -243,23 +163,20 @@ def _write_static(path: str | None, out: dict) -> None:
     if path not in (None, "-") and path.lower().endswith(".csv"):
         _write(path, [["" if v is None else v for v in out.values()]], columns=tuple(out))
         return
-    text = json.dumps(out, indent=2)
-    if path in (None, "-"):
-        print(text)
-        return
-    with _whole_file(path) as fh:
-        fh.write(text + "\n")
+    with text_output(path) as fh:
+        fh.write(json.dumps(out, indent=2) + "\n")
 
 
 def run(args: argparse.Namespace) -> int:
     """Execute ``fretwear interface`` with parsed ``args``; returns the exit status."""
-    from .contact import STICK
-    from .interrupt import catch_interrupt
-    from .periodic import InterfaceProblem, solve_interface
-    from .reduction import ContactCondensation, craig_bampton
-    from .static import static_benchmark
-    from .wear import wear_interface
+    from ..interface.contact import STICK
+    from ..interface.interrupt import catch_interrupt
+    from ..interface.periodic import InterfaceProblem, solve_interface
+    from ..interface.reduction import ContactCondensation, craig_bampton
+    from ..interface.static import static_benchmark
+    from ..interface.wear import wear_interface
 
+    compile_notice("interface", kernel_needs(args))
     try:
         if args.static and not args.model and args.q_ratio >= 1:
             raise ValueError(
