@@ -69,6 +69,20 @@ def test_the_cli_default_is_the_exact_answer(tmp_path, capsys, references):
     assert abs(n50 / references[CASES[0]].cycles_to(0.5) - 1) < 1e-3
 
 
+def test_the_cli_map_default_is_the_exact_answer(tmp_path, capsys, references):
+    """``fretwear map`` with no method options: at the cycles time integration takes to 0.5 u0, the map
+    reads 0.5 u0 (within 1e-3 of u0, a cycle error well under 1e-3 at this slope)."""
+    fex, f, kw = CASES[0]
+    n50 = references[CASES[0]].cycles_to(0.5)
+    out = tmp_path / "m.csv"
+    argv = ["map", "--fmin", "0.6", "--fmax", str(f), "--nf", "2", "--ncycles", "3", "--kw", str(kw),
+            "--cycles", repr(float(n50)), "--out", str(out)]  # fmt: skip
+    assert cli.main(argv) == 0
+    assert capsys.readouterr().err.startswith("fretwear map: exact, ")
+    rows = [r for r in csv.DictReader(out.open()) if float(r["f_hz"]) == f]
+    assert abs(float(rows[-1]["cycles"]) / n50 - 1) < 1e-12 and abs(float(rows[-1]["w_over_u0"]) - 0.5) < 1e-3
+
+
 def test_asking_for_harmonics_asks_for_dlft_and_says_so():
     model = fw.paper_model()
     assert resolve_dynamics(model) == "shooting"
