@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
     notes = [] if isinstance(wmap.histories, LazyHistories) else [
         f"{h.frequency:.4g} Hz: {w}" for h in wmap.histories for w in h.warnings]  # fmt: skip
-    if wmap.label != "exact" and args.kw > 0 and exact_answer_applies(model):  # an approximation
+    if wmap.label != "exact" and exact_answer_applies(model):  # an approximation
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             exact = wear_map(model, freqs, cycles, method="exact", kw=args.kw)

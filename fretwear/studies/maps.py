@@ -198,12 +198,11 @@ def wear_map(
 
     u0 = np.array([c.u0 for c in model.friction])
     name = resolve_method(model, method, options.get("fixed_step"))
-    dynamics = options.get("dynamics", "auto")
-    on_tables = name == "exact" and kw > 0  # the exact method on the exact dynamics reads sliding tables
-    if (
-        on_tables
-        and resolve_dynamics(model, dynamics, options.get("harmonics"), options.get("samples")) == "shooting"
-    ):
+    dynamics = None
+    if "dynamics" in METHODS[name].options:
+        dynamics = resolve_dynamics(model, options.get("dynamics", "auto"), options.get("harmonics"),
+                                    options.get("samples"))  # fmt: skip
+    if name == "exact" and dynamics == "shooting" and kw > 0:  # read straight off the sliding tables
         extra = sorted(k for k, v in options.items() if k not in METHODS[name].options and v is not None)
         if extra and method != "auto":
             raise ValueError(f"method {name!r} takes no option {', '.join(map(repr, extra))}")
