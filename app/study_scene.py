@@ -1,7 +1,7 @@
 """The Study scene: browse a parameter study written by ``fretwear study`` (nothing is recomputed).
 
 ``panel serve app/app.py --args --study RESULT.zarr`` opens the store once
-per server process (:func:`fretwear.studies.study.open_study`, held in
+per server process (:func:`fretwear.studies.store.open_study`, held in
 memory) and every session slices it: over grid axes, a quantity along one
 axis with the others fixed (sliders); over random samples, the histogram of
 the cycles to a fraction of ``u0`` with its median and 5 / 95 % quantiles
@@ -26,7 +26,9 @@ import param
 
 from fretwear import figures
 from fretwear.figures.plots import ensure_backend, holoviews, marker_line, overlay_options, styled
-from fretwear.studies.study import STATUS, open_study, wear_life_summary
+from fretwear.studies.compute import STATUS
+from fretwear.studies.store import open_study
+from fretwear.studies.summary import wear_life_summary
 
 from .live import live_pane
 

@@ -189,8 +189,8 @@ def make_study(folder: Path) -> Path:
     """The shipped wear-life example at 200 samples, run in this process (a few seconds to a minute)."""
     from distributed import Client
 
+    from fretwear.studies.run import run_study
     from fretwear.studies.spec import read_spec
-    from fretwear.studies.study import run_study
 
     out = folder / "wear_life.zarr"
     spec = read_spec(ROOT / "fretwear" / "data" / "wear_life.toml", samples=200)

@@ -27,8 +27,9 @@ from pathlib import Path
 import numpy as np
 
 import fretwear as fw
+from fretwear.studies.layout import layout
+from fretwear.studies.run import run_study
 from fretwear.studies.spec import read_spec
-from fretwear.studies.study import layout, run_study
 
 EXAMPLE = Path(fw.__file__).parent / "data" / "wear_life.toml"
 

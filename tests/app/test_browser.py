@@ -215,8 +215,8 @@ def study(tmp_path_factory) -> Path:
     """A small study store for the Study tab: random mu (some draws negative: invalid points) and F_ex."""
     from distributed import Client
 
+    from fretwear.studies.run import run_study
     from fretwear.studies.spec import read_spec
-    from fretwear.studies.study import run_study
 
     root = tmp_path_factory.mktemp("study")
     (root / "spec.toml").write_text(STUDY_SPEC)
@@ -701,7 +701,9 @@ def test_settings_save_and_load(open_page, tmp_path):
 def test_the_study_tab_shows_the_stored_study_and_its_failed_points(open_page, study):
     """Feature: ``--args --study RESULT.zarr`` opens a study; the histogram's quantiles and the failed
     (invalid) draws are those of the store."""
-    from fretwear.studies.study import STATUS, open_study, wear_life_summary
+    from fretwear.studies.compute import STATUS
+    from fretwear.studies.store import open_study
+    from fretwear.studies.summary import wear_life_summary
 
     ds = open_study(study)
     summary = wear_life_summary(ds, 0.5)

@@ -16,8 +16,11 @@ import xarray as xr
 
 from app.study_scene import StudyScene
 from fretwear import figures
+from fretwear.studies.compute import STATUS
+from fretwear.studies.run import run_study
 from fretwear.studies.spec import read_spec
-from fretwear.studies.study import STATUS, open_study, run_study, wear_life_summary
+from fretwear.studies.store import open_study
+from fretwear.studies.summary import wear_life_summary
 
 GRID = """
 [study]
@@ -79,7 +82,7 @@ def no_solver(monkeypatch):
     entries = [("fretwear.hbm.periodic", "solve_periodic"), ("fretwear.hbm.continuation", "sweep"),
                ("fretwear.wear.history", "wear_history"), ("fretwear.studies.run", "compute_block"),
                ("fretwear.studies.compute", "sweep"), ("fretwear.studies.compute", "wear_history"),
-               ("fretwear.studies.study", "run_study")]  # fmt: skip
+               ("fretwear.studies.run", "run_study")]  # fmt: skip
     for module, name in entries:
         module = import_module(module)  # the module, not a function of the package named like it
         assert hasattr(module, name), f"{module.__name__}.{name}"

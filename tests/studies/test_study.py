@@ -19,17 +19,21 @@ import numpy as np
 import pytest
 
 import fretwear as fw
+from fretwear import cli
+from fretwear.cli.shared import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_USAGE
 from fretwear.figures import wear_life_figure
-from fretwear.studies import compute, store, study
+from fretwear.studies import compute, store
 from fretwear.studies import run as study_run
 from fretwear.studies import spec as study_spec
+from fretwear.studies.layout import layout
+from fretwear.studies.summary import wear_life_summary
 
 xr = pytest.importorskip("xarray")
 zarr = pytest.importorskip("zarr")
 distributed = pytest.importorskip("distributed")
 
 DATA = Path(fw.__file__).parent / "data"
-STUDY_MODULE = [sys.executable, "-m", "fretwear.studies.study"]
+STUDY_COMMAND = [sys.executable, "-m", "fretwear", "study"]
 
 SPEC = """
 [study]
@@ -64,7 +68,7 @@ def spec_path(tmp_path_factory) -> Path:
 def local_run(spec_path, tmp_path_factory):
     """The study on a local cluster of two worker processes: (exit status, Dataset)."""
     out = tmp_path_factory.mktemp("local") / "result.zarr"
-    status = study.main([str(spec_path), "--out", str(out), "--workers", "2", "--quiet"])
+    status = cli.main(["study", str(spec_path), "--out", str(out), "--workers", "2", "--quiet"])
     return status, xr.open_zarr(out)
 
 
@@ -145,7 +149,7 @@ def test_bad_specs_are_one_line_errors_naming_the_key(tmp_path, capsys, text, ke
     path = tmp_path / "bad.toml"
     path.write_text(text)
     out = tmp_path / "never.zarr"
-    assert study.main([str(path), "--out", str(out)]) == study.EXIT_USAGE
+    assert cli.main(["study", str(path), "--out", str(out)]) == EXIT_USAGE
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"fretwear study: error: {key}: "), err
     assert not out.exists()
@@ -161,7 +165,7 @@ def test_bad_options_are_one_line_errors(spec_path, tmp_path, capsys):
         ([str(spec_path), "--samples", "0"], "--samples"),
         ([str(frf), "--figure", "x.png"], "--figure"),
     ):
-        assert study.main([*args, "--out", str(tmp_path / "x.zarr")]) == study.EXIT_USAGE
+        assert cli.main(["study", *args, "--out", str(tmp_path / "x.zarr")]) == EXIT_USAGE
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and key in err[0], err
 
@@ -191,7 +195,7 @@ def test_blocks_cover_every_point_once_and_fill_the_frequency_axis_first(tmp_pat
     )
     spec = study_spec.read_spec(path)
     assert spec.dims == ("mu", "fex", "frequency")
-    lay = study.layout(spec)
+    lay = layout(spec)
     assert lay.chunks == (1, 1, 7)
     seen = np.zeros(spec.shape, dtype=int)
     for task in range(lay.n_tasks):
@@ -251,7 +255,7 @@ def test_local_cluster_matches_direct_calls_and_archard_scaling(local_run, spec_
     invalid = draws["mu"] < 0  # drawn out of range: NaN with its status, the study goes on
     assert invalid.any() and (~invalid).sum() >= 8
     assert np.all(codes[invalid] == compute.INVALID) and np.isnan(ds.cycles_to.values[invalid]).all()
-    assert status == study.EXIT_NOT_CONVERGED
+    assert status == EXIT_NOT_CONVERGED
     life = ds.cycles_to.values
     for i in np.flatnonzero(~invalid)[:4]:
         model = fw.paper_model(fex=draws["fex"][i], mu=draws["mu"][i])
@@ -269,7 +273,7 @@ def test_local_cluster_matches_direct_calls_and_archard_scaling(local_run, spec_
 def test_wear_life_summary_and_figure(local_run):
     _, ds = local_run
     one = ds.sel(kw=1e-11)
-    summary = study.wear_life_summary(one, 0.5)
+    summary = wear_life_summary(one, 0.5)
     life = one.cycles_to.sel(fraction=0.5).values
     usable = np.isin(one.status.values, (compute.OK, compute.STUCK, compute.HORIZON))
     ranked = np.where(np.isnan(life), np.inf, life)[usable]
@@ -286,12 +290,12 @@ def test_wear_life_summary_and_figure(local_run):
         summary["q95"],
     }
     with pytest.raises(ValueError, match="kw"):
-        study.wear_life_summary(ds, 0.5)
+        wear_life_summary(ds, 0.5)
 
 
 def test_the_numerical_core_imports_no_plotting_or_cluster_library():
     code = (
-        "import sys, fretwear.studies.study; "
+        "import sys, fretwear.studies.run, fretwear.studies.store, fretwear.studies.compute; "
         "print(sorted(m for m in ('matplotlib', 'dask', 'distributed', 'xarray') if m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -353,9 +357,11 @@ def _wait_for_tasks(running, out, count, timeout=60.0) -> np.ndarray:
 
 def test_distributed_scheduler_gives_the_same_result(scheduler, spec_path, local_run, tmp_path, capsys):
     out = tmp_path / "dist.zarr"
-    status = study.main([str(spec_path), "--out", str(out), "--scheduler", scheduler.scheduler.address])
+    status = cli.main(
+        ["study", str(spec_path), "--out", str(out), "--scheduler", scheduler.scheduler.address]
+    )
     err = capsys.readouterr().err
-    assert status == study.EXIT_NOT_CONVERGED, err  # the drawn negative mu
+    assert status == EXIT_NOT_CONVERGED, err  # the drawn negative mu
     invalid = int((local_run[1].status == compute.INVALID).sum())
     assert "on 2 workers" in err and f"invalid {invalid}" in err and "[####" in err  # progress bar
     xr.testing.assert_identical(_data(xr.open_zarr(out)), _data(local_run[1]))
@@ -368,13 +374,13 @@ def test_a_killed_worker_is_replaced_and_the_result_is_identical(scheduler, spec
     statuses = []
     # enough tasks to be disturbed mid-run however fast the machine; the first 12 draws are the reference's
     more = ["--points-per-task", "1", "--samples", "150"]
-    thread = threading.Thread(target=lambda: statuses.append(study.main([*args, *more])))
+    thread = threading.Thread(target=lambda: statuses.append(cli.main(["study", *args, *more])))
     thread.start()
     done = _wait_for_tasks(thread.is_alive, out, 1)
     os.kill(pids[0], signal.SIGKILL)
     thread.join(timeout=300)
     assert done.sum() < len(done), "the study ended before the worker was killed"
-    assert statuses == [study.EXIT_NOT_CONVERGED]
+    assert statuses == [EXIT_NOT_CONVERGED]
     scheduler.wait_for_workers(2, timeout=60)
     now = set(scheduler.run(os.getpid).values())
     assert pids[0] not in now and len(now) == 2  # the nanny started a new worker process
@@ -402,7 +408,9 @@ def test_a_task_the_cluster_loses_is_resubmitted(spec_path, local_run, tmp_path,
     local = dict(processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0")
     with distributed.Client(**local) as client:
         lines = []
-        run = study.run_study(spec, tmp_path / "lost.zarr", client=client, progress=False, log=lines.append)
+        run = study_run.run_study(
+            spec, tmp_path / "lost.zarr", client=client, progress=False, log=lines.append
+        )
     assert run.complete and not run.failed_tasks
     assert sum("resubmitted" in line for line in lines) == run.n_tasks
     xr.testing.assert_identical(_data(xr.open_zarr(tmp_path / "lost.zarr")), _data(local_run[1]))
@@ -416,11 +424,11 @@ def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
     # enough tasks to be interrupted mid-run however fast the machine
     args = [str(spec_path), "--out", str(out), "--points-per-task", "1", "--samples", "150", "--quiet"]
     address = ["--scheduler", scheduler.scheduler.address]
-    proc = subprocess.Popen([*STUDY_MODULE, *args, *address], stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen([*STUDY_COMMAND, *args, *address], stderr=subprocess.PIPE, text=True)
     _wait_for_tasks(lambda: proc.poll() is None, out, 2)
     proc.send_signal(signal.SIGINT)  # Ctrl-C
     _, err = proc.communicate(timeout=120)
-    assert proc.returncode == study.EXIT_INTERRUPTED, err
+    assert proc.returncode == EXIT_INTERRUPTED, err
     assert "rerun the same command to resume" in err
     seconds = zarr.open_group(out, mode="r")["task_seconds"][:]
     done = np.isfinite(seconds)
@@ -428,7 +436,7 @@ def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
     # one point per task; Ctrl-C waits for the block being written (data and mark) to be whole
     not_computed = np.sum(xr.open_zarr(out).status.values == compute.NOT_COMPUTED)
     assert not_computed == np.sum(~done)
-    assert study.main([*args, *address]) == study.EXIT_NOT_CONVERGED
+    assert cli.main(["study", *args, *address]) == EXIT_NOT_CONVERGED
     assert f"computed {(~done).sum()} tasks ({done.sum()} already in the store)" in capsys.readouterr().err
     after = zarr.open_group(out, mode="r")["task_seconds"][:]
     # the blocks already written were not recomputed
@@ -436,7 +444,7 @@ def test_an_interrupted_study_resumes_with_only_the_missing_blocks(
     result = _data(xr.open_zarr(out)).isel(sample=slice(12))
     for name in ("cycles_to", "status"):
         xr.testing.assert_identical(result[name], _data(local_run[1])[name])
-    assert study.main(args) == study.EXIT_NOT_CONVERGED  # no cluster needed: nothing left
+    assert cli.main(["study", *args]) == EXIT_NOT_CONVERGED  # no cluster needed: nothing left
     assert "nothing to compute" in capsys.readouterr().err
 
 
@@ -446,7 +454,7 @@ def test_the_shipped_study_computes_the_exact_answer():
     agree with direct time integration with wear within 1e-3."""
     spec = study_spec.read_spec(DATA / "wear_life.toml", samples=3)
     assert spec.fixed["dynamics"] == "auto" and "harmonics" not in spec.fixed
-    ds, _ = store.template(spec, study.layout(spec))
+    ds, _ = store.template(spec, layout(spec))
     assert ds.attrs["wear_method"] == "exact"  # the store says what ran
     draws = spec.draws()
     out = compute.compute_block(compute.Work.of(spec), draws)
