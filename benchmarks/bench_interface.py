@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
 
 import numpy as np
+from timing import best_of as timed
 
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.periodic import InterfaceProblem, solve_interface
@@ -36,15 +36,6 @@ from fretwear.interface.time_integration import initial_state, integrate_interfa
 from fretwear.interface.wear import wear_interface
 
 F_HZ, NH = 50.0, 7
-
-
-def timed(fn, repeat=1):
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t)
-    return best, out
 
 
 def report(label: str, seconds: float, target: float) -> None:

@@ -35,6 +35,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from timing import fmt_time, table  # noqa: E402
+
 from fretwear import paper_model, sweep  # noqa: E402
 from fretwear.time import integrator, shooting, shooting_sweep  # noqa: E402
 
@@ -42,22 +44,6 @@ SEEDED_TARGET, COLD_TARGET = 1e-3, 5e-3  # s per solve
 FRF_TARGET, DLFT_RATIO_TARGET = 0.3, 2.0  # s per 201-point FRF; exact FRF time / DLFT Nh = 21 sweep time
 FORCES = (6.0, 10.0, 14.0)
 OMEGAS = 2 * np.pi * np.linspace(0.3, 1.3, 201)
-
-
-def fmt_time(seconds: float) -> str:
-    """``seconds`` with 3 significant digits in s, ms or us."""
-    for unit, scale in (("s", 1.0), ("ms", 1e-3)):
-        if seconds >= scale:
-            return f"{seconds / scale:.3g} {unit}"
-    return f"{seconds / 1e-6:.3g} us"
-
-
-def table(header: list[str], rows: list[list]) -> None:
-    """Print ``rows`` under ``header`` in aligned columns."""
-    widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
-    for r in [header, ["-" * w for w in widths], *rows]:
-        print("  ".join(str(c).ljust(w) for c, w in zip(r, widths, strict=True)).rstrip())
-    print(flush=True)
 
 
 def timed(fn: Callable[[], object]) -> tuple[float, object]:

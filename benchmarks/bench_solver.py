@@ -43,6 +43,8 @@ from numba import njit
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from timing import fmt_time, table  # noqa: E402
+
 from fretwear import jenkins_oscillator, paper_model, solve_periodic, sweep  # noqa: E402
 from fretwear.hbm.continuation import sweep_point_by_point  # noqa: E402
 from fretwear.hbm.harmonics import HarmonicBasis, default_samples  # noqa: E402
@@ -84,22 +86,6 @@ def interleaved_medians(fns: list[Callable[[], object]], repeats: int) -> list[f
             fn()
             t.append(time.perf_counter() - t0)
     return [statistics.median(t) for t in times]
-
-
-def fmt_time(seconds: float) -> str:
-    """``seconds`` with 3 significant digits in s, ms, us or ns."""
-    for unit, scale in (("s", 1.0), ("ms", 1e-3), ("us", 1e-6)):
-        if seconds >= scale:
-            return f"{seconds / scale:.3g} {unit}"
-    return f"{seconds / 1e-9:.3g} ns"
-
-
-def table(header: list[str], rows: list[list]) -> None:
-    """Print ``rows`` under ``header`` in aligned columns."""
-    widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
-    for r in [header, ["-" * w for w in widths], *rows]:
-        print("  ".join(str(c).ljust(w) for c, w in zip(r, widths, strict=True)).rstrip())
-    print(flush=True)
 
 
 # -- 1. warm solver timings -----------------------------------------------------------

@@ -19,10 +19,10 @@ their ratio:
 from __future__ import annotations
 
 import argparse
-import time
 import warnings
 
 import numpy as np
+from timing import best_of as timed
 
 from fretwear import paper_model, wear_history, wear_map
 from fretwear.wear.exact import wear_exact
@@ -33,15 +33,6 @@ TWO_PI = 2 * np.pi
 KW = 1e-11
 TARGET_ERROR = 0.02
 TARGET_SPEEDUP = 3.0
-
-
-def timed(fn, repeat=1):
-    best, out = np.inf, None
-    for _ in range(repeat):
-        t = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t)
-    return best, out
 
 
 def exact(fex: float, f: float, harmonics: int):
