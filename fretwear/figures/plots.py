@@ -256,32 +256,26 @@ def map_figure(
     )
     layers = [image]
     if levels:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            contours = hv.operation.contours(image, levels=list(levels), overlaid=False)
-        layers.append(
-            styled(
-                contours,
-                {"color": "white", "show_legend": False},
-                {"line_width": 1.5, "tools": []},
-                {"linewidth": 1.2},
-            )
-        )
-        if reference is None:
-            dashed = hv.Contours([], [xd, yd], vdims=[zd])
-        else:
-            ref = hv.Image((x, y, np.asarray(reference, dtype=float)), [xd, yd], [zd], rtol=1e-6)
-            with warnings.catch_warnings():
+
+        def contours(z: np.ndarray | None) -> hv.Contours:
+            if z is None:
+                return hv.Contours([], [xd, yd], vdims=[zd])
+            with warnings.catch_warnings():  # a level outside the data's range is no error here
                 warnings.simplefilter("ignore")
-                dashed = hv.operation.contours(ref, levels=list(levels), overlaid=False)
-        layers.append(
-            styled(
-                dashed,
-                {"color": "red", "show_legend": False},
-                {"line_width": 2, "line_dash": "dashed", "tools": []},
-                {"linewidth": 1.5, "linestyle": "--"},
-            )
+                return hv.operation.contours(
+                    hv.Image((x, y, np.asarray(z, dtype=float)), [xd, yd], [zd], rtol=1e-6),
+                    levels=list(levels),
+                    overlaid=False,
+                )
+
+        solid = ({"color": "white"}, {"line_width": 1.5, "tools": []}, {"linewidth": 1.2})
+        dashed = (
+            {"color": "red"},
+            {"line_width": 2, "line_dash": "dashed", "tools": []},
+            {"linewidth": 1.5, "linestyle": "--"},
         )
+        for data, (common, bokeh, mpl) in ((z, solid), (reference, dashed)):
+            layers.append(styled(contours(data), {**common, "show_legend": False}, bokeh, mpl))
     for label, (cx, cy) in (curves or {}).items():
         curve = hv.Curve((np.asarray(cx, dtype=float), np.asarray(cy, dtype=float)), xd, yd, label=label)
         layers.append(styled(curve, {"color": "red"}, {"line_width": 2.5}, {"linewidth": 2}))
