@@ -65,12 +65,12 @@ import sys
 
 import numpy as np
 
-from ..arguments import atomic, check_output, number
+from ..arguments import atomic, check_output
 from ..studies.layout import layout
 from ..studies.run import run_study
 from ..studies.spec import SpecError, read_spec
 from ..studies.summary import wear_life_summary
-from .shared import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_USAGE
+from .shared import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_USAGE, option
 
 __all__ = ["HELP", "DESCRIPTION", "add_arguments", "check_args", "run"]
 
@@ -103,32 +103,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="ADDRESS",
         help="address of a running Dask scheduler (e.g. tcp://host:8786); default: a local cluster",
     )
-    where.add_argument(
-        "--workers",
-        type=number("workers"),
-        metavar="N",
-        help="worker processes of the local cluster; default: one per core",
-    )
-    parser.add_argument(
-        "--samples",
-        dest="draws",  # not "samples": the other commands' --samples is the time samples per period
-        type=number("draws"),
-        metavar="N",
-        help="number of random draws (overrides study.samples)",
-    )
-    parser.add_argument(
-        "--points-per-task",
-        type=number("points_per_task"),
-        metavar="N",
-        help="points computed by one task; default: about 2 s of work, >= 32 tasks",
-    )
-    parser.add_argument(
-        "--retries",
-        type=number("retries"),
-        default=2,
-        metavar="N",
-        help="reruns of a task that raises; default 2",
-    )
+    option(where, "--workers", "worker processes of the local cluster; default: one per core", metavar="N")
+    # dest "draws", not "samples": the other commands' --samples is the time samples per period
+    option(parser, "--samples", "number of random draws (overrides study.samples)",
+           name="draws", dest="draws", metavar="N")  # fmt: skip
+    option(parser, "--points-per-task", "points computed by one task; default: about 2 s of work, "
+           ">= 32 tasks", metavar="N")  # fmt: skip
+    option(parser, "--retries", "reruns of a task that raises; default 2", default=2, metavar="N")
     parser.add_argument("--overwrite", action="store_true", help="replace a store that holds another study")
     parser.add_argument(
         "--figure",
