@@ -14,16 +14,8 @@ import pytest
 from scipy.optimize import brentq
 
 import fretwear.time as ti
-from fretwear.model import (
-    OPEN,
-    SLIP,
-    STICK,
-    FrictionContact,
-    Model,
-    NormalContact,
-    jenkins_oscillator,
-    paper_model,
-)
+from fretwear import FrictionContact, Model, NormalContact, jenkins_oscillator, paper_model
+from fretwear.model import OPEN, SLIP, STICK
 
 K1, K2 = np.pi**2, 7 * np.pi**2
 ZETA = 1e-3
