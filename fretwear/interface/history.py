@@ -46,6 +46,8 @@ class InterfaceWearHistory:
         Cycle-averaged sum of the normal forces, the pressure integral (N).
     kw : float
         Archard coefficient (1/Pa).
+    omega : float
+        Excitation frequency (rad/s).
     converged : bool
         Every periodic solve converged and the history reached its end.
     message : str
@@ -64,6 +66,7 @@ class InterfaceWearHistory:
     position: np.ndarray
     area: np.ndarray
     kw: float
+    omega: float
     cycles: list = field(default_factory=list)
     wear: list = field(default_factory=list)
     pressure: list = field(default_factory=list)
@@ -98,6 +101,16 @@ class InterfaceWearHistory:
         for name in ("wear", "pressure", "peak_pressure", "slip", "stick_fraction", "wear_rate", "state"):
             setattr(self, name, np.array(getattr(self, name)))
         return self
+
+    @property
+    def frequency(self) -> float:
+        """Excitation frequency (Hz)."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def status(self) -> str:
+        """Why the history ends: ``"horizon"``, or the :attr:`message` (an early stop or a failure)."""
+        return self.message or "horizon"
 
     @property
     def worn_area(self) -> np.ndarray:
