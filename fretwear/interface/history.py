@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.interpolate import CubicHermiteSpline
+from scipy.optimize import brentq
 
 from .contact import STICK
 from .periodic import InterfaceSolution
@@ -111,6 +113,21 @@ class InterfaceWearHistory:
     def status(self) -> str:
         """Why the history ends: ``"horizon"``, or the :attr:`message` (an early stop or a failure)."""
         return self.message or "horizon"
+
+    def cycles_to_depth(self, depth: float, pair: int = 0) -> float:
+        """Cycles at which pair ``pair`` reaches the worn depth ``depth`` (m); nan if it does not.
+
+        Inverts the cubic Hermite interpolant of the records (depths and their
+        rates, as :meth:`fretwear.wear.WearHistory.cycles_to`), monotone as Archard's law.
+        """
+        w, rate = self.wear[:, pair], self.wear_rate[:, pair]
+        k = int(np.searchsorted(w, depth))
+        if k == 0:
+            return 0.0 if len(w) and w[0] >= depth else np.nan
+        if k >= len(w):
+            return np.nan
+        spline = CubicHermiteSpline(self.cycles[k - 1 : k + 1], w[k - 1 : k + 1], rate[k - 1 : k + 1])
+        return float(brentq(lambda n: spline(n) - depth, self.cycles[k - 1], self.cycles[k]))
 
     @property
     def worn_area(self) -> np.ndarray:
