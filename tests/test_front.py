@@ -150,3 +150,10 @@ def test_bad_input_names_the_parameter():
         fw.wear_history(pi, 4.0, dynamics="dlft")
     with pytest.raises(ValueError, match="method must be 'auto', 'stepping' or 'polynomial' .* got 'exact'"):
         fw.wear_history(pi, 4.0, "exact")
+
+
+def test_the_1d_contact_solver_refuses_a_model_with_pairs():
+    from fretwear.hbm import solve_periodic
+
+    with pytest.raises(ValueError, match="model has contact pairs, which this solver of 1-D friction"):
+        solve_periodic(fw.paper_interface(), 4.0)
