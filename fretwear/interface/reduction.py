@@ -190,12 +190,18 @@ class ContactCondensation:
             Fr[:, s] = -Fk.imag
         return Zr.reshape(nq * H, nq * H), Fr.reshape(nq * H)
 
-    def full_harmonics(self, omega: float, harmonics: int, q: np.ndarray) -> np.ndarray:
-        """Full harmonics (n, 2 Nh + 1) of every DOF of :attr:`full` (m) from those of the contact
-        coordinates (n_q, 2 Nh + 1)."""
+    def full_harmonics(
+        self, omega: float, harmonics: int, q: np.ndarray, dofs: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Full harmonics (n, 2 Nh + 1) of the DOFs of :attr:`full` (m) from those of the contact
+        coordinates ``q`` (n_q, 2 Nh + 1); only the rows ``dofs`` (full-model indices) when given."""
         coords = self.recover(omega, harmonics, q)
         reduction = self.model.reduction
-        return coords if reduction is None else reduction.expand(coords.T).T
+        if dofs is None:
+            return coords if reduction is None else reduction.expand(coords.T).T
+        if reduction is None:
+            return coords[np.asarray(dofs)]
+        return np.array([reduction.coordinate(d) @ coords for d in dofs])  # a row each: no full expansion
 
     def recover(self, omega: float, harmonics: int, q: np.ndarray) -> np.ndarray:
         """Reduced coordinates' full harmonics (n_r, 2 Nh + 1) from the contact coordinates' (n_q, 2 Nh + 1).

@@ -243,7 +243,10 @@ def frf(
     if wear is not None:
         problems = (prob.with_wear(wear) for prob in problems)
     sols = sweep_interface(problems, tol)
-    if not sols:
-        return np.zeros(0), np.zeros(0, dtype=bool)
-    d = sols[0].model.dof(dof)
-    return np.array([s.amplitude[d] for s in sols]), np.array([s.converged for s in sols])
+    amp = np.empty(len(sols))
+    for j, sol in enumerate(sols):
+        p = sol.problem
+        d = p.condensation.full.dof(dof)
+        h = p.condensation.full_harmonics(p.omega, p.harmonics, sol.contact_harmonics, [d])[0]
+        amp[j] = np.hypot(h[1], h[2])
+    return amp, np.array([s.converged for s in sols], dtype=bool)
