@@ -20,8 +20,17 @@ kind (:mod:`fretwear.front`).
 
 from . import _kernel_cache  # noqa: F401 - first, before any kernel: their caches track every kernel source
 from ._version import __version__ as __version__
-from .front import solve_periodic, static_contact, sweep, wear_history
-from .hbm import PeriodicSolution, continuation, linear_frf
+from .front import (
+    continuation,
+    linear_frf,
+    shooting,
+    shooting_sweep,
+    solve_periodic,
+    static_contact,
+    sweep,
+    wear_history,
+)
+from .hbm import PeriodicSolution
 from .model import (
     ContactPairs,
     FrictionContact,
@@ -33,7 +42,7 @@ from .model import (
 )
 from .model import craig_bampton as reduce
 from .studies import compare_methods, cost_ladder, harmonic_convergence, regime_map, wear_map
-from .time import ShootingSolution, shooting, shooting_sweep
+from .time import ShootingSolution
 from .wear import METHODS, WearHistory
 
 #: builders of interface models, imported on first use (the benchmark's mesher loads scikit-fem)

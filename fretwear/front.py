@@ -12,7 +12,15 @@ solve_periodic :func:`fretwear.hbm.solve_periodic`     :func:`fretwear.interface
 sweep          :func:`fretwear.hbm.sweep`              :func:`fretwear.interface.jobs.sweep`
 wear_history   :func:`fretwear.wear.wear_history`      :func:`fretwear.interface.jobs.wear_history`
 static_contact (none)                                  :func:`fretwear.interface.jobs.static_contact`
+continuation   :func:`fretwear.hbm.continuation`       (none)
+linear_frf     :func:`fretwear.hbm.linear_frf`         (none)
+shooting       :func:`fretwear.time.shooting`          (none)
+shooting_sweep :func:`fretwear.time.shooting_sweep`    (none)
 ============== ======================================= =================================================
+
+A job that does not apply to the model's kind raises ``ValueError`` (e.g. the
+exact event-driven shooting of a model with pairs) rather than solving the
+structure without its contacts.
 
 The arguments are the same for both kinds: frequency ``omega`` in rad/s (an
 array ``omegas`` for a sweep), ``harmonics``, and keywords. The results
@@ -40,7 +48,18 @@ import numpy as np
 
 from .model import Model
 
-__all__ = ["SOLVERS", "contact_kind", "solve_periodic", "sweep", "wear_history", "static_contact"]
+__all__ = [
+    "SOLVERS",
+    "contact_kind",
+    "solve_periodic",
+    "sweep",
+    "wear_history",
+    "static_contact",
+    "continuation",
+    "linear_frf",
+    "shooting",
+    "shooting_sweep",
+]
 
 #: per contact kind, the function of each job as ``"module:function"`` (None: the job does not apply)
 SOLVERS: dict[str, dict[str, str | None]] = {
@@ -49,12 +68,20 @@ SOLVERS: dict[str, dict[str, str | None]] = {
         "sweep": "fretwear.hbm.continuation:sweep",
         "wear_history": "fretwear.wear.history:wear_history",
         "static_contact": None,
+        "continuation": "fretwear.hbm.continuation:continuation",
+        "linear_frf": "fretwear.hbm.linear:linear_frf",
+        "shooting": "fretwear.time.shooting:shooting",
+        "shooting_sweep": "fretwear.time.shooting:shooting_sweep",
     },
     "pairs": {
         "solve_periodic": "fretwear.interface.jobs:solve_periodic",
         "sweep": "fretwear.interface.jobs:sweep",
         "wear_history": "fretwear.interface.jobs:wear_history",
         "static_contact": "fretwear.interface.jobs:static_contact",
+        "continuation": None,
+        "linear_frf": None,
+        "shooting": None,
+        "shooting_sweep": None,
     },
 }
 
@@ -144,3 +171,22 @@ def static_contact(model: Model, tangential_scale: float = 0.0, **options) -> An
     statically (-). Options as :func:`fretwear.interface.jobs.static_contact`.
     """
     return _solver("static_contact", model)(model, tangential_scale, **options)
+
+
+def _front(job: str) -> Callable[..., Any]:
+    """The front function of a job that one contact kind has: its solver's arguments, checked kind."""
+    module, name = next(t for t in (jobs[job] for jobs in SOLVERS.values()) if t is not None).split(":")
+
+    def front(model: Model, *args, **options) -> Any:
+        return _solver(job, model)(model, *args, **options)
+
+    front.__name__ = front.__qualname__ = job
+    front.__doc__ = f"""``{job}`` of any model: :func:`{module}.{name}` for a model of the kind that has it
+    (:data:`SOLVERS`); same arguments and result. Other kinds raise ``ValueError``."""
+    return front
+
+
+continuation = _front("continuation")
+linear_frf = _front("linear_frf")
+shooting = _front("shooting")
+shooting_sweep = _front("shooting_sweep")

@@ -157,3 +157,17 @@ def test_the_1d_contact_solver_refuses_a_model_with_pairs():
 
     with pytest.raises(ValueError, match="model has contact pairs, which this solver of 1-D friction"):
         solve_periodic(fw.paper_interface(), 4.0)
+
+
+@pytest.mark.parametrize("job", ["continuation", "linear_frf", "shooting", "shooting_sweep"])
+def test_jobs_of_1d_contacts_refuse_a_model_with_pairs_and_pass_the_others_on(job):
+    with pytest.raises(ValueError, match=f"{job} applies to models with contacts; this model has pairs"):
+        getattr(fw, job)(fw.paper_interface(), 4.0)
+    assert getattr(fw, job).__name__ == job
+
+
+def test_linear_frf_through_the_front_is_the_hbm_one():
+    from fretwear.hbm import linear_frf
+
+    model, omegas = fw.paper_model(), 2 * np.pi * np.array([0.5, 1.0, 1.5])
+    assert np.array_equal(fw.linear_frf(model, omegas), linear_frf(model, omegas))
