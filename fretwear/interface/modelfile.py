@@ -276,7 +276,7 @@ def write_interface_model(model: Model, path: str | os.PathLike[str], title: str
     lines = [f"title = {title!r}".replace("'", '"')] if title else []
     lines.append("[matrices]")
     for k in ("M", "K", "C"):
-        A = getattr(model, k)
+        A = sp.csr_matrix(getattr(model, k))  # a dense model (e.g. the paper's one-pair form) too
         if k == "C" and A.nnz == 0:
             continue
         scipy.io.mmwrite(path.parent / f"{stem}_{k}.mtx", A, precision=17, symmetry="symmetric")

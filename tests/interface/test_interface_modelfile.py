@@ -7,6 +7,7 @@ import scipy.sparse as sp
 
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.modelfile import read_interface_model, write_interface_model
+from fretwear.interface.paper import paper_interface
 from fretwear.model.modelfile import ModelFileError
 
 
@@ -58,6 +59,16 @@ def test_round_trip_of_the_benchmark(tmp_path):
         assert abs(getattr(m2, k) - getattr(m, k)).max() == 0
     for k in ("dofs_a", "dofs_b", "normal", "area", "gap", "position", "mu"):
         assert np.array_equal(getattr(m2.pairs, k), getattr(m.pairs, k))
+    assert np.array_equal(m2.force_static, m.force_static) and m2.names == m.names
+
+
+def test_a_dense_model_with_pairs_is_written_too(tmp_path):
+    """The paper's one-pair form has dense matrices; its file reads back as the same (sparse) model."""
+    m = paper_interface()
+    write_interface_model(m, tmp_path / "paper.toml")
+    m2 = read_interface_model(tmp_path / "paper.toml")
+    for k in ("M", "K", "C"):
+        assert np.array_equal(getattr(m2, k).toarray(), getattr(m, k))
     assert np.array_equal(m2.force_static, m.force_static) and m2.names == m.names
 
 
