@@ -32,12 +32,15 @@ All quantities are in SI units: kg, N/m, N s/m, N, m, rad/s.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from .pairs import ContactPairs
+
+if TYPE_CHECKING:  # the reduction module builds models: imported for the annotation only
+    from .reduction import Reduction
 
 __all__ = [
     "STICK",
@@ -230,7 +233,7 @@ class Model:
     pairs: ContactPairs | None = None
     names: dict[str, int] = field(default_factory=dict)
     info: dict[str, float] = field(default_factory=dict)
-    reduction: Any = field(default=None, repr=False)
+    reduction: Reduction | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
