@@ -124,7 +124,8 @@ def compute_interface(
     ``progress(fraction, stage)`` is called between stages; ``cancelled()`` is
     checked between stages (raises :class:`~app.backend.Cancelled`).
     """
-    from fretwear.interface import ContactCondensation, InterfaceProblem, craig_bampton, frf, wear_interface
+    from fretwear.interface import ContactCondensation, InterfaceProblem, frf, wear_interface
+    from fretwear.model import craig_bampton
 
     def stage(done: float, label: str) -> None:
         if cancelled():

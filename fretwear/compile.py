@@ -133,9 +133,10 @@ def _run_exact() -> None:
 def _run_interface() -> None:
     from .interface.paper import paper_interface
     from .interface.periodic import InterfaceProblem, solve_interface
-    from .interface.reduction import ContactCondensation, craig_bampton
+    from .interface.reduction import ContactCondensation
     from .interface.time_integration import initial_state, integrate_interface
     from .interface.wear import wear_interface
+    from .model import craig_bampton
 
     condensation = ContactCondensation(craig_bampton(paper_interface(), 0.0))
     problem = InterfaceProblem(condensation, 2 * np.pi * 0.7, harmonics=3)

@@ -126,7 +126,7 @@ def _static_summary(cond) -> dict:
     if not res.states:
         return out
     s = res.states[-1]
-    c = cond.reduced.contact
+    c = cond.model.pairs
     mu = c.mu
     stick = s.state == STICK
     sign = np.sign(s.tangential_force.sum()) or 1.0
@@ -172,9 +172,10 @@ def run(args: argparse.Namespace) -> int:
     from ..interface.contact import STICK
     from ..interface.interrupt import catch_interrupt
     from ..interface.periodic import InterfaceProblem, solve_interface
-    from ..interface.reduction import ContactCondensation, craig_bampton
+    from ..interface.reduction import ContactCondensation
     from ..interface.static import static_benchmark
     from ..interface.wear import wear_interface
+    from ..model import craig_bampton
 
     compile_notice("interface", kernel_needs(args))
     try:
@@ -201,7 +202,7 @@ def run(args: argparse.Namespace) -> int:
                 return EXIT_NOT_CONVERGED
             return EXIT_OK
         prob = InterfaceProblem(cond, 2 * np.pi * args.f, harmonics=args.harmonics)
-        x = cond.reduced.contact.position
+        x = cond.model.pairs.position
         if args.kw is None:
             with catch_interrupt():
                 sol = solve_interface(prob)

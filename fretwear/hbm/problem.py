@@ -88,6 +88,11 @@ class Problem:
 
     def __post_init__(self) -> None:
         m = self.model
+        if m.pairs is not None:  # would be solved as a linear structure, silently
+            raise ValueError(
+                "model has contact pairs, which this solver of 1-D friction and normal contacts does not "
+                "treat; use fretwear.solve_periodic, fretwear.sweep or fretwear.wear_history"
+            )
         if not np.isfinite(self.omega) or self.omega <= 0:
             raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {self.omega!r}")
         samples = default_samples(self.harmonics) if self.samples is None else self.samples

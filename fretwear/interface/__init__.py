@@ -2,9 +2,9 @@
 
 Layers, bottom up:
 
-* :mod:`~fretwear.interface.structure`: :class:`InterfaceModel` (sparse ``M``,
-  ``K``, ``C``, loads) and :class:`ContactPairs` (node pairs, normals,
-  tributary areas, gaps);
+* the model is :class:`fretwear.model.Model` with its ``pairs``
+  (:class:`~fretwear.model.ContactPairs`: node pairs, normals, tributary areas,
+  gaps), reduced by :func:`fretwear.model.craig_bampton`;
 * :mod:`~fretwear.interface.mesh`, :mod:`~fretwear.interface.fe`: the
   cylinder-on-flat fretting benchmark in plane strain, meshed and assembled
   with scikit-fem (:func:`cylinder_on_flat`);
@@ -13,9 +13,8 @@ Layers, bottom up:
 * :mod:`~fretwear.interface.modelfile`: matrices exported from another FE code
   (Matrix Market or ``.npz``) plus the contact pairs, in a TOML file
   (:func:`read_interface_model`);
-* :mod:`~fretwear.interface.reduction`: Craig-Bampton reduction
-  (:func:`craig_bampton`) and the condensation on the contact coordinates
-  (:class:`ContactCondensation`, eq. 11);
+* :mod:`~fretwear.interface.reduction`: the condensation on the contact
+  coordinates (:class:`ContactCondensation`, eq. 11);
 * :mod:`~fretwear.interface.static`: quasi-static contact (Hertz,
   Cattaneo-Mindlin; :func:`static_benchmark`);
 * :mod:`~fretwear.interface.contact`, :mod:`~fretwear.interface.kernels`: the
@@ -26,7 +25,11 @@ Layers, bottom up:
 * :mod:`~fretwear.interface.history`: the record of a nodal wear history
   (:class:`InterfaceWearHistory`);
 * :mod:`~fretwear.interface.wear`: nodal Archard wear with pressure
-  redistribution (:func:`wear_interface`) and FRFs before/after wear (:func:`frf`);
+  redistribution (:func:`wear_interface`), warm-started sweeps
+  (:func:`sweep_interface`) and FRFs before/after wear (:func:`frf`);
+* :mod:`~fretwear.interface.jobs`: the front functions' interface side
+  (``fretwear.solve_periodic``, ``fretwear.sweep``, ``fretwear.wear_history``,
+  ``fretwear.static_contact`` on a model with pairs);
 * :mod:`~fretwear.interface.polynomial`: the polynomial slow-time method
   (eq. 25-29, :func:`wear_polynomial_interface`, ``wear_interface(method="polynomial")``);
 * :mod:`~fretwear.interface.time_integration`: direct time integration with the
@@ -39,20 +42,17 @@ from importlib import import_module
 #: public names and their modules, imported on first use (``fretwear interface --help`` stays light)
 _EXPORTS = {
     "ContactCondensation": "reduction",
-    "ContactPairs": "structure",
     "CylinderOnFlat": "fe",
-    "InterfaceModel": "structure",
     "InterfaceProblem": "periodic",
     "InterfaceSolution": "periodic",
     "InterfaceWearHistory": "history",
-    "ReducedModel": "reduction",
-    "craig_bampton": "reduction",
     "cylinder_on_flat": "fe",
     "frf": "wear",
     "read_interface_model": "modelfile",
     "paper_interface": "paper",
     "solve_interface": "periodic",
     "solve_static": "static",
+    "sweep_interface": "wear",
     "static_benchmark": "static",
     "wear_interface": "wear",
     "wear_polynomial_interface": "polynomial",

@@ -31,8 +31,8 @@ from skfem import Basis, BilinearForm, ElementQuad1, ElementVector, MeshQuad, as
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
+from ..model import ContactPairs, Model
 from .mesh import CylinderOnFlatMesh, cylinder_on_flat_mesh
-from .structure import ContactPairs, InterfaceModel
 
 __all__ = [
     "MAX_CONTACT_NODES",
@@ -196,8 +196,8 @@ class CylinderOnFlat:
         )  # fmt: skip
 
 
-def cylinder_on_flat(params: CylinderOnFlat | None = None, **changes) -> InterfaceModel:
-    """The cylinder-on-flat benchmark as an :class:`InterfaceModel`.
+def cylinder_on_flat(params: CylinderOnFlat | None = None, **changes) -> Model:
+    """The cylinder-on-flat benchmark as a :class:`~fretwear.model.Model` with contact pairs.
 
     Parameters
     ----------
@@ -208,8 +208,8 @@ def cylinder_on_flat(params: CylinderOnFlat | None = None, **changes) -> Interfa
 
     Returns
     -------
-    InterfaceModel
-        DOFs: the free DOFs of the pad, then of the flat, then ``pad_x``,
+    Model
+        Sparse matrices (CSR).         DOFs: the free DOFs of the pad, then of the flat, then ``pad_x``,
         ``pad_y`` (the holder, named in ``names``). Static load ``-P`` on
         ``pad_y``, ``Q0 cos(omega t)`` on ``pad_x``. The pairs join the flat's
         surface nodes (``A``) to the pad's (``B``), normal ``+y``, tangent
@@ -268,7 +268,7 @@ def cylinder_on_flat(params: CylinderOnFlat | None = None, **changes) -> Interfa
         effective_modulus=p.effective_modulus, hertz_half_width=p.half_width,
         hertz_peak_pressure=p.peak_pressure, tangential_load=p.tangential_load, nodes=float(mesh.n_nodes),
     )  # fmt: skip
-    return InterfaceModel(
-        M=M, K=K, C=C, contact=contact, force_static=force_static, force_cos=force_cos,
+    return Model(
+        M=M, C=C, K=K, pairs=contact, force_static=force_static, force_cos=force_cos,
         names={"pad_x": pad_x, "pad_y": pad_y}, info=info,
     )  # fmt: skip

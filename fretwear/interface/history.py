@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.interpolate import CubicHermiteSpline
+from scipy.optimize import brentq
 
 from .contact import STICK
 from .periodic import InterfaceSolution
@@ -46,6 +48,8 @@ class InterfaceWearHistory:
         Cycle-averaged sum of the normal forces, the pressure integral (N).
     kw : float
         Archard coefficient (1/Pa).
+    omega : float
+        Excitation frequency (rad/s).
     converged : bool
         Every periodic solve converged and the history reached its end.
     message : str
@@ -64,6 +68,7 @@ class InterfaceWearHistory:
     position: np.ndarray
     area: np.ndarray
     kw: float
+    omega: float
     cycles: list = field(default_factory=list)
     wear: list = field(default_factory=list)
     pressure: list = field(default_factory=list)
@@ -98,6 +103,31 @@ class InterfaceWearHistory:
         for name in ("wear", "pressure", "peak_pressure", "slip", "stick_fraction", "wear_rate", "state"):
             setattr(self, name, np.array(getattr(self, name)))
         return self
+
+    @property
+    def frequency(self) -> float:
+        """Excitation frequency (Hz)."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def status(self) -> str:
+        """Why the history ends: ``"horizon"``, or the :attr:`message` (an early stop or a failure)."""
+        return self.message or "horizon"
+
+    def cycles_to_depth(self, depth: float, pair: int = 0) -> float:
+        """Cycles at which pair ``pair`` reaches the worn depth ``depth`` (m); nan if it does not.
+
+        Inverts the cubic Hermite interpolant of the records (depths and their
+        rates, as :meth:`fretwear.wear.WearHistory.cycles_to`), monotone as Archard's law.
+        """
+        w, rate = self.wear[:, pair], self.wear_rate[:, pair]
+        k = int(np.searchsorted(w, depth))
+        if k == 0:
+            return 0.0 if len(w) and w[0] >= depth else np.nan
+        if k >= len(w):
+            return np.nan
+        spline = CubicHermiteSpline(self.cycles[k - 1 : k + 1], w[k - 1 : k + 1], rate[k - 1 : k + 1])
+        return float(brentq(lambda n: spline(n) - depth, self.cycles[k - 1], self.cycles[k]))
 
     @property
     def worn_area(self) -> np.ndarray:

@@ -56,8 +56,8 @@ import numpy as np
 import scipy.io
 import scipy.sparse as sp
 
+from ..model import ContactPairs, Model
 from ..model.modelfile import ModelFileError
-from .structure import ContactPairs, InterfaceModel
 
 __all__ = ["read_interface_model", "write_interface_model"]
 
@@ -143,7 +143,7 @@ def _load(table: Any, key: str, n: int, source: str) -> np.ndarray:
     return f
 
 
-def read_interface_model(path: str | os.PathLike[str]) -> InterfaceModel:
+def read_interface_model(path: str | os.PathLike[str]) -> Model:
     """Read an interface model file (format in the module docstring).
 
     Raises
@@ -255,8 +255,8 @@ def read_interface_model(path: str | os.PathLike[str]) -> InterfaceModel:
             dofs_a=a - 1, dofs_b=b - 1, normal=normal, area=area, mu=opt.get("mu", 0.0), gap=opt.get("gap"),
             tangent=opt.get("tangent"), position=opt.get("position"),
         )  # fmt: skip
-        model = InterfaceModel(
-            M=M, K=K, C=C, contact=pairs, force_static=forces.get("static"), force_cos=forces.get("cos"),
+        model = Model(
+            M=M, C=C, K=K, pairs=pairs, force_static=forces.get("static"), force_cos=forces.get("cos"),
             force_sin=forces.get("sin"), names=names,
         )  # fmt: skip
     except ValueError as exc:
@@ -266,9 +266,7 @@ def read_interface_model(path: str | os.PathLike[str]) -> InterfaceModel:
     return model
 
 
-def write_interface_model(
-    model: InterfaceModel, path: str | os.PathLike[str], title: str | None = None
-) -> None:
+def write_interface_model(model: Model, path: str | os.PathLike[str], title: str | None = None) -> None:
     """Write ``model`` as ``path`` (TOML) with its matrices beside it (``<stem>_M.mtx``, ...).
 
     Reading the result with :func:`read_interface_model` gives the same model.
@@ -278,12 +276,12 @@ def write_interface_model(
     lines = [f"title = {title!r}".replace("'", '"')] if title else []
     lines.append("[matrices]")
     for k in ("M", "K", "C"):
-        A = getattr(model, k)
+        A = sp.csr_matrix(getattr(model, k))  # a dense model (e.g. the paper's one-pair form) too
         if k == "C" and A.nnz == 0:
             continue
         scipy.io.mmwrite(path.parent / f"{stem}_{k}.mtx", A, precision=17, symmetry="symmetric")
         lines.append(f'{k} = "{stem}_{k}.mtx"')
-    c = model.contact
+    c = model.pairs
     np.savez(path.parent / f"{stem}_pairs.npz", a=c.dofs_a + 1, b=c.dofs_b + 1, normal=c.normal, area=c.area,
              mu=c.mu, gap=c.gap, position=c.position, tangent=c.tangent)  # fmt: skip
     lines += ["[contact]", f'pairs = "{stem}_pairs.npz"']

@@ -13,16 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import paper_model
-from .structure import ContactPairs, InterfaceModel
+from ..model import ContactPairs, Model, paper_model
 
 __all__ = ["paper_interface"]
 
 
-def paper_interface(
-    fex: float = 10.0, mu: float = 1.0, normal_load: float = 10.0, kn: float = 1e7
-) -> InterfaceModel:
-    """The paper's 2-DOF model as an :class:`InterfaceModel` with one contact pair.
+def paper_interface(fex: float = 10.0, mu: float = 1.0, normal_load: float = 10.0, kn: float = 1e7) -> Model:
+    """The paper's 2-DOF model as a :class:`~fretwear.model.Model` with one contact pair.
 
     Parameters
     ----------
@@ -37,7 +34,7 @@ def paper_interface(
 
     Returns
     -------
-    InterfaceModel
+    Model
         DOFs ``x1``, ``x2`` (the paper's masses and springs) and ``y`` (1 kg, stiffness ``k_n``);
         the pair has unit area, so its pressure is the normal force (N).
     """
@@ -45,11 +42,11 @@ def paper_interface(
         raise ValueError(f"kn must be a finite normal stiffness > 0 (N/m), got {kn!r}")
     pm = paper_model(fex=fex, mu=mu, normal_load=normal_load, kn=kn)
     pairs = ContactPairs(dofs_a=[[1, -1]], dofs_b=[[0, 2]], normal=[[0.0, 1.0]], area=[1.0], mu=mu)
-    return InterfaceModel(
+    return Model(
         M=np.diag([pm.M[0, 0], pm.M[1, 1], 1.0]),
-        K=np.diag([pm.K[0, 0], pm.K[1, 1], kn]),
         C=np.diag([pm.C[0, 0], pm.C[1, 1], 1.0]),
-        contact=pairs,
+        K=np.diag([pm.K[0, 0], pm.K[1, 1], kn]),
+        pairs=pairs,
         force_static=[0.0, 0.0, -normal_load],
         force_cos=[fex, 0.0, 0.0],
         names={"x1": 0, "x2": 1, "y": 2},

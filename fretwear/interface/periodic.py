@@ -86,7 +86,7 @@ class InterfaceProblem:
             raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {self.omega!r}")
         self.samples = default_samples(self.harmonics) if self.samples is None else self.samples
         self.basis = HarmonicBasis(self.harmonics, self.samples, False)
-        contact = self.condensation.reduced.contact
+        contact = self.condensation.model.pairs
         nc = contact.count
         self.wear = np.zeros(nc) if self.wear is None else np.asarray(self.wear, dtype=float)
         if self.wear.shape != (nc,) or not np.all(np.isfinite(self.wear)) or np.any(self.wear < 0):
@@ -147,7 +147,7 @@ class InterfaceProblem:
             raise ValueError(f"wear must be {self.n_pairs} finite depths >= 0 m (one per pair)")
         new = copy.copy(self)
         new.wear = wear
-        new.gap = self.condensation.reduced.contact.gap + wear
+        new.gap = self.condensation.model.pairs.gap + wear
         new.xref = self.xref if xref is None else np.ascontiguousarray(xref, dtype=float)  # one kernel build
         return new
 
@@ -291,12 +291,12 @@ class InterfaceSolution:
     @property
     def position(self) -> np.ndarray:
         """Coordinate of each pair along the interface (m)."""
-        return self.problem.condensation.reduced.contact.position
+        return self.problem.condensation.model.pairs.position
 
     @property
     def area(self) -> np.ndarray:
         """Tributary area of each pair (m^2, or m per unit thickness)."""
-        return self.problem.condensation.reduced.contact.area
+        return self.problem.condensation.model.pairs.area
 
     @property
     def tangential_force(self) -> np.ndarray:
@@ -357,13 +357,40 @@ class InterfaceSolution:
         b = self.problem.basis
         return b.to_full(self.unknowns.reshape(2 * self.problem.n_pairs, b.size))
 
-    def dof_harmonics(self, dof: int | str) -> np.ndarray:
-        """Full harmonics ``[a0, a1, b1, ...]`` of one DOF of the full model (m), by name or index."""
-        cond = self.problem.condensation
-        reduced = cond.reduced
-        d = reduced.model.dof(dof)
-        coords = cond.recover(self.problem.omega, self.problem.harmonics, self.contact_harmonics)
-        return reduced.coordinate(d) @ coords
+    @cached_property
+    def dof_harmonics(self) -> np.ndarray:
+        """Full harmonics ``[a0, a1, b1, ...]`` of every DOF of the full model (m), shape (n, 2 Nh + 1).
+
+        As :attr:`fretwear.hbm.PeriodicSolution.dof_harmonics`; a DOF by name is
+        ``dof_harmonics[model.dof(name)]``.
+        """
+        p = self.problem
+        return p.condensation.full_harmonics(p.omega, p.harmonics, self.contact_harmonics)
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """First-harmonic amplitude ``sqrt(a1^2 + b1^2)`` of every DOF of the full model (m), shape (n,)."""
+        return np.hypot(self.dof_harmonics[:, 1], self.dof_harmonics[:, 2])
+
+    @property
+    def model(self):
+        """The full model (:class:`~fretwear.model.Model`) whose DOFs the solution reports."""
+        return self.problem.condensation.full
+
+    @property
+    def omega(self) -> float:
+        """Excitation frequency (rad/s)."""
+        return self.problem.omega
+
+    @property
+    def frequency(self) -> float:
+        """Excitation frequency (Hz)."""
+        return self.problem.omega / (2 * np.pi)
+
+    @property
+    def harmonics(self) -> int:
+        """Highest harmonic ``Nh``."""
+        return self.problem.harmonics
 
     @property
     def contact_work(self) -> float:

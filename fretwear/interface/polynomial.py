@@ -121,7 +121,7 @@ class _Nodes:
         solve fails (with the failed solution)."""
         p = self.problem
         b = p.basis
-        area = p.condensation.reduced.contact.area
+        area = p.condensation.model.pairs.area
         K, nc = w.shape
         rate, drate, sols = np.empty((K, nc)), np.empty((K, nc, nc)), []
         xref = p.xref
@@ -194,10 +194,10 @@ def wear_polynomial_interface(
         raise ValueError(f"outputs must be an integer >= 2, got {outputs!r}")
     if not 0 < tol < 1:
         raise ValueError(f"tol must be in (0, 1), got {tol!r}")
-    contact = problem.condensation.reduced.contact
+    contact = problem.condensation.model.pairs
     nc, m = contact.count, degree
     hist = InterfaceWearHistory(
-        position=contact.position, area=contact.area, kw=float(kw), method="polynomial"
+        position=contact.position, area=contact.area, kw=float(kw), omega=problem.omega, method="polynomial"
     )
     tau, wq = np.polynomial.legendre.leggauss(2 * m + 2)
     V, D = _legendre(m, tau)

@@ -1,16 +1,4 @@
-"""Craig-Bampton reduction and condensation on the contact coordinates (paper eq. 11).
-
-**Craig-Bampton.** The DOFs split into boundary DOFs ``b`` (every DOF of the
-contact pairs and every loaded DOF, plus any requested output DOF) kept
-physical, and interior DOFs ``i``. The interior displacement is
-``u_i = Psi u_b + Phi eta`` with the static constraint modes ``Psi = -K_ii^{-1}
-K_ib`` (exact in statics) and the fixed-interface modes ``Phi`` (``K_ii phi =
-omega^2 M_ii phi``, mass-normalised). **Mode count criterion:** every
-fixed-interface mode with natural frequency up to ``factor * f_max`` is kept,
-where ``f_max`` is the highest frequency the harmonic balance will see
-(``Nh`` times the highest excitation frequency) and ``factor = 2`` by default
-(the usual 1.5-2 rule). Everything is sparse up to the reduced matrices,
-which are dense and of size ``n_b + n_modes``.
+"""Condensation of a model with contact pairs on their contact coordinates (paper eq. 11).
 
 **Condensation on the contact coordinates.** For each pair, the DOFs of node
 ``B`` are replaced by its contact coordinates relative to node ``A``
@@ -29,208 +17,15 @@ where ``Z_0`` is singular but finite.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 import scipy.linalg as sla
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..hbm.harmonics import HarmonicBasis
-from .structure import ContactPairs, InterfaceModel
+from ..model import ContactPairs, Model
 
-__all__ = ["ReducedModel", "craig_bampton", "ContactCondensation"]
-
-
-@dataclass(frozen=True, eq=False)
-class ReducedModel:
-    """A Craig-Bampton reduced model.
-
-    Attributes
-    ----------
-    model : InterfaceModel
-        The full model.
-    boundary : ndarray of int
-        Full-model DOFs kept physical; reduced coordinate ``j < n_b`` is DOF ``boundary[j]``.
-    interior : ndarray of int
-        The other full-model DOFs.
-    mode_frequencies : ndarray
-        Natural frequencies of the kept fixed-interface modes (Hz).
-    cutoff : float
-        Frequency criterion (Hz): every fixed-interface mode below it is kept.
-    K, M, C : ndarray, shape (n_r, n_r)
-        Reduced matrices (boundary DOFs, then modal coordinates).
-    force_static, force_cos, force_sin : ndarray, shape (n_r,)
-        Reduced loads (N).
-    contact : ContactPairs
-        The pairs with their DOFs numbered in reduced coordinates.
-    psi, phi : ndarray
-        Constraint modes (n_i, n_b) and fixed-interface modes (n_i, n_m).
-    """
-
-    model: InterfaceModel
-    boundary: np.ndarray
-    interior: np.ndarray
-    mode_frequencies: np.ndarray
-    cutoff: float
-    K: np.ndarray
-    M: np.ndarray
-    C: np.ndarray
-    force_static: np.ndarray
-    force_cos: np.ndarray
-    force_sin: np.ndarray
-    contact: ContactPairs
-    psi: np.ndarray = field(repr=False)
-    phi: np.ndarray = field(repr=False)
-
-    @property
-    def size(self) -> int:
-        """Reduced coordinates ``n_b + n_modes``."""
-        return self.K.shape[0]
-
-    @property
-    def n_modes(self) -> int:
-        return self.phi.shape[1]
-
-    def expand(self, coords: np.ndarray) -> np.ndarray:
-        """Full-model DOF values from reduced coordinates (..., n_r) (any real or complex dtype)."""
-        coords = np.asarray(coords)
-        nb = len(self.boundary)
-        out = np.zeros(coords.shape[:-1] + (self.model.n_dofs,), dtype=coords.dtype)
-        out[..., self.boundary] = coords[..., :nb]
-        out[..., self.interior] = coords[..., :nb] @ self.psi.T + coords[..., nb:] @ self.phi.T
-        return out
-
-    def coordinate(self, dof: int) -> np.ndarray:
-        """Row vector ``r`` with ``u[dof] = r @ coords`` (full-model DOF from reduced coordinates)."""
-        r = np.zeros(self.size)
-        nb = len(self.boundary)
-        where = np.flatnonzero(self.boundary == dof)
-        if len(where):
-            r[where[0]] = 1.0
-        else:
-            j = int(np.flatnonzero(self.interior == dof)[0])
-            r[:nb] = self.psi[j]
-            r[nb:] = self.phi[j]
-        return r
-
-
-def _project(A: sp.csr_matrix, b: np.ndarray, i: np.ndarray, psi: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """``T^T A T`` for ``T = [[I, 0], [Psi, Phi]]`` (boundary, interior), dense result."""
-    A_bb = A[b][:, b].toarray()
-    A_bi = A[b][:, i]
-    A_ii = A[i][:, i]
-    Aii_psi = A_ii @ psi
-    Aii_phi = A_ii @ phi
-    bb = A_bb + A_bi @ psi
-    bb = bb + bb.T - A_bb + psi.T @ Aii_psi
-    bm = A_bi @ phi + psi.T @ Aii_phi
-    mm = phi.T @ Aii_phi
-    out = np.block([[bb, bm], [bm.T, mm]])
-    return 0.5 * (out + out.T)
-
-
-def craig_bampton(
-    model: InterfaceModel,
-    f_max: float,
-    factor: float = 2.0,
-    outputs=(),
-    max_modes: int = 400,
-) -> ReducedModel:
-    """Craig-Bampton reduction of ``model`` keeping the modes below ``factor * f_max``.
-
-    Parameters
-    ----------
-    model : InterfaceModel
-    f_max : float
-        Highest frequency of interest (Hz), >= 0: ``Nh`` times the highest
-        excitation frequency for a harmonic balance; 0 keeps no mode (statics,
-        Guyan reduction).
-    factor : float
-        Mode count criterion, ``>= 1``: fixed-interface modes up to ``factor *
-        f_max`` are kept (default 2).
-    outputs : sequence of int or str
-        Further DOFs to keep physical (names or indices).
-    max_modes : int
-        Upper bound on the kept modes; exceeding it raises ``ValueError``.
-
-    Returns
-    -------
-    ReducedModel
-    """
-    if not (np.isfinite(f_max) and f_max >= 0):
-        raise ValueError(f"f_max must be a finite frequency >= 0 Hz (0: statics, no modes), got {f_max!r}")
-    if not (np.isfinite(factor) and factor >= 1):
-        raise ValueError(f"factor must be >= 1, got {factor!r}")
-    n = model.n_dofs
-    c = model.contact
-    keep = [c.dofs_a[c.dofs_a >= 0], c.dofs_b[c.dofs_b >= 0], model.loaded_dofs]
-    keep.append(np.array([model.dof(o) for o in outputs], dtype=np.int64))
-    boundary = np.unique(np.concatenate(keep).astype(np.int64))
-    mask = np.ones(n, dtype=bool)
-    mask[boundary] = False
-    interior = np.flatnonzero(mask)
-    K, M = model.K, model.M
-    K_ii = K[interior][:, interior].tocsc()
-    K_ib = K[interior][:, boundary]
-    lu = None
-    psi = np.zeros((0, len(boundary)))
-    if len(interior):
-        try:
-            # symmetric positive definite: symmetric ordering, no pivoting (half the fill of the default)
-            lu = spla.splu(
-                K_ii, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
-            )
-        except RuntimeError as exc:
-            raise ValueError(
-                "the interior stiffness K_ii (every contact and loaded DOF fixed) is singular: some part of "
-                f"the structure is not held by the boundary DOFs ({exc})"
-            ) from None
-        psi = -lu.solve(K_ib.toarray())
-    cutoff = factor * f_max
-    omega_c = 2 * np.pi * cutoff
-    M_ii = M[interior][:, interior].tocsc()
-    phi, w2 = np.zeros((len(interior), 0)), np.zeros(0)
-    if lu is not None and cutoff > 0:
-        op = spla.LinearOperator(K_ii.shape, matvec=lu.solve, dtype=float)
-        k = min(12, len(interior) - 1)
-        while k > 0:
-            vals, vecs = spla.eigsh(K_ii, k=k, M=M_ii, sigma=0.0, OPinv=op, which="LM", tol=1e-10)
-            order = np.argsort(vals)
-            vals, vecs = vals[order], vecs[:, order]
-            if vals[-1] > omega_c**2 or k >= len(interior) - 1:
-                sel = vals <= omega_c**2
-                w2, phi = vals[sel], vecs[:, sel]
-                break
-            if k >= max_modes:
-                raise ValueError(
-                    f"more than max_modes = {max_modes} fixed-interface modes lie below the cutoff "
-                    f"{cutoff:.6g} Hz; lower f_max or factor, or raise max_modes"
-                )
-            # Weyl's law in 2-D: the mode count grows like omega^2; ask for a margin more
-            guess = int(np.ceil(1.25 * k * omega_c**2 / vals[-1])) + 4
-            k = min(max(2 * k, guess), len(interior) - 1, max_modes)
-        phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M_ii @ phi))
-    Kr = _project(K, boundary, interior, psi, phi)
-    Mr = _project(M, boundary, interior, psi, phi)
-    Cr = _project(model.C, boundary, interior, psi, phi)
-
-    def load(f: np.ndarray) -> np.ndarray:
-        return np.concatenate([f[boundary] + psi.T @ f[interior], phi.T @ f[interior]])
-
-    index = np.full(n, -1)
-    index[boundary] = np.arange(len(boundary))
-    contact = ContactPairs(
-        dofs_a=np.where(c.dofs_a >= 0, index[c.dofs_a], -1),
-        dofs_b=np.where(c.dofs_b >= 0, index[c.dofs_b], -1), normal=c.normal, area=c.area, mu=c.mu,
-        gap=c.gap, tangent=c.tangent, position=c.position,
-    )  # fmt: skip
-    return ReducedModel(
-        model=model, boundary=boundary, interior=interior, mode_frequencies=np.sqrt(w2) / (2 * np.pi),
-        cutoff=cutoff, K=Kr, M=Mr, C=Cr, force_static=load(model.force_static),
-        force_cos=load(model.force_cos), force_sin=load(model.force_sin), contact=contact, psi=psi, phi=phi,
-    )  # fmt: skip
+__all__ = ["ContactCondensation"]
 
 
 def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, int]:
@@ -285,18 +80,36 @@ class ContactCondensation:
 
     Parameters
     ----------
-    reduced : ReducedModel
+    model : Model
+        A model with contact pairs and dense matrices: a reduced model
+        (:func:`~fretwear.model.reduction.craig_bampton`) or a small dense one.
+
+    Attributes
+    ----------
+    model : Model
+        The condensed model.
+    full : Model
+        The model whose DOFs the solutions report: ``model.reduction.full`` for
+        a reduced model, else ``model``.
     """
 
-    def __init__(self, reduced: ReducedModel) -> None:
-        self.reduced = reduced
-        T, self.n_q = _contact_coordinates(reduced.contact, reduced.size)
+    def __init__(self, model: Model) -> None:
+        if not isinstance(model, Model) or model.pairs is None:
+            raise ValueError(f"model must be a Model with contact pairs, got {model!r:.80}")
+        if model.sparse:
+            raise ValueError(
+                f"model has sparse matrices ({model.n_dofs} DOFs): reduce it first "
+                "(fretwear.reduce, Craig-Bampton) to dense matrices on the contact and loaded DOFs"
+            )
+        self.model = model
+        self.full = model if model.reduction is None else model.reduction.full
+        T, self.n_q = _contact_coordinates(model.pairs, model.n_dofs)
         self.T = T
-        self.K = T.T @ reduced.K @ T
-        self.M = T.T @ reduced.M @ T
-        self.C = T.T @ reduced.C @ T
-        self.force_static = T.T @ reduced.force_static
-        self.force_harmonic = T.T @ (reduced.force_cos - 1j * reduced.force_sin)  # complex amplitude
+        self.K = T.T @ model.K @ T
+        self.M = T.T @ model.M @ T
+        self.C = T.T @ model.C @ T
+        self.force_static = T.T @ model.force_static
+        self.force_harmonic = T.T @ (model.force_cos - 1j * model.force_sin)  # complex amplitude
 
     @property
     def n_pairs(self) -> int:
@@ -376,6 +189,19 @@ class ContactCondensation:
             Fr[:, c] = Fk.real
             Fr[:, s] = -Fk.imag
         return Zr.reshape(nq * H, nq * H), Fr.reshape(nq * H)
+
+    def full_harmonics(
+        self, omega: float, harmonics: int, q: np.ndarray, dofs: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Full harmonics (n, 2 Nh + 1) of the DOFs of :attr:`full` (m) from those of the contact
+        coordinates ``q`` (n_q, 2 Nh + 1); only the rows ``dofs`` (full-model indices) when given."""
+        coords = self.recover(omega, harmonics, q)
+        reduction = self.model.reduction
+        if dofs is None:
+            return coords if reduction is None else reduction.expand(coords.T).T
+        if reduction is None:
+            return coords[np.asarray(dofs)]
+        return np.array([reduction.coordinate(d) @ coords for d in dofs])  # a row each: no full expansion
 
     def recover(self, omega: float, harmonics: int, q: np.ndarray) -> np.ndarray:
         """Reduced coordinates' full harmonics (n_r, 2 Nh + 1) from the contact coordinates' (n_q, 2 Nh + 1).

@@ -37,11 +37,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model import Model, craig_bampton
 from ..model.structure import OPEN, SLIP, STICK
 from .fe import CylinderOnFlat, cylinder_on_flat, hertz_half_width, hertz_peak_pressure
 from .interrupt import check_interrupt
-from .reduction import ContactCondensation, craig_bampton
-from .structure import InterfaceModel
+from .reduction import ContactCondensation
 
 __all__ = [
     "StaticState",
@@ -207,7 +207,7 @@ def solve_static(
         if not isinstance(v, (int, np.integer)) or v < 1:
             raise ValueError(f"{name} must be an integer >= 1, got {v!r}")
     Z, Fs, Fc = condensation.static
-    contact = condensation.reduced.contact
+    contact = condensation.model.pairs
     nc = contact.count
     gap = contact.gap + (np.zeros(nc) if wear is None else np.asarray(wear, dtype=float))
     eps = np.abs(np.diag(Z)).copy() if eps is None else np.asarray(eps, dtype=float)
@@ -258,7 +258,7 @@ def second_moment_half_width(x: np.ndarray, weights: np.ndarray) -> float:
 def static_benchmark(
     q_ratio: float = 0.5,
     params: CylinderOnFlat | None = None,
-    model: InterfaceModel | None = None,
+    model: Model | None = None,
     condensation: ContactCondensation | None = None,
     **changes,
 ) -> dict:
@@ -270,7 +270,7 @@ def static_benchmark(
         Tangential load ``Q0 / (mu P)`` (-), >= 0.
     params : CylinderOnFlat, optional
         Benchmark parameters (``q_ratio`` here overrides theirs).
-    model : InterfaceModel, optional
+    model : Model, optional
         A benchmark model already built (its ``info`` gives ``P``, ``R``, ``E*``,
         ``mu``); the excitation pattern is rescaled to ``q_ratio``.
     condensation : ContactCondensation, optional
@@ -296,7 +296,7 @@ def static_benchmark(
     if not (np.isfinite(q_ratio) and q_ratio >= 0):
         raise ValueError(f"q_ratio must be a finite number >= 0, got {q_ratio!r}")
     if condensation is not None:
-        model = condensation.reduced.model
+        model = condensation.full
     elif model is None:
         model = cylinder_on_flat(params, **{**changes, "q_ratio": max(q_ratio, 1e-3)})
     info = model.info
@@ -306,7 +306,7 @@ def static_benchmark(
     q_model = info["tangential_load"] / (mu * P)
     cond = condensation or ContactCondensation(craig_bampton(model, 0.0))
     res = solve_static(cond, tangential_scale=q_ratio / q_model if q_ratio else 0.0)
-    contact = model.contact
+    contact = model.pairs
     x = contact.position
     a_h = hertz_half_width(P, R, e_star)
     p0_h = hertz_peak_pressure(P, a_h)

@@ -279,7 +279,7 @@ def integrate_interface(
             f"samples_per_period must divide steps_per_period = {steps_per_period}, got {samples}"
         )
     c = condensation
-    contact = c.reduced.contact
+    contact = c.model.pairs
     nc = contact.count
     h = 2 * np.pi / omega / steps_per_period
     Kinv = np.linalg.inv(c.M / h**2 + c.C / h + c.K)

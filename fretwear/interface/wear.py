@@ -49,7 +49,7 @@ from .history import InterfaceWearHistory
 from .periodic import InterfaceProblem, InterfaceSolution, solve_interface
 from .polynomial import DEFAULT_DEGREE, wear_polynomial_interface
 
-__all__ = ["wear_interface", "wear_scale", "frf", "METHODS", "MAX_INCREMENT"]
+__all__ = ["wear_interface", "wear_scale", "sweep_interface", "frf", "METHODS", "MAX_INCREMENT"]
 
 #: slow-time methods of :func:`wear_interface`, the default first
 METHODS = ("stepping", "polynomial")
@@ -150,8 +150,10 @@ def wear_interface(
         raise ValueError(f"max_increment must be in (0, 1], got {max_increment!r}")
     if first_step is not None and not (np.isfinite(first_step) and first_step > 0):
         raise ValueError(f"first_step must be a finite number of cycles > 0, got {first_step!r}")
-    contact = problem.condensation.reduced.contact
-    hist = InterfaceWearHistory(position=contact.position, area=contact.area, kw=float(kw))
+    contact = problem.condensation.model.pairs
+    hist = InterfaceWearHistory(
+        position=contact.position, area=contact.area, kw=float(kw), omega=problem.omega
+    )
     w = problem.wear.copy()
     k1, sol = _rate(problem, w, None, kw, tol)
     hist.solves += 1
@@ -190,6 +192,28 @@ def wear_interface(
     return hist.finish()
 
 
+def sweep_interface(problems, tol: float = 1e-10, max_iter: int = 50) -> list[InterfaceSolution]:
+    """Periodic responses of the interface problems ``problems`` (e.g. over frequency), in the given order.
+
+    Each solve starts from the previous converged solution (a warm start); a
+    failed point is reported (``converged=False``) and the next starts cold.
+
+    Parameters
+    ----------
+    problems : iterable of InterfaceProblem
+    tol : float
+        Relative residual tolerance.
+    max_iter : int
+        Newton iterations per solve.
+    """
+    out, guess = [], None
+    for prob in problems:
+        sol = solve_interface(prob, guess, tol, max_iter)
+        out.append(sol)
+        guess = sol.unknowns if sol.converged else None
+    return out
+
+
 def frf(
     make_problem,
     freqs_hz: np.ndarray,
@@ -204,7 +228,7 @@ def frf(
     make_problem : callable
         ``make_problem(omega) -> InterfaceProblem`` (rad/s).
     freqs_hz : ndarray
-        Frequencies (Hz), swept in the given order with warm starts.
+        Frequencies (Hz), swept in the given order with warm starts (:func:`sweep_interface`).
     dof : int or str
         DOF of the full model (index or name).
     wear : ndarray, optional
@@ -215,16 +239,14 @@ def frf(
     (ndarray, ndarray)
         Amplitude ``sqrt(a1^2 + b1^2)`` (m) and a converged flag per frequency.
     """
-    amp = np.empty(len(freqs_hz))
-    ok = np.zeros(len(freqs_hz), dtype=bool)
-    guess = None
-    for j, f in enumerate(freqs_hz):
-        prob = make_problem(2 * np.pi * f)
-        if wear is not None:
-            prob = prob.with_wear(wear)
-        sol = solve_interface(prob, guess, tol)
-        ok[j] = sol.converged
-        guess = sol.unknowns if sol.converged else None
-        h = sol.dof_harmonics(dof)
+    problems = (make_problem(2 * np.pi * f) for f in freqs_hz)
+    if wear is not None:
+        problems = (prob.with_wear(wear) for prob in problems)
+    sols = sweep_interface(problems, tol)
+    amp = np.empty(len(sols))
+    for j, sol in enumerate(sols):
+        p = sol.problem
+        d = p.condensation.full.dof(dof)
+        h = p.condensation.full_harmonics(p.omega, p.harmonics, sol.contact_harmonics, [d])[0]
         amp[j] = np.hypot(h[1], h[2])
-    return amp, ok
+    return amp, np.array([s.converged for s in sols], dtype=bool)

@@ -1,11 +1,16 @@
-"""The structure: linear dynamics with friction and unilateral contacts (paper eq. 5, 30), and model files.
+"""The structure: one linear model type with contacts of every kind (paper eq. 5, 17-23, 30), model files.
 
-:mod:`~fretwear.model.structure` defines :class:`Model` and its contacts and the
-paper's 2-DOF example; :mod:`~fretwear.model.modelfile` reads and writes models as
-TOML (:func:`read_model`).
+:mod:`~fretwear.model.structure` defines :class:`Model` and its 1-D contacts and
+the paper's 2-DOF example; :mod:`~fretwear.model.pairs` the contact node pairs of
+an interface (:class:`ContactPairs`); :mod:`~fretwear.model.reduction` the
+Craig-Bampton reduction of a model (:func:`craig_bampton`, a :class:`Model` in,
+a :class:`Model` out); :mod:`~fretwear.model.modelfile` reads and writes models
+as TOML (:func:`read_model`).
 """
 
 from .modelfile import ModelFileError, dump_model, read_model
+from .pairs import ContactPairs
+from .reduction import Reduction, craig_bampton
 from .structure import (
     OPEN,
     SLIP,
@@ -21,10 +26,13 @@ __all__ = [
     "OPEN",
     "SLIP",
     "STICK",
+    "ContactPairs",
     "FrictionContact",
     "Model",
     "ModelFileError",
     "NormalContact",
+    "Reduction",
+    "craig_bampton",
     "dump_model",
     "jenkins_oscillator",
     "paper_model",

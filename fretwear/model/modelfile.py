@@ -457,8 +457,15 @@ def dumps_model(model: Model, dofs: Sequence[str] | None = None, title: str | No
     Raises
     ------
     ValueError
-        If ``dofs`` or ``title`` would not be valid in a model file.
+        If ``dofs`` or ``title`` would not be valid in a model file, or the
+        model has contact pairs (written by
+        :func:`fretwear.interface.modelfile.write_interface_model`).
     """
+    if model.pairs is not None:
+        raise ValueError(
+            "model has contact pairs, which a model file of 1-D contacts cannot hold; write it with "
+            "fretwear.interface.modelfile.write_interface_model"
+        )
     r = _Reader("dumps_model")
     lines = ["# fretwear model file; format: see fretwear.model.modelfile. SI units (kg, N/m, N s/m, N, m)."]
     if title is not None:

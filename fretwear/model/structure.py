@@ -1,4 +1,4 @@
-"""Linear structures with friction and unilateral contacts (paper eq. 5, 30).
+"""Linear structures with contacts of every kind the library solves (paper eq. 5, 17-23, 30).
 
 A :class:`Model` is a linear structure of ``n`` degrees of freedom (DOFs),
 
@@ -9,7 +9,7 @@ relative contact coordinates ``u_r = B u`` (for a contact between DOFs ``i`` and
 ``j``, ``u_r = u_i - u_j``; for a contact to ground, ``u_r = u_i``). The force
 ``lambda`` acts with ``+`` on DOF ``i`` and ``-`` on DOF ``j``.
 
-Two contact kinds exist:
+Three contact kinds exist:
 
 * :class:`FrictionContact`: tangential Coulomb friction under a normal load
   that relaxes with wear, ``F_N(w) = k_n (u0 - w)`` clipped at zero (eq. 30d).
@@ -17,6 +17,14 @@ Two contact kinds exist:
   (eq. 2, 21): ``u_r <= gap`` and ``lambda >= 0``, separation when the
   predicted force is not compressive. A negative gap is an interference
   (preload).
+* :class:`~fretwear.model.pairs.ContactPairs`: node pairs of an interface with
+  the coupled normal/tangential law (eq. 17-23), a gap and a tributary area per
+  pair; wear opens the gaps.
+
+A model holds 1-D contacts (``friction``, ``normal``) or ``pairs``, not both: no
+solver treats the two together. Its matrices are dense arrays or, for a model
+with pairs, ``scipy.sparse`` matrices (finite-element models); the 1-D contact
+solvers are dense, so a model with 1-D contacts stores dense matrices.
 
 All quantities are in SI units: kg, N/m, N s/m, N, m, rad/s.
 """
@@ -24,8 +32,15 @@ All quantities are in SI units: kg, N/m, N s/m, N, m, rad/s.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import scipy.sparse as sp
+
+from .pairs import ContactPairs
+
+if TYPE_CHECKING:  # the reduction module builds models: imported for the annotation only
+    from .reduction import Reduction
 
 __all__ = [
     "STICK",
@@ -133,56 +148,122 @@ class NormalContact:
         _finite("gap", self.gap)
 
 
+#: largest dense model whose matrices are checked positive semi-definite by an eigenvalue solve
+EIGEN_CHECK_SIZE = 500
+
+#: largest sparse model with 1-D contacts converted to dense matrices (their solvers are dense)
+DENSE_LIMIT = 2000
+
+
+def _matrix(name: str, value: Any, sparse: bool) -> np.ndarray | sp.csr_matrix:
+    """``value`` as a finite, square, symmetric, positive semi-definite matrix (dense or CSR)."""
+    if sparse:
+        a = sp.csr_matrix(value, dtype=float)
+        data = a.data
+    else:
+        a = np.array(value, dtype=float)
+        data = a
+    if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] == 0:
+        raise ValueError(f"{name} must be a non-empty square matrix, got shape {a.shape}")
+    if not np.all(np.isfinite(data)):
+        raise ValueError(f"{name} must contain finite numbers only")
+    scale = float(np.abs(data).max(initial=0.0))
+    if sparse:
+        asym = abs(a - a.T).max() if a.nnz else 0.0
+        if asym > 1e-10 * scale:
+            raise ValueError(f"{name} must be symmetric (max |{name} - {name}^T| = {asym:.3g})")
+        if np.any(a.diagonal() < 0):
+            raise ValueError(f"{name} must have a non-negative diagonal (no negative mass or stiffness)")
+        return a
+    if not np.allclose(a, a.T, rtol=1e-12, atol=1e-14 * scale):
+        raise ValueError(f"{name} must be symmetric")
+    psd = (
+        np.linalg.eigvalsh(a).min() >= -1e-12 * max(scale, 1e-300)
+        if a.shape[0] <= EIGEN_CHECK_SIZE
+        else np.all(np.diag(a) >= 0)
+    )
+    if not psd:
+        raise ValueError(f"{name} must be positive semi-definite (no negative mass, damping or stiffness)")
+    a.setflags(write=False)
+    return a
+
+
 @dataclass(frozen=True, eq=False)
 class Model:
-    """Linear structure with contacts, under harmonic excitation.
+    """Linear structure with contacts, under static and harmonic loads.
 
     Parameters
     ----------
-    M, C, K : ndarray, shape (n, n)
-        Mass (kg), viscous damping (N s/m) and stiffness (N/m) matrices.
-        ``M`` may be singular (massless DOFs) as long as the dynamic stiffness
-        ``K - (k omega)^2 M + i k omega C`` is regular.
-    force_cos : ndarray, shape (n,)
-        Amplitude of the ``cos(omega t)`` part of the excitation (N).
+    M, C, K : ndarray or scipy.sparse matrix, shape (n, n)
+        Mass (kg), viscous damping (N s/m) and stiffness (N/m) matrices,
+        symmetric. ``C = None`` is no damping. ``M`` may be singular (massless
+        DOFs) as long as the dynamic stiffness ``K - (k omega)^2 M + i k omega C``
+        is regular. Sparse matrices are kept sparse (CSR) for a model with
+        ``pairs`` and converted to dense ones for a model with 1-D contacts.
+    force_cos : ndarray, shape (n,), optional
+        Amplitude of the ``cos(omega t)`` part of the excitation (N). Default zero.
     force_sin : ndarray, shape (n,), optional
         Amplitude of the ``sin(omega t)`` part (N). Default zero.
     force_static : ndarray, shape (n,), optional
         Static load (N). Default zero.
     friction : sequence of FrictionContact
+        1-D friction contacts whose normal load relaxes with wear (eq. 30).
     normal : sequence of NormalContact
+        1-D unilateral contacts.
+    pairs : ContactPairs, optional
+        Contact node pairs of an interface (eq. 17-23); exclusive with
+        ``friction`` and ``normal``.
+    names : dict, optional
+        Named DOFs (``name -> index``), e.g. ``{"pad_x": 12, "pad_y": 13}``.
+    info : dict, optional
+        Descriptive data of a bundled benchmark (radius, loads, moduli; SI).
+    reduction : Reduction, optional
+        Set on a reduced model (:func:`~fretwear.model.reduction.craig_bampton`):
+        how its coordinates give the DOFs of the full model.
     """
 
-    M: np.ndarray
-    C: np.ndarray
-    K: np.ndarray
-    force_cos: np.ndarray
+    M: np.ndarray | sp.csr_matrix
+    C: np.ndarray | sp.csr_matrix | None
+    K: np.ndarray | sp.csr_matrix
+    force_cos: np.ndarray | None = None
     force_sin: np.ndarray | None = None
     force_static: np.ndarray | None = None
     friction: tuple[FrictionContact, ...] = ()
     normal: tuple[NormalContact, ...] = field(default_factory=tuple)
+    pairs: ContactPairs | None = None
+    names: dict[str, int] = field(default_factory=dict)
+    info: dict[str, float] = field(default_factory=dict)
+    reduction: Reduction | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
-        mats = {}
-        for name in ("M", "C", "K"):
-            a = np.array(getattr(self, name), dtype=float)
-            if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] == 0:
-                raise ValueError(f"{name} must be a non-empty square matrix, got shape {a.shape}")
-            if not np.all(np.isfinite(a)):
-                raise ValueError(f"{name} must contain finite numbers only")
-            mats[name] = a
-        n = mats["M"].shape[0]
-        for name, a in mats.items():
+        set_(self, "friction", tuple(self.friction))
+        set_(self, "normal", tuple(self.normal))
+        if self.pairs is not None and (self.friction or self.normal):
+            raise ValueError(
+                "pairs cannot be combined with friction or normal contacts (no solver treats both); "
+                f"got {self.pairs.count} pairs, {len(self.friction)} friction and {len(self.normal)} normal"
+            )
+        given = [getattr(self, k) for k in ("M", "C", "K")]
+        sparse = any(sp.issparse(a) for a in given)
+        if sparse and self.pairs is None:
+            n = given[0].shape[0]
+            if n > DENSE_LIMIT:
+                raise ValueError(
+                    f"M, C, K: a model with 1-D contacts is solved with dense matrices; {n} DOFs is more "
+                    f"than {DENSE_LIMIT} (reduce the model first)"
+                )
+            sparse = False
+            given = [a.toarray() if sp.issparse(a) else a for a in given]
+        if given[1] is None:
+            shape = np.shape(given[0]) if not sp.issparse(given[0]) else given[0].shape
+            given[1] = sp.csr_matrix(shape) if sparse else np.zeros(shape)
+        n = None
+        for name, a in zip(("M", "C", "K"), given, strict=True):
+            a = _matrix(name, a, sparse)
+            n = a.shape[0] if n is None else n
             if a.shape != (n, n):
                 raise ValueError(f"{name} must have shape ({n}, {n}) like M, got {a.shape}")
-            if not np.allclose(a, a.T, rtol=1e-12, atol=1e-14 * np.abs(a).max()):
-                raise ValueError(f"{name} must be symmetric")
-            if np.linalg.eigvalsh(a).min() < -1e-12 * max(np.abs(a).max(), 1e-300):
-                raise ValueError(
-                    f"{name} must be positive semi-definite (no negative mass, damping or stiffness)"
-                )
-            a.setflags(write=False)
             set_(self, name, a)
         for name in ("force_cos", "force_sin", "force_static"):
             v = getattr(self, name)
@@ -191,8 +272,6 @@ class Model:
                 raise ValueError(f"{name} must be a finite vector of length {n}, got shape {v.shape}")
             v.setflags(write=False)
             set_(self, name, v)
-        set_(self, "friction", tuple(self.friction))
-        set_(self, "normal", tuple(self.normal))
         for kind, cls, contacts in (
             ("friction", FrictionContact, self.friction),
             ("normal", NormalContact, self.normal),
@@ -204,12 +283,52 @@ class Model:
                 _check_dof(f"{kind}[{j}].other", c.other, n, allow_none=True)
                 if c.other == c.dof:
                     raise ValueError(f"{kind}[{j}]: dof and other must differ, both are {c.dof}")
+        if self.pairs is not None:
+            if not isinstance(self.pairs, ContactPairs):
+                raise ValueError(f"pairs must be a ContactPairs, got {type(self.pairs).__name__}")
+            for side in ("dofs_a", "dofs_b"):
+                d = getattr(self.pairs, side)
+                if np.any(d >= n):
+                    i = int(np.argmax(d.max(axis=1)))
+                    raise ValueError(
+                        f"pairs.{side}[{i}] = {d[i].tolist()} is out of range: DOFs are 0 to {n - 1}"
+                    )
+        set_(self, "names", dict(self.names))
+        for name, i in self.names.items():
+            if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n:
+                raise ValueError(f"names[{name!r}] = {i!r} is out of range: DOFs are 0 to {n - 1}")
+        set_(self, "info", dict(self.info))
 
     # -- sizes and maps -------------------------------------------------
     @property
     def n_dofs(self) -> int:
         """Number of DOFs ``n``."""
         return self.M.shape[0]
+
+    @property
+    def sparse(self) -> bool:
+        """True when the matrices are ``scipy.sparse`` (a finite-element model with pairs)."""
+        return sp.issparse(self.K)
+
+    @property
+    def n_pairs(self) -> int:
+        """Number of contact pairs ``nc`` (0 without :attr:`pairs`)."""
+        return 0 if self.pairs is None else self.pairs.count
+
+    @property
+    def loaded_dofs(self) -> np.ndarray:
+        """DOFs with a non-zero static or harmonic load."""
+        return np.flatnonzero((self.force_static != 0) | (self.force_cos != 0) | (self.force_sin != 0))
+
+    def dof(self, key: int | str) -> int:
+        """DOF index of a name in :attr:`names` or of an index (checked)."""
+        if isinstance(key, str):
+            if key not in self.names:
+                raise ValueError(f"unknown DOF name {key!r}; named DOFs are {sorted(self.names)}")
+            return self.names[key]
+        if isinstance(key, bool) or not isinstance(key, (int, np.integer)) or not 0 <= key < self.n_dofs:
+            raise ValueError(f"DOF must be a name or an index in [0, {self.n_dofs - 1}], got {key!r}")
+        return int(key)
 
     @property
     def contacts(self) -> tuple[FrictionContact | NormalContact, ...]:
@@ -230,11 +349,11 @@ class Model:
     def half_wave_symmetric(self) -> bool:
         """True when odd harmonics alone describe the response.
 
-        Holds with no static load and no unilateral contact (Coulomb friction
-        under a constant normal load is an odd law); the excitation is at the
-        fundamental only by construction.
+        Holds with no static load and no unilateral contact or pair (Coulomb
+        friction under a constant normal load is an odd law); the excitation is
+        at the fundamental only by construction.
         """
-        return not np.any(self.force_static) and not self.normal
+        return not np.any(self.force_static) and not self.normal and self.pairs is None
 
     # -- derived models -------------------------------------------------
     def normal_loads(self, wear=None) -> np.ndarray:

@@ -11,7 +11,7 @@ from fretwear.interface.fe import (
     effective_modulus,
 )
 from fretwear.interface.mesh import cylinder_on_flat_mesh, graded_axis
-from fretwear.interface.structure import ContactPairs, InterfaceModel
+from fretwear.model import ContactPairs, Model
 
 
 def test_graded_axis_is_uniform_then_geometric():
@@ -90,7 +90,7 @@ def test_benchmark_model_loads_pairs_and_info():
         np.sqrt(4 * p.normal_load * p.radius / (np.pi * p.effective_modulus))
     )
     # the pad hangs on its holder: lifting the holder with the pad moves every pad DOF, strains nothing
-    B = m.contact.relative_map(m.n_dofs)
+    B = m.pairs.relative_map(m.n_dofs)
     assert B.shape == (18, m.n_dofs)
     assert abs(m.K - m.K.T).max() <= 1e-12 * abs(m.K).max()
 
@@ -108,9 +108,9 @@ def test_interface_model_validation_messages():
     with pytest.raises(ValueError, match="K must be symmetric"):
         K = I4.copy()
         K[0, 1] = 1.0
-        InterfaceModel(M=I4, K=K, contact=pairs)
+        Model(M=I4, C=None, K=K, pairs=pairs)
     with pytest.raises(ValueError, match=r"dofs_b\[0\] = \[2, 7\] is out of range"):
-        InterfaceModel(M=I4, K=I4, contact=ContactPairs([[0, 1]], [[2, 7]], [[0, 1]], [1.0], 0.5))
+        Model(M=I4, C=None, K=I4, pairs=ContactPairs([[0, 1]], [[2, 7]], [[0, 1]], [1.0], 0.5))
     with pytest.raises(ValueError, match="area must be > 0"):
         ContactPairs([[0, 1]], [[2, 3]], [[0, 1]], [0.0], 0.5)
     with pytest.raises(ValueError, match="tangent .* required"):

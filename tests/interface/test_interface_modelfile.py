@@ -7,6 +7,7 @@ import scipy.sparse as sp
 
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.modelfile import read_interface_model, write_interface_model
+from fretwear.interface.paper import paper_interface
 from fretwear.model.modelfile import ModelFileError
 
 
@@ -45,7 +46,7 @@ pad_x = 3
 def test_reads_a_small_model(tmp_path):
     m = read_interface_model(_write(tmp_path, GOOD))
     assert m.n_dofs == 4 and m.n_pairs == 1
-    assert m.contact.dofs_a.tolist() == [[0, 1]] and m.contact.dofs_b.tolist() == [[2, 3]]
+    assert m.pairs.dofs_a.tolist() == [[0, 1]] and m.pairs.dofs_b.tolist() == [[2, 3]]
     assert m.force_static.tolist() == [0, 0, 0, -10.0] and m.force_cos[2] == 2.0
     assert m.C.toarray()[0, 0] == 0.01 and m.names == {"pad_x": 2}
 
@@ -57,7 +58,17 @@ def test_round_trip_of_the_benchmark(tmp_path):
     for k in ("M", "K", "C"):
         assert abs(getattr(m2, k) - getattr(m, k)).max() == 0
     for k in ("dofs_a", "dofs_b", "normal", "area", "gap", "position", "mu"):
-        assert np.array_equal(getattr(m2.contact, k), getattr(m.contact, k))
+        assert np.array_equal(getattr(m2.pairs, k), getattr(m.pairs, k))
+    assert np.array_equal(m2.force_static, m.force_static) and m2.names == m.names
+
+
+def test_a_dense_model_with_pairs_is_written_too(tmp_path):
+    """The paper's one-pair form has dense matrices; its file reads back as the same (sparse) model."""
+    m = paper_interface()
+    write_interface_model(m, tmp_path / "paper.toml")
+    m2 = read_interface_model(tmp_path / "paper.toml")
+    for k in ("M", "K", "C"):
+        assert np.array_equal(getattr(m2, k).toarray(), getattr(m, k))
     assert np.array_equal(m2.force_static, m.force_static) and m2.names == m.names
 
 
@@ -93,4 +104,4 @@ def test_contact_arrays_from_an_npz(tmp_path):
     np.savez(tmp_path / "pairs.npz", a=[[1, 2]], b=[[3, 4]], normal=[[0.0, 1.0]], area=[2e-4], gap=[1e-6])
     text = GOOD.split("[contact]")[0] + '[contact]\npairs = "pairs.npz"\nmu = 0.3\n'
     m = read_interface_model(_write(tmp_path, text))
-    assert m.contact.area.tolist() == [2e-4] and m.contact.gap.tolist() == [1e-6] and m.contact.mu[0] == 0.3
+    assert m.pairs.area.tolist() == [2e-4] and m.pairs.gap.tolist() == [1e-6] and m.pairs.mu[0] == 0.3

@@ -9,9 +9,8 @@ from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.kernels import load_walk_kernel
 from fretwear.interface.paper import paper_interface
 from fretwear.interface.periodic import InterfaceProblem, newton, solve_interface
-from fretwear.interface.reduction import ContactCondensation, craig_bampton
-from fretwear.interface.structure import ContactPairs, InterfaceModel
-from fretwear.model import Model, NormalContact
+from fretwear.interface.reduction import ContactCondensation
+from fretwear.model import ContactPairs, Model, NormalContact, craig_bampton
 
 
 def _paper_equivalent(fex=10.0, mu=1.0, normal_load=10.0):
@@ -30,7 +29,7 @@ def test_one_pair_reduces_to_the_single_contact_solver(f_hz):
     sol = solve_interface(prob)
     ref = fw.solve_periodic(pm, w, 7, half_wave=False, eps=prob.eps[0])
     assert sol.converged and ref.converged
-    x1 = sol.dof_harmonics(0)
+    x1 = sol.dof_harmonics[0]
     assert np.abs(x1 - ref.dof_harmonics[0]).max() <= 1e-8 * np.abs(ref.dof_harmonics[0]).max()
     assert np.allclose(sol.normal_force, 10.0, rtol=1e-10)  # the pressed DOF stays closed at F_N
     assert sol.slip_distance[0] == pytest.approx(ref.sliding_distance[0], rel=1e-8, abs=1e-15)
@@ -42,7 +41,7 @@ def test_separation_matches_the_unilateral_contact_solver():
     ground = (NormalContact(0, None, 0.0),)
     ref_model = Model(M=[[m]], C=[[c]], K=[[k]], force_cos=[F1], force_static=[P], normal=ground)
     pairs = ContactPairs(dofs_a=[[-1, -1]], dofs_b=[[1, 0]], normal=[[0.0, -1.0]], area=[1.0], mu=0.0)
-    model = InterfaceModel(M=np.diag([m, 1.0]), K=np.diag([k, 1.0]), C=np.diag([c, 0.0]), contact=pairs,
+    model = Model(M=np.diag([m, 1.0]), C=np.diag([c, 0.0]), K=np.diag([k, 1.0]), pairs=pairs,
                            force_static=[P, 0.0], force_cos=[F1, 0.0])  # fmt: skip
     cond = ContactCondensation(craig_bampton(model, 0.0))
     w = 0.3 * np.sqrt(k / m)
@@ -51,7 +50,7 @@ def test_separation_matches_the_unilateral_contact_solver():
     ref = fw.solve_periodic(ref_model, w, 9, eps=prob.eps[1])
     assert sol.converged and ref.converged
     assert 0.3 < np.mean(sol.state == OPEN) < 0.6
-    y = sol.dof_harmonics(0)
+    y = sol.dof_harmonics[0]
     assert np.abs(y - ref.dof_harmonics[0]).max() <= 1e-8 * np.abs(ref.dof_harmonics[0]).max()
 
 

@@ -11,8 +11,9 @@ from fretwear.interface.contact import STICK
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.periodic import InterfaceProblem
 from fretwear.interface.polynomial import wear_polynomial_interface
-from fretwear.interface.reduction import ContactCondensation, craig_bampton
+from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.wear import wear_interface
+from fretwear.model import craig_bampton
 
 F_HZ, NH, KW = 50.0, 5, 1e-14
 

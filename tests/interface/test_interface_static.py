@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from fretwear.interface.fe import cylinder_on_flat
-from fretwear.interface.reduction import ContactCondensation, craig_bampton
+from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.static import second_moment_half_width, solve_static, static_benchmark
+from fretwear.model import craig_bampton
 from fretwear.model.structure import SLIP, STICK
 
 
@@ -33,7 +34,7 @@ def test_hertz_half_width_peak_pressure_and_profile(cond32):
     assert d["normal_force_sum"] == pytest.approx(d["normal_load_per_length"], rel=1e-8)  # equilibrium
     # the whole pressure profile, node by node, follows p0 sqrt(1 - x^2 / a^2)
     res = solve_static(cond32, tangential_scale=0.0)
-    c = cond32.reduced.contact
+    c = cond32.model.pairs
     p = res.final.normal_force / c.area
     a, p0 = d["hertz_half_width"], d["hertz_peak_pressure"]
     hertz = p0 * np.sqrt(np.clip(1 - c.position**2 / a**2, 0, None))
@@ -54,12 +55,12 @@ def test_cattaneo_mindlin_stick_zone(cond32, q):
 def test_stick_zone_is_central_and_slip_is_at_the_friction_limit(cond32):
     res = solve_static(cond32, tangential_scale=0.5 / 0.5)  # the model's q_ratio is 0.5
     s = res.final
-    x = cond32.reduced.contact.position
-    a = cond32.reduced.model.info["hertz_half_width"]
+    x = cond32.model.pairs.position
+    a = cond32.full.info["hertz_half_width"]
     c = a * np.sqrt(0.5)
     stick, slip = s.state == STICK, s.state == SLIP
     assert np.all(np.abs(x[stick]) < 1.1 * c) and np.all(np.abs(x[slip]) > 0.9 * c)
-    mu = cond32.reduced.contact.mu
+    mu = cond32.model.pairs.mu
     assert np.allclose(s.tangential_force[slip], mu[slip] * s.normal_force[slip], rtol=1e-9)
     assert np.all(np.abs(s.tangential_force[stick]) < mu[stick] * s.normal_force[stick])
 

@@ -6,9 +6,10 @@ import pytest
 from fretwear.interface.contact import OPEN, SLIP
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.periodic import InterfaceProblem, solve_interface
-from fretwear.interface.reduction import ContactCondensation, craig_bampton
+from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.time_integration import initial_state, integrate_interface
 from fretwear.interface.wear import wear_interface
+from fretwear.model import craig_bampton
 
 OMEGA = 2 * np.pi * 50.0
 SAMPLES = 128  # records per period, a divisor of every DLFT grid used here

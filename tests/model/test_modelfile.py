@@ -419,3 +419,10 @@ def test_base_is_not_mutated_by_reading():
     snapshot = copy.deepcopy(data)
     model_from_dict(data)
     assert data == snapshot
+
+
+def test_a_model_with_contact_pairs_is_not_written_as_a_1d_model_file():
+    import fretwear as fw
+
+    with pytest.raises(ValueError, match="model has contact pairs, which a model file of 1-D contacts"):
+        dumps_model(fw.paper_interface())

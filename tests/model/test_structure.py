@@ -4,10 +4,18 @@ import dataclasses
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fretwear.model import FrictionContact, Model, NormalContact, jenkins_oscillator, paper_model
+from fretwear.model import (
+    ContactPairs,
+    FrictionContact,
+    Model,
+    NormalContact,
+    jenkins_oscillator,
+    paper_model,
+)
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
@@ -265,3 +273,49 @@ def test_with_friction():
         model.with_friction(mu=-1.0)
     with pytest.raises(ValueError, match=r"friction\[0\]\.dof must be a DOF"):
         model.with_friction(dof=7)
+
+
+# -- one model type: pairs, sparse matrices, names ------------------------------
+PAIR = dict(dofs_a=[[1, -1]], dofs_b=[[0, 2]], normal=[[0.0, 1.0]], area=[1.0], mu=0.5)
+
+
+def test_sparse_matrices_stay_sparse_with_pairs_and_turn_dense_with_1d_contacts():
+    K = sp.csr_matrix(np.diag([1.0, 2.0, 3.0]))
+    with_pairs = Model(sp.eye(3), None, K, pairs=ContactPairs(**PAIR))
+    assert with_pairs.sparse and sp.issparse(with_pairs.C) and with_pairs.C.nnz == 0
+    assert with_pairs.n_pairs == 1 and not with_pairs.half_wave_symmetric
+    with_friction = Model(
+        sp.eye(3), None, K, force_cos=[1.0, 0, 0], friction=(FrictionContact(0, 1, 1, 1, 1),)
+    )
+    assert not with_friction.sparse and isinstance(with_friction.K, np.ndarray)
+    np.testing.assert_array_equal(with_friction.K, K.toarray())
+    np.testing.assert_array_equal(with_friction.C, np.zeros((3, 3)))
+
+
+@pytest.mark.parametrize(
+    ("changes", "match"),
+    [
+        (dict(friction=(FrictionContact(0, 1, 1.0, 1.0, 1.0),)), "pairs cannot be combined with friction"),
+        (
+            dict(pairs=ContactPairs(**{**PAIR, "dofs_b": [[0, 3]]})),
+            r"pairs\.dofs_b\[0\] = \[0, 3\] is out of",
+        ),
+        (dict(names={"y": 3}), r"names\['y'\] = 3 is out of range: DOFs are 0 to 2"),
+        (dict(K=sp.csr_matrix(np.array([[1.0, 1.0, 0], [0, 1, 0], [0, 0, 1]]))), "K must be symmetric"),
+        (dict(M=sp.diags([1.0, -1.0, 1.0])), "M must have a non-negative diagonal"),
+        (dict(pairs="pair"), "pairs must be a ContactPairs, got str"),
+    ],
+)
+def test_pair_model_validation_names_the_parameter(changes, match):
+    args = dict(M=np.eye(3), C=None, K=np.eye(3), pairs=ContactPairs(**PAIR))
+    with pytest.raises(ValueError, match=match):
+        Model(**{**args, **changes})
+
+
+def test_named_dofs():
+    model = Model(np.eye(3), None, np.eye(3), pairs=ContactPairs(**PAIR), names={"x1": 0, "y": 2})
+    assert model.dof("y") == 2 and model.dof(1) == 1
+    with pytest.raises(ValueError, match=r"unknown DOF name 'z'; named DOFs are \['x1', 'y'\]"):
+        model.dof("z")
+    with pytest.raises(ValueError, match=r"DOF must be a name or an index in \[0, 2\], got 3"):
+        model.dof(3)

@@ -1,15 +1,9 @@
-"""Finite-element structures with a contact interface of many node pairs.
+"""Contact node pairs of an interface: the coupled normal/tangential contact of paper eq. 17-23.
 
-An :class:`InterfaceModel` is a linear structure of ``n`` DOFs given by sparse
-matrices,
-
-    M u'' + C u' + K u + B^T lambda(t) = F_s + F_c cos(omega t) + F_sn sin(omega t),
-
-with ``nc`` contact node pairs (:class:`ContactPairs`). Pair ``i`` joins node
-``A_i`` (e.g. on the flat) and node ``B_i`` (on the pad); ``n_i`` is the unit
-normal pointing from ``A`` into ``B`` and ``t_i`` the unit tangent. With
-``d = u_B - u_A`` the relative displacement of the pair, its contact
-coordinates are
+Pair ``i`` joins node ``A_i`` (e.g. on the flat) and node ``B_i`` (on the pad);
+``n_i`` is the unit normal pointing from ``A`` into ``B`` and ``t_i`` the unit
+tangent. With ``d = u_B - u_A`` the relative displacement of the pair, its
+contact coordinates are
 
     u_T = t . d          (tangential slip coordinate, m)
     u_N = -n . d         (normal approach, m; positive closes the gap)
@@ -22,19 +16,16 @@ mu lambda_N``). Rows of ``B`` are ordered pair-major, ``(T, N)`` per pair.
 Each pair carries its tributary area (m^2; in a plane model, m per unit
 thickness), which turns nodal forces into pressures, and a position along the
 interface (m) for the profiles ``w(x)``, ``p(x)``.
-
-All quantities are in SI units: kg, N/m, N s/m, N, m. In a plane-strain model
-every force and mass is per unit thickness (N/m, kg/m).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["ContactPairs", "InterfaceModel"]
+__all__ = ["ContactPairs"]
 
 
 def _as_float(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
@@ -155,101 +146,3 @@ class ContactPairs:
             (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
             shape=(2 * self.count, n_dofs),
         )
-
-
-@dataclass(frozen=True, eq=False)
-class InterfaceModel:
-    """Linear finite-element structure with a contact interface.
-
-    Parameters
-    ----------
-    M, K : sparse or dense matrix, shape (n, n)
-        Mass (kg) and stiffness (N/m) matrices, symmetric.
-    C : sparse or dense matrix, shape (n, n), optional
-        Viscous (material) damping (N s/m); default zero.
-    contact : ContactPairs
-    force_static, force_cos, force_sin : array_like, shape (n,), optional
-        Static load and amplitudes of the ``cos(omega t)`` and ``sin(omega t)``
-        excitation (N); default zero.
-    names : dict, optional
-        Named DOFs (``name -> index``), e.g. ``{"pad_x": 12, "pad_y": 13}``.
-    info : dict, optional
-        Descriptive data of a bundled benchmark (radius, loads, moduli; SI).
-    """
-
-    M: sp.csr_matrix
-    K: sp.csr_matrix
-    contact: ContactPairs
-    C: sp.csr_matrix | None = None
-    force_static: np.ndarray | None = None
-    force_cos: np.ndarray | None = None
-    force_sin: np.ndarray | None = None
-    names: dict[str, int] = field(default_factory=dict)
-    info: dict[str, float] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        set_ = object.__setattr__
-        n = None
-        for name in ("M", "K", "C"):
-            a = getattr(self, name)
-            if a is None:
-                continue
-            a = sp.csr_matrix(a, dtype=float)
-            if a.shape[0] != a.shape[1] or a.shape[0] == 0:
-                raise ValueError(f"{name} must be a non-empty square matrix, got shape {a.shape}")
-            n = a.shape[0] if n is None else n
-            if a.shape != (n, n):
-                raise ValueError(f"{name} must have shape ({n}, {n}) like M, got {a.shape}")
-            if not np.all(np.isfinite(a.data)):
-                raise ValueError(f"{name} must contain finite numbers only")
-            scale = abs(a).max() if a.nnz else 0.0
-            if a.nnz and abs(a - a.T).max() > 1e-10 * scale:
-                raise ValueError(
-                    f"{name} must be symmetric (max |{name} - {name}^T| = {abs(a - a.T).max():.3g})"
-                )
-            if np.any(a.diagonal() < 0):
-                raise ValueError(f"{name} must have a non-negative diagonal (no negative mass or stiffness)")
-            set_(self, name, a)
-        if self.C is None:
-            set_(self, "C", sp.csr_matrix((n, n)))
-        for name in ("force_static", "force_cos", "force_sin"):
-            v = getattr(self, name)
-            set_(self, name, _as_float(name, np.zeros(n) if v is None else v, (n,)))
-        c = self.contact
-        if not isinstance(c, ContactPairs):
-            raise ValueError(f"contact must be a ContactPairs, got {type(c).__name__}")
-        for side in ("dofs_a", "dofs_b"):
-            d = getattr(c, side)
-            if np.any(d >= n):
-                i = int(np.argmax(d.max(axis=1)))
-                raise ValueError(
-                    f"contact.{side}[{i}] = {d[i].tolist()} is out of range: DOFs are 0 to {n - 1}"
-                )
-        for name, i in self.names.items():
-            if not 0 <= i < n:
-                raise ValueError(f"names[{name!r}] = {i} is out of range: DOFs are 0 to {n - 1}")
-
-    @property
-    def n_dofs(self) -> int:
-        """Number of DOFs ``n``."""
-        return self.M.shape[0]
-
-    @property
-    def n_pairs(self) -> int:
-        """Number of contact pairs ``nc``."""
-        return self.contact.count
-
-    @property
-    def loaded_dofs(self) -> np.ndarray:
-        """DOFs with a non-zero static or harmonic load."""
-        return np.flatnonzero((self.force_static != 0) | (self.force_cos != 0) | (self.force_sin != 0))
-
-    def dof(self, key: int | str) -> int:
-        """DOF index of a name in :attr:`names` or of an index (checked)."""
-        if isinstance(key, str):
-            if key not in self.names:
-                raise ValueError(f"unknown DOF name {key!r}; named DOFs are {sorted(self.names)}")
-            return self.names[key]
-        if isinstance(key, bool) or not isinstance(key, (int, np.integer)) or not 0 <= key < self.n_dofs:
-            raise ValueError(f"DOF must be a name or an index in [0, {self.n_dofs - 1}], got {key!r}")
-        return int(key)
