@@ -396,6 +396,44 @@ class Model:
             force_static=force * self.force_static,
         )
 
+    def travelling_wave(self, groups, engine_order: int, amplitude: float = 1.0) -> Model:
+        """Copy excited by a travelling wave over ``groups``, replacing the harmonic forcing.
+
+        Group ``j`` of ``N`` (e.g. the DOFs of blade ``j`` of a bladed disk) is
+        forced by ``amplitude cos(omega t - phi_j)`` with the phase
+        ``phi_j = 2 pi engine_order j / N`` (a wave of ``engine_order`` nodal
+        diameters travelling forward). The static load is kept.
+
+        Parameters
+        ----------
+        groups : array_like of int, shape (N,) or (N, m)
+            The DOFs of each group (one row per group, ``N >= 1``); each DOF in a
+            row gets the group's force.
+        engine_order : int
+            Number of excitation periods around the ``N`` groups (-), any integer.
+        amplitude : float
+            Force amplitude on each DOF (N), finite.
+        """
+        rows = np.asarray(groups)
+        rows = rows[:, None] if rows.ndim == 1 else rows
+        if rows.ndim != 2 or rows.size == 0 or not np.issubdtype(rows.dtype, np.integer):
+            raise ValueError(f"groups must be integer DOF indices of shape (N,) or (N, m), got {rows.shape}")
+        if rows.min() < 0 or rows.max() >= self.n_dofs:
+            raise ValueError(
+                f"groups must hold DOFs in [0, {self.n_dofs - 1}], got {rows.min()} to {rows.max()}"
+            )
+        if np.unique(rows).size != rows.size:
+            raise ValueError("groups must not repeat a DOF (each DOF has one phase)")
+        if isinstance(engine_order, bool) or not isinstance(engine_order, (int, np.integer)):
+            raise ValueError(f"engine_order must be an integer, got {engine_order!r}")
+        amplitude = _finite("amplitude", amplitude)
+        phase = 2 * np.pi * engine_order * np.arange(len(rows)) / len(rows)
+        force_cos, force_sin = np.zeros(self.n_dofs), np.zeros(self.n_dofs)
+        # cos(omega t - phi) = cos(phi) cos(omega t) + sin(phi) sin(omega t)
+        force_cos[rows] = amplitude * np.cos(phase)[:, None]
+        force_sin[rows] = amplitude * np.sin(phase)[:, None]
+        return replace(self, force_cos=force_cos, force_sin=force_sin)
+
     def with_friction(self, **changes) -> Model:
         """Copy with the same change (e.g. ``mu=0.5``) applied to every friction contact."""
         return replace(self, friction=tuple(replace(c, **changes) for c in self.friction))
