@@ -10,9 +10,24 @@ import time
 import urllib.request
 from pathlib import Path
 
-__all__ = ["free_port", "serve"]
+__all__ = ["TEXT_JS", "free_port", "serve"]
 
 ROOT = Path(__file__).resolve().parents[1]
+#: the page's text, shadow DOM included (Bokeh and Panel render into shadow roots)
+TEXT_JS = """
+() => {
+  const out = [];
+  function walk(node) {
+    if (node.shadowRoot) walk(node.shadowRoot);
+    for (const c of node.childNodes) {
+      if (c.nodeType === Node.TEXT_NODE) out.push(c.textContent);
+      else if (c.nodeType === Node.ELEMENT_NODE && c.tagName !== "SCRIPT" && c.tagName !== "STYLE") walk(c);
+    }
+  }
+  walk(document.body);
+  return out.join(" ");
+}
+"""
 
 
 def free_port() -> int:

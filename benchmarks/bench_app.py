@@ -45,6 +45,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+from app.serve import TEXT_JS  # noqa: E402
 from app.serve import serve as serve_app  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
@@ -65,21 +66,6 @@ SCREENSHOTS = {
     "interface": ("", "Interface", "Interface: FRF of pad_x"),
     "study": ("", "Study", "Study: wear life"),
 }
-#: the page's text, shadow DOM included (Panel renders into shadow roots)
-TEXT_JS = """
-() => {
-  const out = [];
-  function walk(node) {
-    if (node.shadowRoot) walk(node.shadowRoot);
-    for (const c of node.childNodes) {
-      if (c.nodeType === Node.TEXT_NODE) out.push(c.textContent);
-      else if (c.nodeType === Node.ELEMENT_NODE && c.tagName !== "SCRIPT" && c.tagName !== "STYLE") walk(c);
-    }
-  }
-  walk(document.body);
-  return out.join(" ");
-}
-"""
 #: the visible plot titles of a page, from BokehJS
 TITLES_JS = """
 () => {

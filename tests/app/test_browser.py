@@ -33,7 +33,7 @@ pytestmark = pytest.mark.browser
 ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # the dashboard package lives at the repository root, beside fretwear
     sys.path.insert(0, str(ROOT))
-from app.serve import serve  # noqa: E402
+from app.serve import TEXT_JS, serve  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = [
@@ -126,21 +126,6 @@ PLOT_JS = """
     if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
   }
   return null;
-}
-"""
-#: the page's text, shadow DOM included (Bokeh and Panel render into shadow roots)
-TEXT_JS = """
-() => {
-  const out = [];
-  function walk(node) {
-    if (node.shadowRoot) walk(node.shadowRoot);
-    for (const c of node.childNodes) {
-      if (c.nodeType === Node.TEXT_NODE) out.push(c.textContent);
-      else if (c.nodeType === Node.ELEMENT_NODE && c.tagName !== "SCRIPT" && c.tagName !== "STYLE") walk(c);
-    }
-  }
-  walk(document.body);
-  return out.join(" ");
 }
 """
 

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 from app.backend import Backend, ResultCache
-from app.scenes.interface import FILE, GROSS, PROFILES, InterfaceScene
-from app.state import Tasks
+from app.scenes.interface import FILE, GROSS, PROFILES, InterfaceScene, compute_interface
+from app.state import Tasks, call_key
 from fretwear import figures
 from fretwear.model import OPEN, SLIP, STICK
 
@@ -46,6 +46,8 @@ def test_nothing_computes_until_shown_then_one_run_with_progress(run):
     assert done == sorted(done) and done[-1] == 100 and len(done) >= 3
     assert any("wear history" in s for _p, s in reports) and any("FRF" in s for _p, s in reports)
     assert scene.model == GROSS and scene.results["converged"], scene.results["message"]
+    # the run is one task of the session's machinery, cached under the call it makes
+    assert scene.cache.get(call_key(compute_interface, scene.settings())) is scene.results
 
 
 def test_profiles_are_the_histories_and_the_load_is_carried(run):

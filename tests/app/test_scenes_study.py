@@ -8,6 +8,7 @@ status). The scene must show exactly the stored numbers, mark every point
 without a value, and never call a solver.
 """
 
+import os
 from importlib import import_module
 
 import numpy as np
@@ -15,7 +16,9 @@ import pytest
 import xarray as xr
 from test_browser import STUDY_SPEC
 
+from app.backend import Backend, ResultCache
 from app.scenes.study import StudyScene
+from app.state import Tasks, call_key
 from fretwear import figures
 from fretwear.studies.spec import read_spec
 from fretwear.studies.study import STATUS, open_study, run_study, wear_life_summary
@@ -165,6 +168,22 @@ def test_bad_paths_are_one_message_not_a_crash(tmp_path, stores):
     scene = StudyScene(stores["grid"])
     with pytest.raises(ValueError, match=r"index of mu must be in \[0, 1\]"):
         scene.select("mu", 2)
+
+
+def test_the_store_is_read_once_per_cache_while_unchanged(stores, monkeypatch):
+    """The store is read by a task on the session's machinery: sessions sharing a cache share the
+    dataset, keyed by the call (path and modification time); a changed store is read again."""
+    import app.scenes.study as study
+
+    reads = []
+    monkeypatch.setattr(study, "open_study", lambda path: reads.append(path) or open_study(path))
+    tasks = Tasks(Backend(), ResultCache())
+    first, second = StudyScene(stores["grid"], tasks=tasks), StudyScene(stores["grid"], tasks=tasks)
+    assert len(reads) == 1 and second.ds is first.ds and not second.busy
+    path = stores["grid"].resolve()
+    assert tasks.cache.get(call_key(study.read_study, str(path), path.stat().st_mtime)) is first.ds
+    os.utime(path, (path.stat().st_atime, path.stat().st_mtime + 10))
+    assert StudyScene(stores["grid"], tasks=tasks).error == "" and len(reads) == 2
 
 
 def test_the_tab_has_a_slider_per_axis_and_says_how_to_open_a_study(stores, no_solver):

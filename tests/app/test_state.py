@@ -17,6 +17,7 @@ import threading
 import xml.etree.ElementTree as ET
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import param
@@ -29,9 +30,25 @@ if str(ROOT) not in sys.path:  # the dashboard package lives at the repository r
 import fretwear  # noqa: E402
 from app.backend import Backend, Failure, ResultCache  # noqa: E402
 from app.glossary import TERMS  # noqa: E402
-from app.scenes import ANIMATION_FRAMES, TARGETS, sidebar_equivalent  # noqa: E402
+from app.scenes import (  # noqa: E402
+    ANIMATION_FRAMES,
+    TARGETS,
+    Selection,  # noqa: E402
+    sidebar_equivalent,
+)
 from app.session import Session  # noqa: E402
-from app.state import CUSTOM, EXACT, EXACT_MAP, EXACT_POINT, LADDERS, PRESETS, Controls  # noqa: E402
+from app.state import (  # noqa: E402  # noqa: E402
+    CUSTOM,
+    EXACT,
+    EXACT_MAP,
+    EXACT_POINT,
+    LADDERS,
+    PRESETS,
+    Controls,
+    Job,
+    WearAfter,
+    call_key,
+)
 from fretwear.figures.record import parse_settings, settings_json  # noqa: E402
 from fretwear.hbm.harmonics import default_samples  # noqa: E402
 from fretwear.studies import CostStudy, Rung  # noqa: E402
@@ -380,6 +397,40 @@ def test_result_cache_is_bounded_and_computes_once():
         gate.set()
         assert [f.result() for f in futures] == [42, 42, 42]
     assert count == [1]
+
+
+def test_every_task_key_is_the_call_it_makes():
+    """The key of each scene's task is its backend call: the method's name and the arguments it gets
+    (hashable: grids and options as values), so that a key cannot drift from what it caches."""
+    made, backend = [], Backend()
+    for name in ("linear", "frf", "regime", "wear_map", "history", "point", "exact_point", "cost"):
+
+        def record(*args, name=name, **kwargs):
+            kwargs = {k: v for k, v in kwargs.items() if k not in ("progress", "cancelled")}
+            made.append((name, *args, *sorted(kwargs.items())))
+            if name == "history":  # what the periodic responses after wear take their wear from
+                return SimpleNamespace(at=lambda cycles: {"wear": np.zeros((len(cycles), 1))})
+            raise RuntimeError("recorded")  # a Failure result: nothing computes
+
+        record.__name__ = name
+        setattr(backend, name, record)
+    session = Session(controls=small_controls(dynamics="dlft"), backend=backend, cache=ResultCache(),
+                      start=False)  # fmt: skip
+    s, sel, kinds = session.controls.settings(), Selection(0.7, 1e4), set()
+    for scene in session.scenes.values():
+        job = Job()
+        for task in scene.needs(s, sel):
+            made.clear()
+            job.results[task.name] = task.run(job)
+            # an earlier result of the run (the wear after N) is in the key as what it comes from
+            worn = [i for i, a in enumerate(task.key) if isinstance(a, WearAfter)]
+            assert [a for i, a in enumerate(made[0]) if i not in worn] == [
+                a for i, a in enumerate(task.key) if i not in worn
+            ], task.name
+            kinds.add(task.key[0])
+    assert kinds == {"linear", "frf", "regime", "wear_map", "history", "point", "exact_point", "cost"}
+    with pytest.raises(TypeError, match="unhashable"):
+        call_key(backend.frf, s.model, s.frequencies, 3)
 
 
 # -- the view as a link and as a settings file ----------------------------------------------------
