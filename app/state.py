@@ -19,6 +19,7 @@ import logging
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -49,6 +50,7 @@ __all__ = [
     "Job",
     "WearAfter",
     "call_key",
+    "file_stamp",
     "CONVERGENCE_HARMONICS",
 ]
 
@@ -487,6 +489,13 @@ def _guard(compute: Callable[[], Any]) -> Any:
     except Exception as exc:  # noqa: BLE001 - shown to the user as a message, logged with its traceback
         log.warning("computation failed", exc_info=True)
         return Failure(f"{type(exc).__name__}: {exc}", " ".join(str(exc).split()))
+
+
+def file_stamp(path: str | Path) -> float:
+    """Modification time of the file or folder ``path`` (s; -1 when missing): in the key of a call that
+    reads it, so that a changed file is another call."""
+    path = Path(path)
+    return path.stat().st_mtime if path.exists() else -1.0
 
 
 def _digits(value: float) -> float:

@@ -36,7 +36,7 @@ from fretwear.model import OPEN, SLIP, STICK
 from ..backend import Cancelled, Failure, shared_backend, shared_cache
 from ..live import live_pane, message_list, run_status
 from ..session import Runner
-from ..state import Tasks
+from ..state import Tasks, file_stamp
 from .base import Exports
 
 __all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "compute_interface", "MODELS", "PAPER"]
@@ -75,6 +75,8 @@ class InterfaceSettings:
     fmin: float = 20.0
     fmax: float = 200.0
     n_frequencies: int = 10
+    #: modification time of the model file (s): a changed file is another run (its cache key)
+    stamp: float | None = None
 
     def problems(self) -> list[str]:
         """Invalid values, one line each naming the setting and its valid range."""
@@ -235,6 +237,7 @@ class InterfaceScene(Exports, Runner):
             cycles=float(self.cycles),
             fmin=0.4 * float(self.frequency),
             fmax=4.0 * float(self.frequency),
+            stamp=file_stamp(self.path) if self.model == FILE else None,
         )
 
     def activate(self) -> None:

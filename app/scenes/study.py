@@ -30,7 +30,7 @@ from fretwear.studies.study import STATUS, open_study, wear_life_summary
 from ..backend import Failure, shared_backend, shared_cache
 from ..live import live_pane, message_list
 from ..session import Runner
-from ..state import Tasks
+from ..state import Tasks, file_stamp
 from .base import Exports
 
 __all__ = ["StudyScene", "read_study", "study_tab", "QUANTITIES"]
@@ -100,7 +100,7 @@ class StudyScene(Exports, Runner):
         super().__init__(self.tasks.cache, **params)
         self.path, self.ds = path, None
         if path is not None:
-            stamp = Path(path).stat().st_mtime if Path(path).exists() else -1.0
+            stamp = file_stamp(path)
             task = self.tasks.call("study", "the study", 1.0, read_study, str(Path(path).resolve()), stamp)
             self.run(self.new_request(), [task], self._opened)
         if self.ds is not None:

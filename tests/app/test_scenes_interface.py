@@ -109,6 +109,10 @@ def test_bad_input_and_a_bad_model_file_are_messages(run, tmp_path):
     other.activate()
     assert other.error.startswith("The interface run failed: ") and "bad.toml" in other.error
     assert other.results == {} and not other.busy
+    # the file's failure is kept for these settings; a changed file is another run
+    before = other.settings()
+    os.utime(bad, (bad.stat().st_atime, bad.stat().st_mtime + 10))
+    assert other.settings() != before
 
 
 def test_the_papers_two_dof_model_is_a_choice_and_wears_like_the_single_contact():
