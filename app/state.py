@@ -6,10 +6,13 @@ cycles, 1/N). Values are stored as typed and checked by
 :meth:`Controls.settings` freezes valid controls into a hashable
 :class:`Settings` with the grids derived from them.
 
-A :class:`Task` is one cached computation: its ``key`` lists exactly the
-parameters it depends on, so that a change invalidates only the results that
-depend on it (``k_w`` is not in the key of the FRF without wear, ``Nh`` not in
-the key of the linear FRFs). :class:`Tasks` builds them for a settings.
+A :class:`Task` is one cached computation, keyed by the call it makes
+(:func:`call_key`: the function and its arguments). Each call takes exactly
+what its result depends on, so that a change invalidates only the results that
+depend on it (``k_w`` is not an argument of the FRF without wear, ``Nh`` not
+one of the linear FRFs, ``F_ex`` not one of the regime map over ``r``).
+:meth:`Tasks.call` makes a task of any call (the Interface and Study tabs use
+it too); the other :class:`Tasks` methods build the scenes' tasks for a settings.
 """
 
 from __future__ import annotations
