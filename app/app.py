@@ -22,10 +22,10 @@ sys.path.insert(0, str(ROOT))
 import panel as pn  # noqa: E402
 
 from app.backend import shared_executor  # noqa: E402
-from app.interface_scene import InterfaceScene, interface_tab  # noqa: E402
 from app.page import build_page, document_dispatch  # noqa: E402
+from app.scenes.interface import InterfaceScene, interface_tab  # noqa: E402
+from app.scenes.study import StudyScene, study_tab  # noqa: E402
 from app.session import Session  # noqa: E402
-from app.study_scene import StudyScene, study_tab  # noqa: E402
 from app.warmup import warm_in_background  # noqa: E402
 
 pn.extension(notifications=False)
@@ -43,8 +43,10 @@ parser = argparse.ArgumentParser(add_help=False)
 parser.add_argument("--study", default=None)
 parser.add_argument("--interface-model", default=None)
 options, _unknown = parser.parse_known_args(sys.argv[1:])
-study = StudyScene(options.study)
-interface = InterfaceScene(options.interface_model, executor=session.executor, dispatch=session.dispatch)
+study = StudyScene(options.study, tasks=session.tasks)
+interface = InterfaceScene(
+    options.interface_model, tasks=session.tasks, executor=session.executor, dispatch=session.dispatch
+)
 pn.state.on_session_destroyed(lambda _context, s=interface: s.close())
 extra = (
     ("Interface", lambda export_card: interface_tab(interface, export_card)),

@@ -41,6 +41,7 @@ __all__ = [
     "Backend",
     "Cancelled",
     "Failure",
+    "Grid",
     "ModelSpec",
     "ResultCache",
     "shared_backend",
@@ -88,29 +89,36 @@ class Cancelled(Exception):
 
 @dataclass(frozen=True)
 class Failure:
-    """A computation that raised: kept in the cache and shown as a message, never as a traceback."""
+    """A computation that raised: kept in the cache and shown as a message, never as a traceback.
+
+    ``message`` names the exception's type; ``reason`` is its text alone (one line).
+    """
 
     message: str
+    reason: str = ""
 
     def __str__(self) -> str:
         return self.message
 
 
 @dataclass(frozen=True)
-class ModelSpec:
-    """The paper's 2-DOF model (:func:`fretwear.paper_model`) as a hashable cache key.
+class Grid:
+    """Evenly spaced values ``np.linspace(start, stop, n)`` as a hashable argument (and cache key)."""
 
-    Attributes
-    ----------
-    fex : float
-        Excitation amplitude on mass 1 (N).
-    mu : float
-        Friction coefficient (-).
-    normal_load : float
-        Initial normal load ``F_N`` (N).
-    kn : float
-        Normal contact stiffness (N/m).
-    """
+    start: float
+    stop: float
+    n: int
+
+    @property
+    def values(self) -> np.ndarray:
+        """The grid's values."""
+        return np.linspace(self.start, self.stop, self.n)
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """The paper's 2-DOF model as a hashable cache key: the arguments of :func:`fretwear.paper_model`
+    (``fex`` in N, ``mu``, ``normal_load`` in N, ``kn`` in N/m; see there)."""
 
     fex: float
     mu: float
@@ -125,6 +133,11 @@ class ModelSpec:
     def unit_forcing(self) -> ModelSpec:
         """The same contact under ``F_ex = 1 N``: the key of results drawn over ``r``, whatever ``F_ex``."""
         return ModelSpec(1.0, self.mu, self.normal_load, self.kn)
+
+    def linear_part(self) -> ModelSpec:
+        """The same structure and excitation with the friction coefficient and normal load at 1: the
+        linear FRFs with the contact stuck (a constraint) or open depend on neither."""
+        return ModelSpec(self.fex, 1.0, 1.0, self.kn)
 
 
 class ResultCache:
@@ -318,23 +331,26 @@ class Backend:
         self._tally("paper_model")
         return self.library.paper_model(fex=spec.fex, mu=spec.mu, normal_load=spec.normal_load, kn=spec.kn)
 
-    def linear(self, spec: ModelSpec, f_hz: np.ndarray, state: str) -> dict[str, np.ndarray]:
-        """Complex amplitudes (m) of every DOF with the contact ``state`` ("stuck" or "open")."""
+    def linear(self, spec: ModelSpec, grid: Grid, state: str) -> dict[str, np.ndarray]:
+        """Complex amplitudes (m) of every DOF over the frequency ``grid`` (Hz) with the contact ``state``
+        ("stuck" or "open")."""
         self._tally("linear_frf")
-        u = self.library.linear_frf(self.model(spec), 2 * np.pi * np.asarray(f_hz), state)
-        return {"f_hz": np.asarray(f_hz), "amplitude": u}
+        f_hz = grid.values
+        u = self.library.linear_frf(self.model(spec), 2 * np.pi * f_hz, state)
+        return {"f_hz": f_hz, "amplitude": u}
 
-    def frf(self, spec: ModelSpec, f_hz: np.ndarray, harmonics: int) -> dict[str, np.ndarray]:
-        """Nonlinear FRF without wear (a sweep), as arrays over frequency.
+    def frf(self, spec: ModelSpec, grid: Grid, harmonics: int) -> dict[str, np.ndarray]:
+        """Nonlinear FRF without wear (a sweep) over the frequency ``grid`` (Hz), as arrays.
 
         First-harmonic amplitudes only: the exact half peak-to-peak values cost
         three times the sweep.
         """
         model = self.model(spec)
         self._tally("sweep")
-        sols = self.library.sweep(model, 2 * np.pi * np.asarray(f_hz), harmonics).solutions
+        f_hz = grid.values
+        sols = self.library.sweep(model, 2 * np.pi * f_hz, harmonics).solutions
         return {
-            "f_hz": np.asarray(f_hz),
+            "f_hz": f_hz,
             "amplitude": np.array([s.amplitude for s in sols]),
             "relative_amplitude": np.array([s.relative_amplitude for s in sols]),
             "sliding_distance": np.array([s.sliding_distance for s in sols]),
@@ -345,17 +361,19 @@ class Backend:
     def regime(
         self,
         spec: ModelSpec,
-        f_hz: np.ndarray,
-        ratios: np.ndarray,
+        grid: Grid,
+        ratio_grid: Grid,
         harmonics: int,
         progress: Progress = lambda _f: None,
         cancelled: Check = lambda: False,
     ) -> dict[str, np.ndarray]:
-        """Stick/slip regime over ``f_hz`` x load ratios ``r`` (:func:`fretwear.studies.regime_map`).
+        """Stick/slip regime over the frequency ``grid`` (Hz) x the load ratios ``r`` of ``ratio_grid``
+        (:func:`fretwear.studies.regime_map`).
 
-        The result does not depend on ``F_ex``: the model is taken at ``F_ex = 1 N``.
+        The result does not depend on ``F_ex``: callers pass ``spec.unit_forcing()``.
         """
-        model = self.model(spec.unit_forcing())
+        model = self.model(spec)
+        f_hz, ratios = grid.values, ratio_grid.values
         jobs = [((model, f_hz, ratios[part], harmonics), {}) for part in _chunks(len(ratios), self.chunks)]
         parts = self._chunked(self.library.regime_map, jobs, progress, cancelled)
         return {
@@ -367,30 +385,43 @@ class Backend:
     def wear_map(
         self,
         spec: ModelSpec,
-        f_hz: np.ndarray,
-        cycles: np.ndarray,
+        grid: Grid,
+        horizon: float,
+        n_cycles: int,
         method: str,
         kw: float,
-        options: dict[str, Any],
+        options: tuple[tuple[str, Any], ...],
         progress: Progress = lambda _f: None,
         cancelled: Check = lambda: False,
     ) -> WearMap:
-        """Wear map over ``f_hz`` x ``cycles`` (:func:`fretwear.studies.wear_map`), in frequency chunks."""
+        """Wear map over the frequency ``grid`` (Hz) x ``n_cycles`` cycle counts up to ``horizon``
+        (:func:`fretwear.wear.cycle_grid`) by :func:`fretwear.studies.wear_map`, in frequency chunks;
+        ``options``: the method's options as ``(name, value)`` pairs."""
         model = self.model(spec)
+        f_hz, cycles = grid.values, fretwear.wear.cycle_grid(horizon, n_cycles)
         jobs = [
-            ((model, f_hz[part], cycles), {"method": method, "kw": kw, **options})
+            ((model, f_hz[part], cycles), {"method": method, "kw": kw, **dict(options)})
             for part in _chunks(len(f_hz), self.chunks)
         ]
         parts = self._chunked(self.library.wear_map, jobs, progress, cancelled)
         return WearMap(**_merge(parts, lambda p: len(p.frequency)))
 
     def history(
-        self, spec: ModelSpec, f_hz: float, method: str, kw: float, horizon: float, options: dict[str, Any]
+        self,
+        spec: ModelSpec,
+        f_hz: float,
+        method: str,
+        kw: float,
+        horizon: float,
+        options: tuple[tuple[str, Any], ...],
     ) -> WearHistory:
-        """Wear evolution at one frequency (:func:`fretwear.wear.wear_history`)."""
+        """Wear evolution at one frequency (:func:`fretwear.wear.wear_history`); ``options``: the
+        method's options as ``(name, value)`` pairs."""
         model = self.model(spec)
         self._tally("wear_history")
-        return self.library.wear_history(model, 2 * np.pi * f_hz, method, kw=kw, cycles=horizon, **options)
+        return self.library.wear_history(
+            model, 2 * np.pi * f_hz, method, kw=kw, cycles=horizon, **dict(options)
+        )
 
     def point(
         self, spec: ModelSpec, f_hz: float, harmonics: int, wear: np.ndarray | None
@@ -410,7 +441,7 @@ class Backend:
         self,
         spec: ModelSpec,
         f_hz: float,
-        ladder: dict[str, Any],
+        ladder: tuple[tuple[str, Any], ...],
         kw: float | None = None,
         cycles: float | None = None,
         progress: Progress = lambda _f: None,
@@ -418,7 +449,7 @@ class Backend:
     ) -> CostStudy:
         """Error against wall time over a ladder of settings (:func:`fretwear.studies.accuracy.cost_ladder`).
 
-        ``ladder`` holds the ladder's keyword arguments; ``kw`` and ``cycles``
+        ``ladder`` holds the ladder's keyword arguments as ``(name, value)`` pairs; ``kw`` and ``cycles``
         (both or neither) add the wear rungs. The run stops with
         :class:`Cancelled` at the first rung after ``cancelled()`` turns true.
         """
@@ -430,7 +461,7 @@ class Backend:
 
         model = self.model(spec)
         self._tally("cost_ladder")
-        return self.library.cost_ladder(model, f_hz, kw=kw, cycles=cycles, progress=step, **ladder)
+        return self.library.cost_ladder(model, f_hz, kw=kw, cycles=cycles, progress=step, **dict(ladder))
 
 
 _shared: dict[str, Any] = {}

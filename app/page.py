@@ -33,7 +33,7 @@ from fretwear import figures
 from fretwear.figures.record import parse_settings, settings_json
 
 from .glossary import glossary_markdown, help_mark, term
-from .live import live_pane
+from .live import live_pane, message_list, run_status
 from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, CycleScene, Scene
 from .session import Session
 from .state import CUSTOM, LADDERS, METHODS, NUMBERS, PRESETS, number_text, parse_number
@@ -587,22 +587,7 @@ def _cycle_controls(scene: CycleScene) -> pn.Row:
 def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
     panes = [_figure_pane(scene, name, session) for name in scene.figure_names]
     grid = pn.GridBox(*panes, ncols=min(2, len(panes)), sizing_mode="stretch_width")
-    notes = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
-
-    def show_notes(*_events):
-        notes.object = "\n".join(f"- {n}" for n in scene.notes)
-        notes.visible = bool(scene.notes)
-
-    scene.param.watch(show_notes, "notes")
-    show_notes()
-    findings = pn.pane.Alert("", alert_type="info", visible=False, sizing_mode="stretch_width")
-
-    def show_findings(*_events):
-        findings.object = "\n".join(f"- {n}" for n in scene.findings)
-        findings.visible = bool(scene.findings)
-
-    scene.param.watch(show_findings, "findings")
-    show_findings()
+    notes, findings = message_list(scene, "notes"), message_list(scene, "findings", "info")
     explanation = pn.pane.Markdown(scene.explanation.strip(), sizing_mode="stretch_width")
     controls = []
     if isinstance(scene, AccuracyScene):
@@ -610,28 +595,6 @@ def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
     elif isinstance(scene, CycleScene):
         controls = [_cycle_controls(scene)]
     return [explanation, *controls, grid, notes, findings, _export_card(scene, export)]
-
-
-def _status(session: Session) -> pn.Column:
-    bar = pn.indicators.Progress(
-        value=0, max=100, sizing_mode="stretch_width", visible=False, bar_color="info"
-    )
-    text = pn.pane.Markdown("", margin=(0, 10))
-    error = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
-    notice = pn.pane.Alert("", alert_type="info", visible=False, sizing_mode="stretch_width")
-
-    def update(*_events: Any) -> None:
-        bar.visible = session.busy
-        bar.value = session.progress
-        text.object = f"{session.status} ({session.progress} %)" if session.busy else ""
-        error.object, error.visible = session.error, bool(session.error)
-        notice.object, notice.visible = session.notice, bool(session.notice)
-
-    session.param.watch(update, ["busy", "progress", "status", "error", "notice"])
-    update()
-    return pn.Column(
-        error, notice, pn.Row(bar, text, sizing_mode="stretch_width"), sizing_mode="stretch_width"
-    )
 
 
 def _address(session: Session, location) -> None:
@@ -697,6 +660,6 @@ def build_page(session: Session, location=None, extra: tuple = ()) -> pn.templat
         title=TITLE,
         # one root per area: every root costs Bokeh a pass over all the document's models
         sidebar=[pn.Column(pn.pane.Markdown(INTRO), *_sidebar(session), sizing_mode="stretch_width")],
-        main=[pn.Column(_status(session), tabs, sizing_mode="stretch_width")],
+        main=[pn.Column(run_status(session), tabs, sizing_mode="stretch_width")],
         sidebar_width=380,
     )

@@ -13,6 +13,10 @@ the update on the session's event loop (Bokeh's ``add_next_tick_callback``);
 without one (tests, warm-up) they are published from the running thread.
 Before a long task (a wear map, a regime map, time integration), the results
 computed so far are shown next to the previous ones.
+
+The running itself (:class:`Runner`: requests, runs, progress, errors) is the
+same for every tab: the Interface and Study tabs are runners too, on the
+session's :class:`~app.state.Tasks` and cache.
 """
 
 from __future__ import annotations
@@ -50,10 +54,12 @@ from .state import (
     type_text,
 )
 
-__all__ = ["Session"]
+__all__ = ["Runner", "Session"]
 
 log = logging.getLogger(__name__)
 
+#: ``publish(results, final)``: shows the results of a request's tasks by name (``final``: all of them)
+Publish = Callable[[dict[str, Any], bool], None]
 #: before a task at least this heavy (see ``Task.weight``), the results computed so far are shown
 PARTIAL_WEIGHT = 3.0
 #: set once every kernel group of :mod:`fretwear.compile` is compiled or in Numba's cache
@@ -73,7 +79,148 @@ def computing(label: str) -> str:
     return f"Computing {label}"
 
 
-class Session(param.Parameterized):
+class Runner(param.Parameterized):
+    """Runs the tasks of a request through the result cache, off the UI thread, and publishes them.
+
+    Every tab computes this way (the session's scenes, the Interface and Study
+    tabs): :meth:`new_request` makes the runs started before stale (they stop
+    at their next task, chunk or rung and never publish), :meth:`run` publishes
+    the tasks' results at once when all are cached and otherwise computes the
+    missing ones in ``executor`` (``None``: in the calling thread), with the
+    progress in :attr:`progress` and :attr:`status`. A library error is a
+    :class:`~app.backend.Failure` result (see :meth:`Tasks.call`); anything else
+    is a bug, logged with its traceback and shown in :attr:`error` in one line.
+
+    Parameters
+    ----------
+    cache : ResultCache
+        Where results are kept.
+    executor : Executor, optional
+        Where runs go; ``None`` computes in the calling thread.
+    dispatch : callable, optional
+        ``dispatch(callback)`` runs ``callback`` where the page may be
+        updated; default: call it at once.
+    """
+
+    busy = param.Boolean(False, doc="A run is computing results for the visible scene")
+    progress = param.Integer(0, bounds=(0, 100), doc="Progress of the run (%)")
+    status = param.String("", doc="What the run is computing")
+    error = param.String("", doc="Invalid input, shown instead of computing")
+
+    def __init__(
+        self,
+        cache: ResultCache,
+        executor: Executor | None = None,
+        dispatch: Callable[[Callable[[], None]], None] | None = None,
+        **params: Any,
+    ) -> None:
+        super().__init__(**params)
+        self.cache, self.executor = cache, executor
+        self.dispatch = dispatch or (lambda callback: callback())
+        self._generation = 0
+        self._lock = threading.Lock()
+        self._future: Future | None = None
+        self._reported: tuple[int, int, str] = (0, -1, "")
+
+    def new_request(self) -> int:
+        """Make the runs started so far stale; the number of the new request."""
+        with self._lock:
+            self._generation += 1
+            return self._generation
+
+    def invalid(self, problems: list[str]) -> None:
+        """Show ``problems`` (of the input) instead of computing."""
+        self.param.update(error="Invalid input: " + "; ".join(problems), busy=False, status="")
+
+    def run(self, generation: int, tasks: list[Task], publish: Publish) -> None:
+        """Publish the results of ``tasks`` (by task name) with ``publish(results, final)`` for request
+        ``generation``: at once from the cache, or when a run has computed them.
+
+        Before a long task, the results computed so far are published with ``final`` false.
+        """
+        self.error = ""
+        if all(t.key in self.cache for t in tasks):
+            self._publish(generation, publish, {t.name: self.cache.get(t.key) for t in tasks}, True)
+            return
+        self.param.update(busy=True, progress=0, status=computing(tasks[0].label))
+        run = partial(self._run, generation, tasks, publish)
+        if self.executor is None:
+            run()
+        else:
+            self._future = self.executor.submit(run)
+
+    def close(self) -> None:
+        """Stop the pending run (the browser session ended)."""
+        self.new_request()
+
+    def wait(self, timeout: float | None = None) -> None:
+        """Wait for the last run started (tests, warm-up)."""
+        if self._future is not None:
+            self._future.result(timeout)
+
+    def _stale(self, generation: int) -> bool:
+        return generation != self._generation
+
+    def _run(self, generation: int, tasks: list[Task], publish: Publish) -> None:
+        job = Job(cancelled=partial(self._stale, generation))
+        total, done, fresh = sum(t.weight for t in tasks), 0.0, False
+        try:
+            for task in tasks:
+                if job.cancelled():
+                    return
+                if fresh and task.weight >= PARTIAL_WEIGHT and task.key not in self.cache:
+                    # a long task follows: show what is new now, the older results meanwhile
+                    self.dispatch(partial(self._publish, generation, publish, dict(job.results), False))
+                fresh = fresh or task.key not in self.cache
+                job.progress = partial(
+                    self._report, generation, done / total, task.weight / total, task.label
+                )
+                job.progress(0.0)
+                job.results[task.name] = self.cache.get_or_compute(task.key, partial(task.run, job))
+                done += task.weight
+        except Cancelled:
+            return
+        except Exception as exc:  # noqa: BLE001 - a bug: logged with its traceback, reported in one line
+            log.exception("run failed")
+            message = f"Internal error ({type(exc).__name__}: {exc}); the server log has the details"
+            self.dispatch(partial(self._fail, generation, message))
+            return
+        self.dispatch(partial(self._publish, generation, publish, job.results, True))
+
+    def _report(
+        self,
+        generation: int,
+        start: float,
+        weight: float,
+        label: str,
+        fraction: float,
+        stage: str | None = None,
+    ) -> None:
+        percent = int(100 * min(start + weight * fraction, 1.0))
+        label = stage or label
+        if (generation, percent, label) == self._reported:
+            return
+        self._reported = (generation, percent, label)
+
+        def update():
+            if not self._stale(generation):
+                self.param.update(progress=percent, status=computing(label))
+
+        self.dispatch(update)
+
+    def _fail(self, generation: int, message: str) -> None:
+        if not self._stale(generation):
+            self.param.update(error=message, busy=False, status="")
+
+    def _publish(self, generation: int, publish: Publish, results: dict, final: bool) -> None:
+        if self._stale(generation):
+            return
+        publish(results, final)
+        if final:
+            self.param.update(busy=False, progress=100, status="")
+
+
+class Session(Runner):
     """State of one dashboard session.
 
     Parameters
@@ -97,10 +244,6 @@ class Session(param.Parameterized):
     scene = param.Selector(default=SCENES[0].key, objects=[s.key for s in SCENES], doc="Visible scene")
     frequency = param.Number(0.7, allow_None=True, doc="Selected frequency (Hz)")
     cycles = param.Number(1e4, allow_None=True, doc="Selected cycle count N")
-    busy = param.Boolean(False, doc="A run is computing results for the visible scene")
-    progress = param.Integer(0, bounds=(0, 100), doc="Progress of the run (%)")
-    status = param.String("", doc="What the run is computing")
-    error = param.String("", doc="Invalid input, shown instead of computing")
     notice = param.String("", doc="What the dashboard changed by itself (e.g. moved the selected point)")
     typed = param.Dict({}, doc="Texts typed into the selection's boxes that are not numbers")
 
@@ -114,19 +257,12 @@ class Session(param.Parameterized):
         start: bool = True,
         **params: Any,
     ) -> None:
-        super().__init__(**params)
+        super().__init__(cache if cache is not None else shared_cache(), executor, dispatch, **params)
         self.controls = controls or Controls()
         self.backend = backend if backend is not None else shared_backend()
-        self.cache = cache if cache is not None else shared_cache()
-        self.executor = executor
-        self.dispatch = dispatch or (lambda callback: callback())
-        tasks = Tasks(self.backend, self.cache)
-        self.scenes: dict[str, Scene] = {cls.key: cls(tasks) for cls in SCENES}
-        self._generation = 0
-        self._lock = threading.Lock()
+        self.tasks = Tasks(self.backend, self.cache)
+        self.scenes: dict[str, Scene] = {cls.key: cls(self.tasks) for cls in SCENES}
         self._shown: dict[str, tuple] = {}
-        self._future: Future | None = None
-        self._reported: tuple[int, int, str] = (0, -1, "")
         self._held, self._pending, self._moving = 0, False, False
         self.controls.param.watch(self.refresh, [p for p in self.controls.param if p != "name"])
         self.param.watch(self.refresh, ["scene", "frequency", "cycles", "typed"])
@@ -371,11 +507,9 @@ class Session(param.Parameterized):
         if self._follow(events):
             return
         problems = self.controls.problems() + self._selection_problems()
-        with self._lock:
-            self._generation += 1
-            generation = self._generation
+        generation = self.new_request()
         if problems:
-            self.param.update(error="Invalid input: " + "; ".join(problems), busy=False, status="")
+            self.invalid(problems)
             return
         s, sel, scene = (
             self.controls.settings(),
@@ -388,83 +522,13 @@ class Session(param.Parameterized):
         if self._shown.get(scene.key) == shown:
             self.param.update(busy=False, status="")
             return
-        if all(t.key in self.cache for t in tasks):
-            self._publish(generation, scene, {t.name: self.cache.get(t.key) for t in tasks}, s, sel, shown)
-            return
-        self.param.update(busy=True, progress=0, status=computing(tasks[0].label))
-        run = partial(self._run, generation, scene, tasks, s, sel, shown)
-        if self.executor is None:
-            run()
-        else:
-            self._future = self.executor.submit(run)
+        self.run(generation, tasks, partial(self._show, scene, s, sel, shown))
 
-    def close(self) -> None:
-        """Stop the pending run (the browser session ended)."""
-        with self._lock:
-            self._generation += 1
-
-    def wait(self, timeout: float | None = None) -> None:
-        """Wait for the last run started (tests, warm-up)."""
-        if self._future is not None:
-            self._future.result(timeout)
-
-    def _stale(self, generation: int) -> bool:
-        return generation != self._generation
-
-    def _run(
-        self, generation: int, scene: Scene, tasks: list[Task], s: Settings, sel: Selection, shown: tuple
+    def _show(
+        self, scene: Scene, s: Settings, sel: Selection, shown: tuple, results: dict, final: bool
     ) -> None:
-        job = Job(cancelled=partial(self._stale, generation))
-        total, done, fresh = sum(t.weight for t in tasks), 0.0, False
-        try:
-            for task in tasks:
-                if job.cancelled():
-                    return
-                if fresh and task.weight >= PARTIAL_WEIGHT and task.key not in self.cache:
-                    # a long task follows: show what is new now, the older results meanwhile
-                    self.dispatch(
-                        partial(
-                            self._publish, generation, scene, {**scene.results, **job.results}, s, sel, None
-                        )
-                    )
-                fresh = fresh or task.key not in self.cache
-                job.progress = partial(
-                    self._report, generation, done / total, task.weight / total, task.label
-                )
-                job.progress(0.0)
-                job.results[task.name] = self.cache.get_or_compute(task.key, partial(task.run, job))
-                done += task.weight
-        except Cancelled:
-            return
-        except Exception as exc:  # noqa: BLE001 - a bug: logged with its traceback, reported in one line
-            log.exception("run failed")
-            message = f"Internal error ({type(exc).__name__}: {exc}); the server log has the details"
-            self.dispatch(partial(self._fail, generation, message))
-            return
-        self.dispatch(partial(self._publish, generation, scene, job.results, s, sel, shown))
-
-    def _report(self, generation: int, start: float, weight: float, label: str, fraction: float) -> None:
-        percent = int(100 * min(start + weight * fraction, 1.0))
-        if (generation, percent, label) == self._reported:
-            return
-        self._reported = (generation, percent, label)
-
-        def update():
-            if not self._stale(generation):
-                self.param.update(progress=percent, status=computing(label))
-
-        self.dispatch(update)
-
-    def _fail(self, generation: int, message: str) -> None:
-        if not self._stale(generation):
-            self.param.update(error=message, busy=False, status="")
-
-    def _publish(
-        self, generation: int, scene: Scene, results: dict, s: Settings, sel: Selection, shown: tuple
-    ) -> None:
-        if self._stale(generation):
-            return
-        scene.publish(results, s, sel)
-        if shown is not None:  # the final results of the request (``None``: partial ones)
+        """Publish ``results`` into ``scene``: the final ones of the request, or those computed so far
+        (shown with the scene's older results)."""
+        scene.publish(results if final else {**scene.results, **results}, s, sel)
+        if final:
             self._shown[scene.key] = shown
-            self.param.update(busy=False, progress=100, status="")

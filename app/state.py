@@ -6,18 +6,23 @@ cycles, 1/N). Values are stored as typed and checked by
 :meth:`Controls.settings` freezes valid controls into a hashable
 :class:`Settings` with the grids derived from them.
 
-A :class:`Task` is one cached computation: its ``key`` lists exactly the
-parameters it depends on, so that a change invalidates only the results that
-depend on it (``k_w`` is not in the key of the FRF without wear, ``Nh`` not in
-the key of the linear FRFs). :class:`Tasks` builds them for a settings.
+A :class:`Task` is one cached computation, keyed by the call it makes
+(:func:`call_key`: the function and its arguments). Each call takes exactly
+what its result depends on, so that a change invalidates only the results that
+depend on it (``k_w`` is not an argument of the FRF without wear, ``Nh`` not
+one of the linear FRFs, ``F_ex`` not one of the regime map over ``r``).
+:meth:`Tasks.call` makes a task of any call (the Interface and Study tabs use
+it too); the other :class:`Tasks` methods build the scenes' tasks for a settings.
 """
 
 from __future__ import annotations
 
+import inspect
 import logging
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -27,7 +32,7 @@ import fretwear
 from fretwear.parameters import CONTROLS, Parameter
 from fretwear.studies.maps import LazyHistories
 
-from .backend import Backend, Cancelled, Failure, ModelSpec, Progress, ResultCache
+from .backend import Backend, Cancelled, Failure, Grid, ModelSpec, ResultCache
 
 __all__ = [
     "METHODS",
@@ -46,6 +51,9 @@ __all__ = [
     "Task",
     "Tasks",
     "Job",
+    "WearAfter",
+    "call_key",
+    "file_stamp",
     "CONVERGENCE_HARMONICS",
 ]
 
@@ -297,20 +305,10 @@ class Controls(param.Parameterized):
         problems = self.problems()
         if problems:
             raise ValueError("; ".join(problems))
-        return Settings(
-            model=ModelSpec(float(self.fex), float(self.mu), float(self.normal_load)),
-            kw=float(self.kw),
-            harmonics=int(self.harmonics),
-            degree=int(self.degree),
-            fmin=float(self.fmin),
-            fmax=float(self.fmax),
-            horizon=float(self.horizon),
-            method=self.method,
-            dynamics=self.dynamics,
-            tol=float(self.tol),
-            n_frequencies=int(self.n_frequencies),
-            n_cycles=int(self.n_cycles),
-        )
+        # each number as its table entry types it; the model's three make the model's key
+        values = {name: (int if p.integer else float)(getattr(self, name)) for name, p in NUMBERS.items()}
+        model = ModelSpec(*(values.pop(name) for name in ("fex", "mu", "normal_load")))
+        return Settings(model=model, method=self.method, dynamics=self.dynamics, **values)
 
     def record(self) -> dict[str, Any]:
         """The controls as a settings record (:mod:`fretwear.figures.record` keys), as they stand."""
@@ -345,19 +343,24 @@ class Settings:
     n_cycles: int
 
     @property
-    def frequencies(self) -> np.ndarray:
+    def frequency_grid(self) -> Grid:
         """Frequency grid of the maps (Hz)."""
-        return np.linspace(self.fmin, self.fmax, self.n_frequencies)
+        return Grid(self.fmin, self.fmax, self.n_frequencies)
 
     @property
-    def frf_frequencies(self) -> np.ndarray:
+    def frequencies(self) -> np.ndarray:
+        """The values of :attr:`frequency_grid` (Hz)."""
+        return self.frequency_grid.values
+
+    @property
+    def frf_grid(self) -> Grid:
         """Frequency grid of the nonlinear FRF (Hz), four times finer than the maps'."""
-        return np.linspace(self.fmin, self.fmax, 4 * (self.n_frequencies - 1) + 1)
+        return Grid(self.fmin, self.fmax, 4 * (self.n_frequencies - 1) + 1)
 
     @property
-    def linear_frequencies(self) -> np.ndarray:
+    def linear_grid(self) -> Grid:
         """Frequency grid of the linear FRFs (Hz)."""
-        return np.linspace(self.fmin, self.fmax, 1001)
+        return Grid(self.fmin, self.fmax, 1001)
 
     @property
     def cycles(self) -> np.ndarray:
@@ -365,9 +368,14 @@ class Settings:
         return fretwear.wear.cycle_grid(self.horizon, self.n_cycles)
 
     @property
-    def ratios(self) -> np.ndarray:
+    def ratio_grid(self) -> Grid:
         """Load ratios ``r = F_ex / (mu F_N)`` of the regime map."""
-        return np.linspace(*RATIOS[:2], RATIOS[2])
+        return Grid(*RATIOS)
+
+    @property
+    def ratios(self) -> np.ndarray:
+        """The values of :attr:`ratio_grid`."""
+        return self.ratio_grid.values
 
     @property
     def dense_cycles(self) -> np.ndarray:
@@ -427,12 +435,16 @@ class Settings:
 
 
 class Job:
-    """What a task sees while it runs: the earlier results of its run, progress and cancellation."""
+    """What a task sees while it runs: the earlier results of its run, progress and cancellation.
+
+    ``progress(fraction)`` reports the task's progress; ``progress(fraction, stage)`` also says what it
+    computes now (the progress line shows the stage instead of the task's label).
+    """
 
     def __init__(self, cancelled: Callable[[], bool] = lambda: False) -> None:
         self.results: dict[str, Any] = {}
         self.cancelled = cancelled
-        self.progress: Progress = lambda _fraction: None
+        self.progress: Callable[..., None] = lambda _fraction, _stage=None: None
 
 
 @dataclass(frozen=True)
@@ -444,7 +456,7 @@ class Task:
     name : str
         Name of the result in the scene.
     key : tuple
-        Cache key: the computation and every parameter it depends on.
+        Cache key: the computation and every parameter it depends on (:func:`call_key`).
     run : callable
         ``run(job) -> result``; a library error gives a :class:`Failure`.
     label : str
@@ -460,6 +472,17 @@ class Task:
     weight: float = 1.0
 
 
+def call_key(function: Callable, *args: Any, **kwargs: Any) -> tuple:
+    """The cache key of ``function(*args, **kwargs)``: the function's name, then its arguments.
+
+    The arguments must be hashable (grids as :class:`~app.backend.Grid`, options as pairs): an array
+    raises ``TypeError`` here rather than in the cache.
+    """
+    key = (function.__name__, *args, *sorted(kwargs.items()))
+    hash(key)
+    return key
+
+
 def _guard(compute: Callable[[], Any]) -> Any:
     """``compute()``, with any library error turned into a :class:`Failure`."""
     try:
@@ -468,11 +491,14 @@ def _guard(compute: Callable[[], Any]) -> Any:
         raise
     except Exception as exc:  # noqa: BLE001 - shown to the user as a message, logged with its traceback
         log.warning("computation failed", exc_info=True)
-        return Failure(f"{type(exc).__name__}: {exc}")
+        return Failure(f"{type(exc).__name__}: {exc}", " ".join(str(exc).split()))
 
 
-def _grid(fmin: float, fmax: float, n: int) -> tuple:
-    return ("grid", fmin, fmax, n)
+def file_stamp(path: str | Path) -> float:
+    """Modification time of the file or folder ``path`` (s; -1 when missing): in the key of a call that
+    reads it, so that a changed file is another call."""
+    path = Path(path)
+    return path.stat().st_mtime if path.exists() else -1.0
 
 
 def _digits(value: float) -> float:
@@ -480,85 +506,93 @@ def _digits(value: float) -> float:
     return float(f"{value:.12g}")
 
 
-def _wear_after(job: Job, history: Task | None, cycles: float) -> np.ndarray | Failure | None:
-    """The worn depths after ``cycles`` by the result of ``history`` in ``job`` (None without history)."""
-    if history is None:
-        return None
-    h = job.results[history.name]
-    if isinstance(h, Failure):
-        return Failure(f"no {history.label}: {h}")
-    return h.at([cycles])["wear"][0]
+@dataclass(frozen=True)
+class WearAfter:
+    """An argument of a task: the worn depths after ``cycles`` by the wear history of an earlier task
+    of the same run, resolved when the task runs (its key holds the history's key and ``cycles``)."""
+
+    history: tuple
+    cycles: float
+    name: str = field(compare=False)
+    label: str = field(compare=False)
+
+    @classmethod
+    def of(cls, history: Task | None, cycles: float) -> WearAfter | None:
+        """The wear after ``cycles`` by task ``history`` (``None`` without one: the unworn contact)."""
+        return None if history is None else cls(history.key, float(cycles), history.name, history.label)
+
+    def resolve(self, job: Job) -> np.ndarray | Failure:
+        """The worn depths (m) from the history's result in ``job`` (a :class:`Failure` if it failed)."""
+        h = job.results[self.name]
+        if isinstance(h, Failure):
+            return Failure(f"no {self.label}: {h}", h.reason)
+        return h.at([self.cycles])["wear"][0]
 
 
 class Tasks:
-    """Builds the tasks of the scenes, each with the cache key of what it depends on."""
+    """Builds the tasks of the scenes, each keyed by the call it caches (:func:`call_key`)."""
 
     def __init__(self, backend: Backend, cache: ResultCache) -> None:
         self.backend, self.cache = backend, cache
 
+    def call(
+        self, name: str, label: str, weight: float, function: Callable, *args: Any, **kwargs: Any
+    ) -> Task:
+        """The task ``name`` that computes ``function(*args, **kwargs)``, keyed by that call.
+
+        ``function`` (a :class:`~app.backend.Backend` method, or a pipeline of library calls) gets the
+        run's ``progress`` and ``cancelled`` when it takes them; a :class:`WearAfter` argument is
+        resolved from the run's earlier results; a library error gives a :class:`Failure`.
+        """
+        hooks = [h for h in ("progress", "cancelled") if h in inspect.signature(function).parameters]
+
+        def run(job: Job) -> Any:
+            values = [a.resolve(job) if isinstance(a, WearAfter) else a for a in args]
+            failed = next((v for v in values if isinstance(v, Failure)), None)
+            if failed is not None:
+                return failed
+            return _guard(lambda: function(*values, **kwargs, **{h: getattr(job, h) for h in hooks}))
+
+        return Task(name, call_key(function, *args, **kwargs), run, label, weight)
+
     def linear(self, s: Settings, state: str) -> Task:
         """Linear FRF with the contact stuck or open: depends on ``F_ex`` and the band only."""
-        f = s.linear_frequencies
-        return Task(
-            f"linear_{state}",
-            ("linear", state, s.model.fex, _grid(s.fmin, s.fmax, len(f))),
-            lambda job: _guard(lambda: self.backend.linear(s.model, f, state)),
-            f"linear FRF ({state})",
-            0.1,
-        )
+        b = self.backend
+        return self.call(f"linear_{state}", f"linear FRF ({state})", 0.1, b.linear, s.model.linear_part(),
+                         s.linear_grid, state)  # fmt: skip
 
     def frf(self, s: Settings) -> Task:
         """Nonlinear FRF without wear: not ``k_w``, the method or the horizon."""
-        f = s.frf_frequencies
-        return Task(
-            "frf",
-            ("frf", s.model, _grid(s.fmin, s.fmax, len(f)), s.harmonics),
-            lambda job: _guard(lambda: self.backend.frf(s.model, f, s.harmonics)),
-            "nonlinear FRF",
-            1.0,
-        )
+        return self.call("frf", "nonlinear FRF", 1.0, self.backend.frf, s.model, s.frf_grid, s.harmonics)
 
     def regime(self, s: Settings) -> Task:
         """Regime map over frequency x ``r``: not ``F_ex`` (the map is over ``r``), ``k_w`` or the method."""
-        spec = s.model.unit_forcing()
-        key = ("regime", spec, _grid(s.fmin, s.fmax, s.n_frequencies), RATIOS, s.harmonics)
+        b = self.backend
+        return self.call("regime", "regime map", 3.0, b.regime, s.model.unit_forcing(), s.frequency_grid,
+                         s.ratio_grid, s.harmonics)  # fmt: skip
+
+    def _map(self, s: Settings, name: str, label: str, weight: float, method: str, options: tuple) -> Task:
+        """Wear map by ``method`` with ``options`` over the settings' grids; stores each frequency's
+        history in the cache too, under the key of its own task (:meth:`history`)."""
+        task = self.call(name, label, weight, self.backend.wear_map, s.model, s.frequency_grid, s.horizon,
+                         s.n_cycles, method, s.kw, options)  # fmt: skip
 
         def run(job: Job):
-            return _guard(
-                lambda: self.backend.regime(
-                    s.model, s.frequencies, s.ratios, s.harmonics, job.progress, job.cancelled
-                )
-            )
-
-        return Task("regime", key, run, "regime map", 3.0)
-
-    def wear_map_key(self, s: Settings, method: str | None = None, options: tuple | None = None) -> tuple:
-        """Cache key of a wear map: the model, the grids, the method (default the selected one) and only
-        the options it uses."""
-        grid = _grid(s.fmin, s.fmax, s.n_frequencies)
-        method, options = (s.method, tuple(s.options().items())) if method is None else (method, options)
-        return ("wear_map", s.model, grid, s.horizon, s.n_cycles, method, s.kw, options)
-
-    def history_key(self, s: Settings, f_hz: float, method: str, harmonics: int | None = None) -> tuple:
-        """Cache key of a wear history: the same as the wear map's row at ``f_hz`` (12 digits)."""
-        options = tuple(s.options(method, harmonics).items())
-        return ("history", s.model, _digits(f_hz), method, s.kw, s.horizon, options)
-
-    def wear_map(self, s: Settings) -> Task:
-        """Wear map over frequency x cycles; stores each frequency's history in the cache too."""
-
-        def run(job: Job):
-            result = _guard(
-                lambda: self.backend.wear_map(
-                    s.model, s.frequencies, s.cycles, s.method, s.kw, s.options(), job.progress, job.cancelled
-                )
-            )
+            result = task.run(job)
             if not isinstance(result, Failure) and not isinstance(result.histories, LazyHistories):
                 for f, history in zip(s.frequencies, result.histories, strict=True):
-                    self.cache.put(self.history_key(s, f, s.method), history)
+                    self.cache.put(self._history_key(s, f, method, options), history)
             return result
 
-        return Task("wear_map", self.wear_map_key(s), run, f"wear map ({s.method})", 10.0)
+        return replace(task, run=run)
+
+    def _history_key(self, s: Settings, f_hz: float, method: str, options: tuple) -> tuple:
+        return call_key(self.backend.history, s.model, _digits(f_hz), method, s.kw, s.horizon, options)
+
+    def wear_map(self, s: Settings) -> Task:
+        """Wear map over frequency x cycles by the selected method, with only the options it uses."""
+        options = tuple(s.options().items())
+        return self._map(s, "wear_map", f"wear map ({s.method})", 10.0, s.method, options)
 
     def history(
         self,
@@ -570,18 +604,15 @@ class Tasks:
         basis: str | None = None,
     ) -> Task:
         """Wear evolution at ``f_hz`` by ``method`` (default the selected one); ``basis``: the polynomial
-        method's slow-time basis (default the library's)."""
+        method's slow-time basis (default the library's). Its key is that of the wear map's row at
+        ``f_hz`` (12 digits)."""
         method = method or s.method
-        options = s.options(method, harmonics) | ({"basis": basis} if basis else {})
-
-        def run(job: Job):
-            return _guard(lambda: self.backend.history(s.model, f_hz, method, s.kw, s.horizon, options))
-
+        options = tuple((s.options(method, harmonics) | ({"basis": basis} if basis else {})).items())
         label = f"wear history ({method}{'' if harmonics is None else f', Nh = {harmonics}'}"
         label += f"{'' if basis is None else f', {basis} basis'})"
         weight = 5.0 if method == "time" else 1.0
-        key = self.history_key(s, f_hz, method, harmonics) + ((("basis", basis),) if basis else ())
-        return Task(name, key, run, label, weight)
+        return self.call(name, label, weight, self.backend.history, s.model, _digits(f_hz), method, s.kw,
+                         s.horizon, options)  # fmt: skip
 
     def exact_history(self, s: Settings, f_hz: float, name: str = EXACT) -> Task:
         """The reference wear evolution at ``f_hz``: the exact method on the exact (event-driven) dynamics.
@@ -591,14 +622,8 @@ class Tasks:
         harmonic truncation, no slow-time error; what every approximation the
         sidebar selects is measured against.
         """
-
-        def run(job: Job):
-            return _guard(
-                lambda: self.backend.history(s.model, f_hz, "exact", s.kw, s.horizon, dict(_EXACT_OPTIONS))
-            )
-
-        key = ("history", s.model, _digits(f_hz), "exact", s.kw, s.horizon, _EXACT_OPTIONS)
-        return Task(name, key, run, "exact wear (event-driven dynamics)", 2.0)
+        return self.call(name, "exact wear (event-driven dynamics)", 2.0, self.backend.history, s.model,
+                         _digits(f_hz), "exact", s.kw, s.horizon, _EXACT_OPTIONS)  # fmt: skip
 
     def exact_wear_map(self, s: Settings) -> Task:
         """The reference wear map: the exact method on the exact dynamics, over the map's grids.
@@ -607,51 +632,21 @@ class Tasks:
         structure and frequency: a first map costs about 0.1 s per frequency,
         later changes of ``F_ex``, ``mu``, ``k_w`` or ``u0`` milliseconds.
         """
-
-        def run(job: Job):
-            return _guard(
-                lambda: self.backend.wear_map(
-                    s.model, s.frequencies, s.cycles, "exact", s.kw, dict(_EXACT_OPTIONS), job.progress,
-                    job.cancelled,
-                )
-            )  # fmt: skip
-
-        key = self.wear_map_key(s, "exact", _EXACT_OPTIONS)
-        return Task(EXACT_MAP, key, run, "exact wear map (event-driven dynamics)", 5.0)
+        label = "exact wear map (event-driven dynamics)"
+        return self._map(s, EXACT_MAP, label, 5.0, "exact", _EXACT_OPTIONS)
 
     def exact_point(self, s: Settings, f_hz: float, cycles: float, history: Task | None) -> Task:
         """The exact periodic orbit at ``f_hz`` after ``cycles``, worn as the exact ``history`` says."""
-
-        def run(job: Job):
-            wear = _wear_after(job, history, cycles)
-            if isinstance(wear, Failure):
-                return wear
-            return _guard(lambda: self.backend.exact_point(s.model, f_hz, wear))
-
-        source = None if history is None else history.key
-        key = ("exact_point", s.model, _digits(f_hz), source, float(cycles))
-        return Task(EXACT_POINT, key, run, "exact periodic response", 0.3)
+        return self.call(EXACT_POINT, "exact periodic response", 0.3, self.backend.exact_point, s.model,
+                         _digits(f_hz), WearAfter.of(history, cycles))  # fmt: skip
 
     def point(self, s: Settings, f_hz: float, cycles: float, history: Task | None) -> Task:
         """Periodic response at ``f_hz`` after ``cycles`` (the wear of ``history`` there; none at 0): on
         the selected dynamics (the exact orbit when they are the exact ones, else DLFT with ``Nh``)."""
         if s.dynamics == "shooting":
             return replace(self.exact_point(s, f_hz, cycles, history), name="point")
-
-        def run(job: Job):
-            wear = _wear_after(job, history, cycles)
-            if isinstance(wear, Failure):
-                return wear
-            return _guard(lambda: self.backend.point(s.model, f_hz, s.harmonics, wear))
-
-        source = None if history is None else history.key
-        return Task(
-            "point",
-            ("point", s.model, _digits(f_hz), s.harmonics, source, float(cycles)),
-            run,
-            "periodic response",
-            0.3,
-        )
+        return self.call("point", "periodic response", 0.3, self.backend.point, s.model, _digits(f_hz),
+                         s.harmonics, WearAfter.of(history, cycles))  # fmt: skip
 
     def cost(self, s: Settings, f_hz: float, ladder: str, wear: bool) -> Task:
         """Cost ladder at ``f_hz`` (:data:`LADDERS`): not ``Nh``, the method or the tolerances.
@@ -659,16 +654,7 @@ class Tasks:
         With ``wear``, the ladder has the wear rungs too and depends on ``k_w``
         and the horizon; without, it does not.
         """
-        horizon = (s.kw, s.horizon) if wear else None
-
-        def run(job: Job):
-            kw, cycles = horizon or (None, None)
-            return _guard(
-                lambda: self.backend.cost(
-                    s.model, f_hz, LADDERS[ladder], kw, cycles, job.progress, job.cancelled
-                )
-            )
-
+        kw, cycles = (s.kw, s.horizon) if wear else (None, None)
         label = f"cost ladder ({ladder}{', with wear' if wear else ''})"
-        key = ("cost", s.model, _digits(f_hz), ladder, horizon)
-        return Task("cost", key, run, label, 10.0 if wear else 1.0)
+        return self.call("cost", label, 10.0 if wear else 1.0, self.backend.cost, s.model, _digits(f_hz),
+                         tuple(LADDERS[ladder].items()), kw, cycles)  # fmt: skip

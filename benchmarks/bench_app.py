@@ -36,16 +36,18 @@ from __future__ import annotations
 
 import argparse
 import os
-import socket
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
-import urllib.request
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from app.serve import TEXT_JS  # noqa: E402
+from app.serve import serve as serve_app  # noqa: E402
+
 CHROMIUM = "/usr/bin/chromium"
 ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]
 #: targets (s)
@@ -64,21 +66,6 @@ SCREENSHOTS = {
     "interface": ("", "Interface", "Interface: FRF of pad_x"),
     "study": ("", "Study", "Study: wear life"),
 }
-#: the page's text, shadow DOM included (Panel renders into shadow roots)
-TEXT_JS = """
-() => {
-  const out = [];
-  function walk(node) {
-    if (node.shadowRoot) walk(node.shadowRoot);
-    for (const c of node.childNodes) {
-      if (c.nodeType === Node.TEXT_NODE) out.push(c.textContent);
-      else if (c.nodeType === Node.ELEMENT_NODE && c.tagName !== "SCRIPT" && c.tagName !== "STYLE") walk(c);
-    }
-  }
-  walk(document.body);
-  return out.join(" ");
-}
-"""
 #: the visible plot titles of a page, from BokehJS
 TITLES_JS = """
 () => {
@@ -103,41 +90,10 @@ def shows(prefixes: list[str]) -> str:
 
 
 def serve(log: Path, app_args: tuple[str, ...] = ()) -> tuple[subprocess.Popen, str]:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    env = {
-        **os.environ,
-        "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
-    }
-    command = [
-        sys.executable,
-        "-m",
-        "panel",
-        "serve",
-        "app/app.py",
-        "--address",
-        "127.0.0.1",
-        "--port",
-        str(port),
-        "--allow-websocket-origin",
-        f"127.0.0.1:{port}",
-        "--setup",
-        "app/warmup.py",
-        *(["--args", *app_args] if app_args else []),
-    ]
-    with open(log, "w") as out:
-        proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=out, stderr=subprocess.STDOUT)
-    url, deadline = f"http://127.0.0.1:{port}/app", time.monotonic() + 300
-    while True:
-        try:
-            with urllib.request.urlopen(url, timeout=60):
-                return proc, url
-        except OSError:
-            if proc.poll() is not None or time.monotonic() > deadline:
-                proc.kill()
-                sys.exit(f"the server did not start:\n{log.read_text()}")
-            time.sleep(0.5)
+    try:
+        return serve_app(log, app_args, timeout=300)
+    except RuntimeError as exc:
+        sys.exit(str(exc))
 
 
 def first_pages(browser, url: str, repeats: int) -> tuple[list[float], list[float]]:

@@ -20,12 +20,10 @@ import csv
 import json
 import os
 import re
-import socket
 import struct
 import subprocess
 import sys
 import time
-import urllib.request
 from pathlib import Path
 
 import pytest
@@ -35,6 +33,8 @@ pytestmark = pytest.mark.browser
 ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # the dashboard package lives at the repository root, beside fretwear
     sys.path.insert(0, str(ROOT))
+from app.serve import TEXT_JS, serve  # noqa: E402
+
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = [
     "--no-sandbox",
@@ -128,27 +128,6 @@ PLOT_JS = """
   return null;
 }
 """
-#: the page's text, shadow DOM included (Bokeh and Panel render into shadow roots)
-TEXT_JS = """
-() => {
-  const out = [];
-  function walk(node) {
-    if (node.shadowRoot) walk(node.shadowRoot);
-    for (const c of node.childNodes) {
-      if (c.nodeType === Node.TEXT_NODE) out.push(c.textContent);
-      else if (c.nodeType === Node.ELEMENT_NODE && c.tagName !== "SCRIPT" && c.tagName !== "STYLE") walk(c);
-    }
-  }
-  walk(document.body);
-  return out.join(" ");
-}
-"""
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def start_server(
@@ -162,41 +141,18 @@ def start_server(
     """
     if not Path(CHROMIUM).exists():
         pytest.skip(f"browser test: {CHROMIUM} is missing (apt-get install chromium)")
-    port = free_port()
-    paths = [str(ROOT), str(Path(__file__).parent), os.environ.get("PYTHONPATH")]
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, paths))}
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join(
+            filter(None, [str(Path(__file__).parent), os.environ.get("PYTHONPATH")])
+        ),
+    }
     if library:
         env["FRETWEAR_APP_LIBRARY"] = library
-    command = [
-        sys.executable,
-        "-m",
-        "panel",
-        "serve",
-        "app/app.py",
-        "--address",
-        "127.0.0.1",
-        "--port",
-        str(port),
-        "--allow-websocket-origin",
-        f"127.0.0.1:{port}",
-        "--setup",
-        "app/warmup.py",
-        *(["--args", *args] if args else []),
-    ]
-    with open(log_path, "w") as log:
-        proc = subprocess.Popen(command, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
-    url = f"http://127.0.0.1:{port}/app"
-    deadline = time.monotonic() + 900  # a fresh install compiles every kernel before the server starts
-    while True:
-        try:
-            with urllib.request.urlopen(url, timeout=60) as response:
-                if response.status == 200:
-                    return proc, url
-        except OSError:
-            if proc.poll() is not None or time.monotonic() > deadline:
-                proc.kill()
-                pytest.fail(f"the server did not start:\n{log_path.read_text()}")
-            time.sleep(0.5)
+    try:
+        return serve(log_path, args, env)
+    except RuntimeError as exc:
+        pytest.fail(str(exc))
 
 
 def stop_server(proc: subprocess.Popen, log_path: Path) -> None:

@@ -23,15 +23,12 @@ def test_warm_up_builds_the_sliding_tables_of_the_default_exact_map(tmp_path, mo
         sliding, "_orbits", lambda table, at, *a, **k: solves.append(len(at)) or shoot(table, at, *a, **k)
     )
     s = Controls().settings()  # the defaults: what the first page with a wear number computes
-    wm = Backend(workers=2).wear_map(
-        s.model, s.frequencies, s.cycles, "exact", s.kw, {"dynamics": "shooting"}
-    )
+    exact = ("exact", s.kw, (("dynamics", "shooting"),))
+    wm = Backend(workers=2).wear_map(s.model, s.frequency_grid, s.horizon, s.n_cycles, *exact)
     assert solves == []  # every table came from the warm-up
     assert wm.wear.shape == (len(s.frequencies), len(s.cycles), 1) and wm.wear_fraction.max() > 0.5
     # another F_ex in range: the same tables (a forcing up to 4 times larger needs no solve)
-    other = Backend().wear_map(
-        _forcing_times(s.model, 1.5), s.frequencies, s.cycles, "exact", s.kw, {"dynamics": "shooting"}
-    )
+    other = Backend().wear_map(_forcing_times(s.model, 1.5), s.frequency_grid, s.horizon, s.n_cycles, *exact)
     assert solves == [] and not (other.wear == wm.wear).all()
 
 

@@ -17,11 +17,9 @@ are kept in the server's shared cache.
 
 from __future__ import annotations
 
-import logging
-import threading
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -35,12 +33,13 @@ from fretwear.figures.plots import ensure_backend, holoviews, overlay_options, s
 from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
 
-from .backend import Cancelled, ResultCache, shared_cache
-from .live import live_pane
+from ..backend import Cancelled, Failure, shared_backend, shared_cache
+from ..live import live_pane, message_list, run_status
+from ..session import Runner
+from ..state import Tasks, file_stamp
+from .base import Exports
 
 __all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "compute_interface", "MODELS", "PAPER"]
-
-log = logging.getLogger(__name__)
 
 PARTIAL, GROSS, FILE = "benchmark, partial slip", "benchmark, gross slip", "model file"
 PAPER = "paper's 2-DOF (one pair)"
@@ -76,6 +75,8 @@ class InterfaceSettings:
     fmin: float = 20.0
     fmax: float = 200.0
     n_frequencies: int = 10
+    #: modification time of the model file (s): a changed file is another run (its cache key)
+    stamp: float | None = None
 
     def problems(self) -> list[str]:
         """Invalid values, one line each naming the setting and its valid range."""
@@ -170,19 +171,22 @@ def compute_interface(
     }
 
 
-class InterfaceScene(param.Parameterized):
+class InterfaceScene(Exports, Runner):
     """The Interface tab's state: its settings, the run in progress and the published results.
+
+    Its run is one task (:func:`compute_interface`, keyed by its settings) on
+    the session's machinery (:class:`~app.session.Runner`, :class:`~app.state.Tasks`).
 
     Parameters
     ----------
     path : str or Path, optional
         An interface model file (``--interface-model``): offered as the third model.
+    tasks : Tasks, optional
+        Builds the task and holds the result cache (default: the server's shared cache).
     executor : Executor, optional
         Where runs go; ``None`` computes in the calling thread (tests).
     dispatch : callable, optional
         ``dispatch(callback)`` runs ``callback`` where the page may be updated.
-    cache : ResultCache, optional
-        Result cache (default: the server's shared cache).
     """
 
     key = "interface"
@@ -196,31 +200,24 @@ class InterfaceScene(param.Parameterized):
     harmonics = param.Integer(5, doc="Harmonics Nh")
     kw = param.Number(1e-14, doc="Archard coefficient (1/Pa)")
     cycles = param.Number(3e4, doc="Wear horizon (cycles)")
-    busy = param.Boolean(False)
-    progress = param.Integer(0, bounds=(0, 100))
-    status = param.String("")
-    error = param.String("")
     notes = param.List([])
     version = param.Integer(0)
 
     def __init__(
         self,
         path: str | Path | None = None,
+        tasks: Tasks | None = None,
         executor: Executor | None = None,
         dispatch: Callable[[Callable[[], None]], None] | None = None,
-        cache: ResultCache | None = None,
         **params: Any,
     ) -> None:
-        super().__init__(**params)
+        self.tasks = tasks or Tasks(shared_backend(), shared_cache())
+        super().__init__(self.tasks.cache, executor, dispatch, **params)
         self.path = None if path is None else str(path)
         if self.path is not None:
             self.param.model.objects = [GROSS, PARTIAL, PAPER, FILE]
-        self.executor, self.dispatch = executor, dispatch or (lambda callback: callback())
-        self.cache = cache if cache is not None else shared_cache()
         self.results: dict[str, Any] = {}
         self.active = False
-        self._generation = 0
-        self._lock = threading.Lock()
         self.param.watch(self._defaults, ["model"])  # first: the run below sees the model's settings
         self.param.watch(self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles"])
 
@@ -241,6 +238,7 @@ class InterfaceScene(param.Parameterized):
             cycles=float(self.cycles),
             fmin=0.4 * float(self.frequency),
             fmax=4.0 * float(self.frequency),
+            stamp=file_stamp(self.path) if self.model == FILE else None,
         )
 
     def activate(self) -> None:
@@ -253,65 +251,19 @@ class InterfaceScene(param.Parameterized):
         """Show the results of the current settings: from the cache, or start a run."""
         if not self.active:
             return
-        with self._lock:
-            self._generation += 1
-            generation = self._generation
+        generation = self.new_request()
         s = self.settings()
         problems = s.problems()
         if problems:
-            self.param.update(error="Invalid input: " + "; ".join(problems), busy=False, status="")
+            self.invalid(problems)
             return
-        key = ("interface", *asdict(s).values())
-        self.error = ""
-        if key in self.cache:
-            self._publish(generation, self.cache.get(key))
-            return
-        self.param.update(busy=True, progress=0, status="Computing the reduced model")
-        run = partial(self._run, generation, s, key)
-        if self.executor is None:
-            run()
-        else:
-            self.executor.submit(run)
+        task = self.tasks.call("interface", "the reduced model", 1.0, compute_interface, s)
+        self.run(generation, [task], self._publish_results)
 
-    def close(self) -> None:
-        """Stop the pending run (the browser session ended)."""
-        with self._lock:
-            self._generation += 1
-
-    def _stale(self, generation: int) -> bool:
-        return generation != self._generation
-
-    def _report(self, generation: int, fraction: float, label: str) -> None:
-        def update():
-            if not self._stale(generation):
-                self.param.update(progress=int(100 * fraction), status=f"Computing {label}")
-
-        self.dispatch(update)
-
-    def _run(self, generation: int, s: InterfaceSettings, key: tuple) -> None:
-        try:
-            results = self.cache.get_or_compute(
-                key,
-                partial(
-                    compute_interface, s, partial(self._report, generation), partial(self._stale, generation)
-                ),
-            )
-        except Cancelled:
-            return
-        except Exception as exc:  # noqa: BLE001 - a bad model file or a bug: one line in the page
-            log.warning("interface run failed: %s", exc, exc_info=not isinstance(exc, (ValueError, OSError)))
-            message = " ".join(str(exc).split())
-
-            def fail():
-                if not self._stale(generation):
-                    self.param.update(error=f"The interface run failed: {message}", busy=False, status="")
-
-            self.dispatch(fail)
-            return
-        self.dispatch(partial(self._publish, generation, results))
-
-    def _publish(self, generation: int, results: dict[str, Any]) -> None:
-        if self._stale(generation):
+    def _publish_results(self, results: dict[str, Any], _final: bool) -> None:
+        results = results["interface"]
+        if isinstance(results, Failure):  # a bad model file, a solver that failed: one line in the page
+            self.error = f"The interface run failed: {results.reason}"
             return
         self.results = results
         notes = []
@@ -324,7 +276,7 @@ class InterfaceScene(param.Parameterized):
                 f"{', '.join(f'{f:.4g}' for f in bad)} Hz"
             )
         self.notes = notes
-        self.param.update(busy=False, progress=100, status="", version=self.version + 1)
+        self.version += 1
 
     # -- figures -----------------------------------------------------------------------------
     def records(self) -> np.ndarray:
@@ -440,12 +392,6 @@ class InterfaceScene(param.Parameterized):
             title=f"Interface: FRF of {name} before/after wear",
         )
 
-    def figure(self, name: str, live: bool = False):
-        """Figure ``name`` of the published results (empty layers before the first run)."""
-        if name not in self.figure_names:
-            raise ValueError(f"the interface scene has no figure {name!r}; it has {self.figure_names}")
-        return getattr(self, f"_figure_{name}")()
-
     # -- exports -----------------------------------------------------------------------------
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
         """``profiles``: one row per (record, pair), the CLI's columns; ``frf``: before/after wear."""
@@ -468,7 +414,8 @@ class InterfaceScene(param.Parameterized):
         }
         return {"profiles": profiles, "frf": frf}
 
-    def header(self) -> str:
+    def csv_header(self) -> str:
+        """``#`` lines of a CSV export: the model, the settings and the version."""
         s = self.settings()
         model = s.model if s.model != FILE else f"model file {Path(s.path).name}"
         lines = [
@@ -477,26 +424,6 @@ class InterfaceScene(param.Parameterized):
             f"fretwear {version()}",
         ]
         return "".join(f"# {line}\n" for line in lines)
-
-    def filename(self, name: str, fmt: str) -> str:
-        return f"fretwear_interface_{name}.{fmt}"
-
-    def export_csv(self, name: str) -> str:
-        tables = self.datasets()
-        if name not in tables:
-            raise ValueError(f"no dataset {name!r} in the interface scene (yet); available: {sorted(tables)}")
-        return figures.csv_text(tables[name], self.header())
-
-    def export_figure(self, name: str, fmt: str, options: figures.ExportOptions | None = None) -> bytes:
-        if fmt not in figures.FIGURE_FORMATS:
-            raise ValueError(f"fmt must be one of {figures.FIGURE_FORMATS}, got {fmt!r}")
-        if not self.results:
-            raise ValueError("nothing to export yet: the Interface scene has not been computed")
-        figures.load_backend("bokeh" if fmt == "html" else "matplotlib")
-        text = " ".join(self.header().replace("# ", "").splitlines())
-        return figures.figure_bytes(
-            self.figure(name), fmt, title=f"fretwear: interface, {name}", options=options, caption=text
-        )
 
 
 def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> list:
@@ -521,21 +448,7 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         box = kind(label=label, value=getattr(scene, name), width=120)
         box.link(scene, value=name)
         boxes.append(box)
-    bar = pn.indicators.Progress(
-        value=0, max=100, visible=False, sizing_mode="stretch_width", bar_color="info"
-    )
-    status = pn.pane.Markdown("")
-    error = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
-    notes = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
-
-    def show(*_events):
-        bar.visible, bar.value = scene.busy, scene.progress
-        status.object = f"{scene.status} ({scene.progress} %)" if scene.busy else ""
-        error.object, error.visible = scene.error, bool(scene.error)
-        notes.object = "\n".join(f"- {n}" for n in scene.notes)
-        notes.visible = bool(scene.notes)
-
-    scene.param.watch(show, ["busy", "progress", "status", "error", "notes"])
+    status, notes = run_status(scene), message_list(scene, "notes")
     panes = [
         live_pane(partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])])
         for name in scene.figure_names
@@ -549,12 +462,10 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         sizing_mode="stretch_width",
     )
     scene.activate()
-    show()
     return [
         explanation,
         pn.Row(model, nodes, *boxes, sizing_mode="stretch_width"),
-        error,
-        pn.Row(bar, status, sizing_mode="stretch_width"),
+        status,
         pn.GridBox(*panes, ncols=2, sizing_mode="stretch_width"),
         notes,
         export_card(scene),

@@ -17,8 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.backend import ResultCache
-from app.interface_scene import FILE, GROSS, PROFILES, InterfaceScene
+from app.backend import Backend, ResultCache
+from app.scenes.interface import FILE, GROSS, PROFILES, InterfaceScene, compute_interface
+from app.state import Tasks, call_key
 from fretwear import figures
 from fretwear.model import OPEN, SLIP, STICK
 
@@ -31,7 +32,7 @@ def layer(overlay, label):
 def run():
     figures.load_backend("bokeh")
     reports = []
-    scene = InterfaceScene(cache=ResultCache())
+    scene = InterfaceScene(tasks=Tasks(Backend(), ResultCache()))
     scene.param.watch(lambda e: reports.append((scene.progress, scene.status)), "progress")
     assert scene.results == {} and scene.version == 0  # nothing computes before the tab is shown
     scene.activate()
@@ -45,6 +46,8 @@ def test_nothing_computes_until_shown_then_one_run_with_progress(run):
     assert done == sorted(done) and done[-1] == 100 and len(done) >= 3
     assert any("wear history" in s for _p, s in reports) and any("FRF" in s for _p, s in reports)
     assert scene.model == GROSS and scene.results["converged"], scene.results["message"]
+    # the run is one task of the session's machinery, cached under the call it makes
+    assert scene.cache.get(call_key(compute_interface, scene.settings())) is scene.results
 
 
 def test_profiles_are_the_histories_and_the_load_is_carried(run):
@@ -100,19 +103,23 @@ def test_bad_input_and_a_bad_model_file_are_messages(run, tmp_path):
     assert scene.error == "" and scene.version >= 2  # the same settings again: from the cache
     bad = tmp_path / "bad.toml"
     bad.write_text('title = "x"\n[matrices]\nM = "missing.mtx"\n')
-    other = InterfaceScene(bad, cache=ResultCache())
+    other = InterfaceScene(bad, tasks=Tasks(Backend(), ResultCache()))
     assert FILE in other.param.model.objects
     other.model = FILE
     other.activate()
     assert other.error.startswith("The interface run failed: ") and "bad.toml" in other.error
     assert other.results == {} and not other.busy
+    # the file's failure is kept for these settings; a changed file is another run
+    before = other.settings()
+    os.utime(bad, (bad.stat().st_atime, bad.stat().st_mtime + 10))
+    assert other.settings() != before
 
 
 def test_the_papers_two_dof_model_is_a_choice_and_wears_like_the_single_contact():
     import fretwear as fw
-    from app.interface_scene import PAPER
+    from app.scenes.interface import PAPER
 
-    scene = InterfaceScene(cache=ResultCache())
+    scene = InterfaceScene(tasks=Tasks(Backend(), ResultCache()))
     scene.activate()
     scene.model = PAPER  # its own settings: the paper's case at 0.7 Hz
     assert (scene.frequency, scene.kw, scene.cycles) == (0.7, 1e-11, 2e4)
@@ -133,7 +140,7 @@ def test_the_papers_two_dof_model_is_a_choice_and_wears_like_the_single_contact(
 WARMED_RUN = """
 import json, fretwear.compile as c
 from numba.core import event
-from app.interface_scene import InterfaceSettings, compute_interface
+from app.scenes.interface import InterfaceSettings, compute_interface
 c.warm("interface")
 compiled = event.RecordingListener()
 event.register("numba:compile", compiled)

@@ -1,8 +1,8 @@
 """The Study scene: browse a parameter study written by ``fretwear study`` (nothing is recomputed).
 
 ``panel serve app/app.py --args --study RESULT.zarr`` opens the store once
-per server process (:func:`fretwear.studies.store.open_study`, held in
-memory) and every session slices it: over grid axes, a quantity along one
+per server process while it is unchanged (:func:`read_study`, a task in the
+server's shared cache) and every session slices it: over grid axes, a quantity along one
 axis with the others fixed (sliders); over random samples, the histogram of
 the cycles to a fraction of ``u0`` with its median and 5 / 95 % quantiles
 and the scatter of a quantity against each input; with the ``wear``
@@ -14,7 +14,6 @@ is one message in the page.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 from functools import partial
 from pathlib import Path
@@ -30,9 +29,13 @@ from fretwear.studies.compute import STATUS
 from fretwear.studies.store import open_study
 from fretwear.studies.summary import wear_life_summary
 
-from .live import live_pane
+from ..backend import Failure, shared_backend, shared_cache
+from ..live import live_pane, message_list
+from ..session import Runner
+from ..state import Tasks, file_stamp
+from .base import Exports
 
-__all__ = ["StudyScene", "load_study", "study_tab", "QUANTITIES"]
+__all__ = ["StudyScene", "read_study", "study_tab", "QUANTITIES"]
 
 #: the per-point quantities a study may hold: variable -> (label, unit, logarithmic axis)
 QUANTITIES = {
@@ -50,21 +53,14 @@ HOW_TO = """**No study is open.** Run a study (see the README's "Parameter studi
 
 then start the dashboard on it: `panel serve app/app.py --args --study wear_life.zarr`."""
 
-_LOADED: dict[str, tuple[float, Any]] = {}
-_LOCK = threading.Lock()
 
+def read_study(path: str, stamp: float):
+    """The study at ``path`` (an ``xarray.Dataset`` in memory, :func:`~fretwear.studies.store.open_study`).
 
-def load_study(path: str | Path):
-    """The study at ``path`` (an ``xarray.Dataset`` in memory), read once per process while unchanged.
-
-    Raises ``ValueError`` (one line) for a missing path or a store that is not a study.
+    ``stamp``, the store's modification time, makes a changed store another call (cache key). Raises
+    ``ValueError`` (one line) for a missing path or a store that is not a study.
     """
-    key = str(Path(path).resolve())
-    stamp = Path(path).stat().st_mtime if Path(path).exists() else -1.0
-    with _LOCK:
-        if key not in _LOADED or _LOADED[key][0] != stamp:
-            _LOADED[key] = (stamp, open_study(path))
-        return _LOADED[key][1]
+    return open_study(path)
 
 
 def _number(value: Any) -> str:
@@ -75,13 +71,18 @@ def _points(n: int) -> str:
     return f"{n} point" if n == 1 else f"{n} points"
 
 
-class StudyScene(param.Parameterized):
+class StudyScene(Exports, Runner):
     """The Study tab's state: the open study, how it is sliced, and what the slice shows.
+
+    The store is read by a task (:func:`read_study`) on the session's machinery
+    (:class:`~app.session.Runner`, :class:`~app.state.Tasks`), in the calling thread.
 
     Parameters
     ----------
     path : str or Path, optional
         The study's Zarr store; ``None``: no study (the tab says how to open one).
+    tasks : Tasks, optional
+        Builds the task and holds the result cache (default: the server's shared cache).
     """
 
     key = "study"
@@ -96,18 +97,25 @@ class StudyScene(param.Parameterized):
     version = param.Integer(0, doc="Incremented at each change: the figures redraw")
     notes = param.List([], doc="Failed points of the slice, counts")
 
-    def __init__(self, path: str | Path | None = None, **params: Any) -> None:
-        super().__init__(**params)
+    def __init__(self, path: str | Path | None = None, tasks: Tasks | None = None, **params: Any) -> None:
+        self.tasks = tasks or Tasks(shared_backend(), shared_cache())
+        super().__init__(self.tasks.cache, **params)
         self.path, self.ds = path, None
         if path is not None:
-            try:
-                self.ds = load_study(path)
-            except ValueError as exc:
-                self.error = str(exc)
+            stamp = file_stamp(path)
+            task = self.tasks.call("study", "the study", 1.0, read_study, str(Path(path).resolve()), stamp)
+            self.run(self.new_request(), [task], self._opened)
         if self.ds is not None:
             self._setup()
         self.param.watch(self._changed, ["axis", "quantity", "fraction", "input", "point"])
         self._changed()
+
+    def _opened(self, results: dict[str, Any], _final: bool) -> None:
+        ds = results["study"]
+        if isinstance(ds, Failure):
+            self.error = ds.reason
+        else:
+            self.ds = ds
 
     # -- structure of the study ----------------------------------------------------------
     def _setup(self) -> None:
@@ -395,7 +403,7 @@ class StudyScene(param.Parameterized):
             out["history"] = {"cycles": n, "wear_fraction": w}
         return out
 
-    def header(self) -> str:
+    def csv_header(self) -> str:
         """``#`` lines of a CSV export: the study, its path, the selected point and the version."""
         lines = [
             f"study: {self.ds.attrs.get('title', '')}",
@@ -405,26 +413,9 @@ class StudyScene(param.Parameterized):
         ]
         return "".join(f"# {line}\n" for line in lines)
 
-    def filename(self, name: str, fmt: str) -> str:
-        return f"fretwear_study_{name}.{fmt}"
-
-    def export_csv(self, name: str) -> str:
-        """Dataset ``name`` of the current slice as CSV text, after the study's ``#`` lines."""
-        tables = self.datasets()
-        if name not in tables:
-            raise ValueError(f"no dataset {name!r} in the study scene; available: {sorted(tables)}")
-        return figures.csv_text(tables[name], self.header())
-
-    def export_figure(self, name: str, fmt: str, options: figures.ExportOptions | None = None) -> bytes:
-        """Figure ``name`` as PNG, SVG or HTML bytes, captioned with the study and the selected point."""
-        if fmt not in figures.FIGURE_FORMATS:
-            raise ValueError(f"fmt must be one of {figures.FIGURE_FORMATS}, got {fmt!r}")
+    def _check_export(self, name: str) -> None:
         if name not in self.figure_names:
             raise ValueError(f"the study scene has no figure {name!r}; it has {self.figure_names}")
-        figures.load_backend("bokeh" if fmt == "html" else "matplotlib")
-        text = " ".join(self.header().replace("# ", "").splitlines())
-        return figures.figure_bytes(self.figure(name), fmt, title=f"fretwear: study, {name}", options=options,
-                                    caption=text)  # fmt: skip
 
 
 # -- the tab -------------------------------------------------------------------------------
@@ -474,13 +465,6 @@ def study_tab(scene: StudyScene, export_card: Callable[[Any], Any]) -> list:
         live_pane(partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])])
         for name in scene.figure_names
     ]
-    notes = pn.pane.Alert("", alert_type="warning", visible=False, sizing_mode="stretch_width")
-
-    def show(*_events):
-        notes.object = "\n".join(f"- {n}" for n in scene.notes)
-        notes.visible = bool(scene.notes)
-
-    scene.param.watch(show, "notes")
-    show()
+    notes = message_list(scene, "notes")
     grid = pn.GridBox(*panes, ncols=min(2, len(panes)), sizing_mode="stretch_width")
     return [intro, pn.Row(*_selectors(scene), sizing_mode="stretch_width"), grid, notes, export_card(scene)]

@@ -1,0 +1,245 @@
+"""What every scene shares: the base :class:`Scene`, the selected point, and the notes on results.
+
+A scene draws only what its session published into it (:meth:`Scene.publish`):
+results, the settings and the selected point they belong to. Its figures keep
+the same layers whatever the state (empty data while nothing is computed), as
+the dashboard's ``DynamicMap`` objects require. Figures come from the builders
+of :mod:`fretwear.figures`, which also renders them to PNG, SVG and HTML with
+their parameter record (:meth:`Scene.record`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+import param
+
+from fretwear import figures
+from fretwear.figures.record import caption, csv_header
+
+from ..backend import Failure
+from ..state import EXACT_MAP, Controls, Settings, Task, Tasks
+
+if TYPE_CHECKING:
+    import holoviews as hv
+
+HZ = "frequency f (Hz)"
+X1 = "x₁ amplitude, first harmonic (m)"
+WEAR = "w / u₀"
+CYCLES = "cycles N"
+EMPTY = (np.zeros(0), np.zeros(0))
+
+
+@dataclass(frozen=True)
+class Selection:
+    """The point picked on the wear map: frequency (Hz) and cycle count."""
+
+    frequency: float
+    cycles: float
+
+
+def ok_value(value: Any) -> Any:
+    """``value``, or ``None`` for a missing or failed result."""
+    return None if value is None or isinstance(value, Failure) else value
+
+
+def _failure_note(name: str, value: Any) -> list[str]:
+    return [f"{name}: {value}"] if isinstance(value, Failure) else []
+
+
+def history_notes(histories: list, limit: int = 4) -> list[str]:
+    """Notes on wear histories: where each stopped early or warned, and where one overshoots ``u0``.
+
+    Each note names its frequency; past ``limit`` notes the rest are counted.
+    """
+    notes = [
+        f"{h.frequency:.4g} Hz ({h.label}): stopped early, {h.status}" for h in histories if not h.converged
+    ]
+    notes += [f"{h.frequency:.4g} Hz ({h.label}): {w}" for h in histories for w in h.warnings]
+    worst = max(histories, key=lambda h: np.nanmax(h.wear_fraction), default=None)
+    if worst is not None and np.nanmax(worst.wear_fraction) > 1:
+        k = int(np.nanargmax(worst.wear_fraction[:, 0]))
+        notes.insert(
+            0,
+            f"w / u₀ reaches {worst.wear_fraction[k, 0]:.3g} > 1 at {worst.frequency:.4g} Hz, "
+            f"N = {worst.cycles[k]:.3g} ({worst.label}): past u₀ the contact is unloaded and stops "
+            "wearing, so the excess is the method's error (the colour scale extends to show it)",
+        )
+    if len(notes) > limit:
+        notes = [*notes[:limit], f"and {len(notes) - limit} more notes (the CSV export has every history)"]
+    return notes
+
+
+def error_note(h, reference, label: str | None = None) -> str | None:
+    """How far the approximation ``h`` (named ``label``, default its own) is from the exact ``reference``
+    (None for the exact answer itself, or while either computes)."""
+    if h is None or reference is None or h.label == "exact":
+        return None
+    return h.error_note(reference, label=label)
+
+
+def exact_map(scene: Scene, wm) -> Any:
+    """The published exact wear map when it has the grids of ``wm`` (None while it computes, or failed)."""
+    exact = ok_value(scene.results.get(EXACT_MAP))
+    if exact is None or wm is None or exact.wear.shape != wm.wear.shape:
+        return None
+    return exact if np.allclose(exact.frequency, wm.frequency, rtol=1e-9) else None
+
+
+class Exports:
+    """Figures and downloads of a tab: what every tab (the session's scenes, Interface, Study) shares.
+
+    A tab sets ``key``, ``title``, ``figure_names`` and ``results``, and has ``_figure_NAME`` methods,
+    ``datasets()`` and ``csv_header()`` (the ``#`` lines of its exports).
+    """
+
+    key: ClassVar[str]
+    title: ClassVar[str]
+    #: whether the page's figures have more than the exported ones (``_figure_*`` take ``live``)
+    live: ClassVar[bool] = False
+
+    def figure(self, name: str, live: bool = False) -> hv.Overlay:
+        """Figure ``name`` of the published results, as a HoloViews overlay.
+
+        ``live``: as the page shows it (with what only the page has, e.g. the
+        animation's cursor); exports draw the figure without it.
+        """
+        if name not in self.figure_names:
+            raise ValueError(f"scene {self.key!r} has no figure {name!r}; it has {self.figure_names}")
+        return getattr(self, f"_figure_{name}")(**({"live": True} if live and self.live else {}))
+
+    def _check_export(self, name: str) -> None:
+        """``ValueError`` while figure ``name`` has nothing to export."""
+        if not self.results:
+            raise ValueError(f"nothing to export yet: the {self.title} scene has not been computed")
+
+    def caption(self) -> str | Callable[[bool], str]:
+        """Caption of an exported figure: the ``#`` lines of ``csv_header()`` in one line."""
+        return " ".join(self.csv_header().replace("# ", "").splitlines())
+
+    def filename(self, name: str, fmt: str) -> str:
+        """Download file name of figure or dataset ``name``."""
+        return f"fretwear_{self.key}_{name}.{fmt}"
+
+    def export_figure(self, name: str, fmt: str, options: figures.ExportOptions | None = None) -> bytes:
+        """Figure ``name`` as ``png``, ``svg`` or standalone ``html`` bytes, captioned with its
+        parameters; ``options``: size, resolution, font size."""
+        if fmt not in figures.FIGURE_FORMATS:
+            raise ValueError(f"fmt must be one of {figures.FIGURE_FORMATS}, got {fmt!r}")
+        self._check_export(name)
+        figures.load_backend("bokeh" if fmt == "html" else "matplotlib")
+        return figures.figure_bytes(
+            self.figure(name),
+            fmt,
+            title=f"fretwear: {self.title}, {name}",
+            options=options,
+            caption=self.caption(),
+        )
+
+    def export_csv(self, name: str) -> str:
+        """Dataset ``name`` as CSV text, after its parameters (``#`` lines)."""
+        tables = self.datasets()
+        if name not in tables:
+            raise ValueError(f"no dataset {name!r} in scene {self.key!r} (yet); available: {sorted(tables)}")
+        return figures.csv_text(tables[name], self.csv_header())
+
+
+class Scene(Exports, param.Parameterized):
+    """One tab of the dashboard. Subclasses set the class attributes and the ``_figure_*`` methods."""
+
+    explanation: ClassVar[str]
+    figure_names: ClassVar[tuple[str, ...]]
+    dataset_names: ClassVar[tuple[str, ...]]
+    uses_selection: ClassVar[bool] = False
+    #: whether the scene's results depend on wear (its record has k_w, the method and its options)
+    wears: ClassVar[bool] = True
+    #: parameters of the scene that change what it computes (the session refreshes when they change)
+    inputs: ClassVar[tuple[str, ...]] = ()
+
+    version = param.Integer(0, doc="Incremented at each publish: the figures redraw")
+    notes = param.List([], doc="Messages about the published results (failures, warnings)")
+    findings = param.List([], doc="What the published results show (e.g. an error against the exact answer)")
+
+    def __init__(self, tasks: Tasks, **params: Any) -> None:
+        super().__init__(**params)
+        self.tasks = tasks
+        self.results: dict[str, Any] = {}
+        self.settings: Settings = Controls().settings()
+        self.selection = Selection(0.7, 1e4)
+
+    # -- what to compute ----------------------------------------------------------------
+    def needs(self, s: Settings, sel: Selection) -> list[Task]:
+        """The tasks whose results this scene draws, for settings ``s`` and selection ``sel``."""
+        raise NotImplementedError
+
+    def publish(self, results: dict[str, Any], s: Settings, sel: Selection) -> None:
+        """Show ``results`` computed for ``s`` and ``sel``: the figures redraw."""
+        self.results, self.settings, self.selection = results, s, sel
+        self.redraw()
+
+    def redraw(self) -> None:
+        """Redraw the published results (after a change of how they are shown)."""
+        self.notes = [
+            n for name, value in self.results.items() for n in _failure_note(name, value)
+        ] + self._notes()
+        self.findings = self._findings()
+        self.version += 1
+
+    def _notes(self) -> list[str]:
+        return []
+
+    def _findings(self) -> list[str]:
+        return []
+
+    # -- what to show ---------------------------------------------------------------------
+    def datasets(self) -> dict[str, dict[str, np.ndarray]]:
+        """Tables (column name -> values) of the published results, by name."""
+        return {}
+
+    def record(self) -> dict[str, Any]:
+        """The parameter record of the published results (settings record keys, see
+        :mod:`fretwear.figures.record`): what every export of this scene is stamped with."""
+        out = self.settings.record(wear=self.wears)
+        if self.uses_selection:
+            out["f"] = self.selection.frequency
+            if self.wears:
+                out["N"] = self.selection.cycles
+        return out
+
+    # -- export ---------------------------------------------------------------------------
+    def csv_header(self) -> str:
+        """``#`` lines of a CSV export: the parameter record."""
+        return csv_header(self.record())
+
+    def caption(self) -> Callable[[bool], str]:
+        """Caption of an exported figure: the parameter record (``markup``: with HTML tags)."""
+        record = self.record()
+        return lambda markup: caption(record, markup=markup)
+
+
+def linear_curves(scene: Scene) -> dict[str, tuple]:
+    out = {}
+    for state in ("stuck", "open"):
+        lin = ok_value(scene.results.get(f"linear_{state}"))
+        out[f"{state} (linear)"] = EMPTY if lin is None else (lin["f_hz"], np.abs(lin["amplitude"][:, 0]))
+    return out
+
+
+def linear_table(scene: Scene) -> dict[str, dict[str, np.ndarray]]:
+    stuck, free = (ok_value(scene.results.get(f"linear_{s}")) for s in ("stuck", "open"))
+    if stuck is None or free is None or len(stuck["f_hz"]) != len(free["f_hz"]):
+        return {}
+    table = {"f_hz": stuck["f_hz"]}
+    for label, lin in (("stuck", stuck), ("open", free)):
+        u = lin["amplitude"]
+        table |= {f"x{i + 1}_{label}": np.abs(u[:, i]) for i in range(u.shape[1])}
+    return {"linear_frf": table}
+
+
+def no_wear(scene: Scene) -> tuple:
+    """``(f, x1)`` of the nonlinear FRF without wear (HBM + DLFT sweep), whatever the slow-time method."""
+    frf = ok_value(scene.results.get("frf"))
+    return EMPTY if frf is None else (frf["f_hz"], frf["amplitude"][:, 0])
