@@ -11,7 +11,7 @@ from .codes import OK, TRUE
 from .marching import march
 from .series import EPS_GUARD, K, dot, first_crossing, poly, row_series, state_at, taylor_series
 
-__all__ = ["dense", "quadrature", "extrema", "orbit"]
+__all__ = ["dense", "quadrature", "extrema", "integrals", "orbit"]
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 
@@ -156,17 +156,25 @@ def orbit(model, omega, patterns, g, y0, t0, t1, jacobian, max_phases, rows, rec
     Returns ``(status, need, y, J, sliding, n_steps, n_phases, n_events, work, viscous, fourier_re,
     fourier_im, maxima, minima)``.
     """
-    n = model[0].shape[0]
     status, need, y, J, sliding, ns, nph, nev = march(
         model, omega, patterns, g, y0, t0, t1, jacobian, TRUE, max_phases, records
     )
-    work = visc = 0.0
-    fre = np.zeros(n)
-    fim = np.zeros(n)
+    if status == OK:
+        work, visc, fre, fim, hi, lo = integrals(model, omega, patterns, records[0], ns, rows)
+    else:
+        n = model[0].shape[0]
+        work, visc, fre, fim = 0.0, 0.0, np.zeros(n), np.zeros(n)
+        hi, lo = np.full(rows.shape[0], np.nan), np.full(rows.shape[0], np.nan)
+    return status, need, y, J, sliding, ns, nph, nev, work, visc, fre, fim, hi, lo
+
+
+@njit(cache=True, nogil=True)
+def integrals(model, omega, patterns, steps, n_steps, rows):
+    """:func:`quadrature` and :func:`extrema` of the recorded ``steps``: ``(work, viscous, fourier_re,
+    fourier_im, maxima, minima)`` (NaN extrema without ``rows``)."""
+    work, visc, fre, fim = quadrature(model, omega, patterns, steps, n_steps)
     hi = np.full(rows.shape[0], np.nan)
     lo = np.full(rows.shape[0], np.nan)
-    if status == OK:
-        work, visc, fre, fim = quadrature(model, omega, patterns, records[0], ns)
-        if rows.shape[0]:
-            hi, lo = extrema(patterns, records[0], ns, rows)
-    return status, need, y, J, sliding, ns, nph, nev, work, visc, fre, fim, hi, lo
+    if rows.shape[0]:
+        hi, lo = extrema(patterns, steps, n_steps, rows)
+    return work, visc, fre, fim, hi, lo

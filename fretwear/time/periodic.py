@@ -8,7 +8,7 @@ import numpy as np
 from numba import njit
 
 from .codes import FALSE, NEED_PATTERN, NEED_SPACE, OK, STICK_CODE, TRUE
-from .integrals import orbit
+from .integrals import integrals, orbit
 from .marching import march
 
 __all__ = [
@@ -41,13 +41,21 @@ def scaled_norm(y, n, omega):
 
 
 @njit(cache=True, nogil=True)
-def _period(model, omega, patterns, g, y, jacobian, max_phases):
-    """One period of :func:`~fretwear.time.marching.march` from ``(0, y)``, not recorded."""
+def no_records():
+    """Empty record buffers: a march into them records nothing (:mod:`.codes`)."""
     e = np.zeros(0)
     ei = np.zeros(0, dtype=np.int64)
     e8 = np.zeros((0, 0), dtype=np.int8)
-    records = ((e, e, ei, ei, np.zeros((0, 0))), (e, e8, e8), (e, ei, ei, ei))
-    return march(model, omega, patterns, g, y, 0.0, 2 * math.pi / omega, jacobian, FALSE, max_phases, records)
+    return (e, e, ei, ei, np.zeros((0, 0))), (e, e8, e8), (e, ei, ei, ei)
+
+
+@njit(cache=True, nogil=True)
+def _period(model, omega, patterns, g, y, jacobian, max_phases, records):
+    """One period of :func:`.march` from ``(0, y)``, recorded unless ``records`` is empty."""
+    record = records[0][0].shape[0] > 0
+    return march(
+        model, omega, patterns, g, y, 0.0, 2 * math.pi / omega, jacobian, record, max_phases, records
+    )
 
 
 @njit(cache=True, nogil=True)
@@ -85,7 +93,7 @@ def _newton_step(A, b):
 
 
 @njit(cache=True, nogil=True)
-def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, verify):
+def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, verify, records):
     """Newton on ``P(y) - y = 0``, ``P`` the period map, with the exact monodromy.
 
     Least-squares steps (the Jacobian is singular on orbits with a contact
@@ -96,43 +104,53 @@ def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, verify
     returned as converged without evaluating the period map there (its
     residual is then of the order of the step squared): the caller verifies it.
 
-    Returns ``(status, need, y, converged, verified, iterations, residual, J)``
-    with the residual (relative to ``|y|``) and the monodromy ``J`` at the last
-    evaluated state.
+    Every period marched is recorded into ``records`` unless they are empty
+    (:func:`no_records`); :data:`NEED_SPACE` when they are full.
+
+    Returns ``(status, need, y, converged, verified, iterations, residual, J,
+    last)`` with the residual (relative to ``|y|``) and the monodromy ``J`` at
+    the last evaluated state, ``last = (y0, y1, sliding, n_steps, n_phases,
+    n_events)`` its period (the one left in ``records``).
     """
     n = model[0].shape[0]
     n2 = 2 * n
     y = y_guess.copy()
     I = np.eye(n2)
-    status, need, y1, J, _, _, _, _ = _period(model, omega, patterns, g, y, TRUE, max_phases)
+    status, need, y1, J, sliding, ns, nph, nev = _period(
+        model, omega, patterns, g, y, TRUE, max_phases, records
+    )
+    last = (y, y1, sliding, ns, nph, nev)
     if status != OK:
-        return status, need, y, False, False, 0, math.inf, J
+        return status, need, y, False, False, 0, math.inf, J, last
     res = scaled_norm(y1 - y, n, omega)
     history = np.empty(max_iter + 1)
     for it in range(max_iter + 1):
         size = max(scaled_norm(y, n, omega), 1e-300)
         history[it] = res / size
         if res <= tol * size:
-            return OK, 0, y, True, True, it, res / size, J
+            return OK, 0, y, True, True, it, res / size, J, last
         if it == max_iter or (it >= _STALL and history[it] > 0.5 * history[it - _STALL]):
-            return OK, 0, y, False, False, it, res / size, J
+            return OK, 0, y, False, False, it, res / size, J, last
         dy = _newton_step(J - I, y - y1)
         if not verify and scaled_norm(dy, n, omega) <= _STEP_TOL * size:
-            return OK, 0, y + dy, True, False, it + 1, res / size, J
+            return OK, 0, y + dy, True, False, it + 1, res / size, J, last
         alpha = 1.0
         while True:
             trial = y + alpha * dy
-            status, need, t1, tJ, _, _, _, _ = _period(model, omega, patterns, g, trial, TRUE, max_phases)
-            if status == NEED_PATTERN:
-                return status, need, y, False, False, it, res / size, J
+            status, need, t1, tJ, sliding, ns, nph, nev = _period(
+                model, omega, patterns, g, trial, TRUE, max_phases, records
+            )
+            last = (trial, t1, sliding, ns, nph, nev)
+            if status == NEED_PATTERN or status == NEED_SPACE:
+                return status, need, y, False, False, it, res / size, J, last
             tres = scaled_norm(t1 - trial, n, omega) if status == OK else math.inf
             if tres < res or alpha < 1e-4:
                 break
             alpha *= 0.5
         if status != OK:
-            return status, need, y, False, False, it, res / size, J
+            return status, need, y, False, False, it, res / size, J, last
         y, y1, J, res = trial, t1, tJ, tres
-    return OK, 0, y, False, False, max_iter, math.inf, J
+    return OK, 0, y, False, False, max_iter, math.inf, J, last
 
 
 @njit(cache=True, nogil=True)
@@ -145,7 +163,9 @@ def settle(model, omega, patterns, g, y0, periods, tol, max_phases):
     y = y0.copy()
     change = math.inf
     for p in range(periods):
-        status, need, y1, _, _, _, _, _ = _period(model, omega, patterns, g, y, FALSE, max_phases)
+        status, need, y1, _, _, _, _, _ = _period(
+            model, omega, patterns, g, y, FALSE, max_phases, no_records()
+        )
         if status != OK:
             return status, need, y, p, change
         change = scaled_norm(y1 - y, n, omega) / max(scaled_norm(y1, n, omega), 1e-300)
@@ -164,11 +184,11 @@ def solve(
     Packed arguments (``model``, ``patterns`` at every frequency, ``records``:
     :mod:`fretwear.time.codes`):
 
-    * ``problems = (at, path, g)``: problem ``i`` is frequency ``at[i]`` of
-      the table (``omegas``, ``patterns``) with slip forces ``g[i]``: one call
-      solves a frequency sweep (``at = 0, 1, ...``), the load ratios of one
+    * ``problems = (at, path, g, reuse)``: problem ``i`` is frequency ``at[i]``
+      of the table (``omegas``, ``patterns``) with slip forces ``g[i]``: one
+      call solves a frequency sweep (``at = 0, 1, ...``), the load ratios of one
       frequency, or any mix; ``path[i]`` is the parameter along which a sweep
-      extrapolates (the frequency, the slip force);
+      extrapolates (the frequency, the slip force); ``reuse[i]``: see below;
     * ``starts = (guesses, n_guesses, rigid, rigid_ok, marches)``: the
       guesses per problem and their number, the rigid states and whether
       each is a stuck orbit, the cumulative numbers of periods to march;
@@ -191,7 +211,10 @@ def solve(
     wins; its period is recorded (steps, phases, events at the offsets
     ``st_off[i]``, ``ph_off[i]``, ``ev_off[i]``, which this sets for ``i + 1``)
     with :func:`orbit`, and a final Newton step that leaves a residual above
-    ``tol`` is iterated further with verification. ``neutral_out[i]`` counts
+    ``tol`` is iterated further with verification. Newton records every period
+    it marches: when its last step is at most ``reuse[i]`` (relative to the
+    state; 0: only a verified state) the period of its last evaluation, that
+    close to the orbit, is the recorded one and no further period is marched. ``neutral_out[i]`` counts
     the contacts stuck during the whole period (neutral stuck offsets).
 
     Returns ``(status, need, i)``: :data:`OK` when every problem is done,
@@ -201,7 +224,7 @@ def solve(
     B = model[1]
     n = model[0].shape[0]
     masks, Ah, force_rows, phi, phi_series, step, count = patterns
-    at, path, g = problems
+    at, path, g, reuse = problems
     guesses, n_guesses, rigid, rigid_ok, marches = starts
     chain, tol, max_iter, max_phases = options
     (
@@ -236,8 +259,17 @@ def solve(
         n_starts = n_guesses[i] + 3 + marches.shape[0]
         marched = 0
         ys = rigid[i].copy()
+        s0, p0, e0 = st_off[i], ph_off[i], ev_off[i]
+        records_i = (
+            (st_t[s0:], st_len[s0:], st_pat[s0:], st_phase[s0:], st_X[s0:]),
+            (ph_t[p0:], ph_state[p0:], ph_dir[p0:]),
+            (ev_t[e0:], ev_c[e0:], ev_kind[e0:], ev_dir[e0:]),
+        )
+        last = (y, y, np.zeros(B.shape[0]), 0, 0, 0)
+        J = np.eye(2 * n)
         # a stuck orbit: the rigid state (without offset) when its forces stay within the limits
         found = rigid_ok[i] and (chain or n_guesses[i] == 0)
+        stuck_found = found
         for a in range(n_starts):
             if found:
                 break
@@ -270,10 +302,10 @@ def solve(
                     na += 1
                     break
                 kind, y = MARCH_START + j, ys.copy()
-            status, need, y1, ok, _, its, res, _ = newton(
-                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, FALSE
+            status, need, y1, ok, _, its, res, J, last = newton(
+                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, FALSE, records_i
             )
-            if status == NEED_PATTERN:
+            if status == NEED_PATTERN or status == NEED_SPACE:
                 return status, need, i
             iters += its
             att_kind[i, na], att_res[i, na] = kind, res
@@ -287,14 +319,15 @@ def solve(
         if not found:
             y = best_y
         n_att[i] = na
-        # the recorded period
-        for attempt in range(2):
-            s0, p0, e0 = st_off[i], ph_off[i], ev_off[i]
-            records_i = (
-                (st_t[s0:], st_len[s0:], st_pat[s0:], st_phase[s0:], st_X[s0:]),
-                (ph_t[p0:], ph_state[p0:], ph_dir[p0:]),
-                (ev_t[e0:], ev_c[e0:], ev_kind[e0:], ev_dir[e0:]),
-            )
+        # the recorded period: Newton's last one, or marched from the orbit's state
+        y_last, y1, slid, ns, nph, nev = last
+        reused = (
+            found and not stuck_found and scaled_norm(y - y_last, n, om) <= reuse[i] * scaled_norm(y, n, om)
+        )
+        if reused:
+            y = y_last
+            work, visc, fre, fim, hi, lo = integrals(model, om, patterns_i, records_i[0], ns, rows)
+        for attempt in range(0 if reused else 2):
             status, need, y1, J, slid, ns, nph, nev, work, visc, fre, fim, hi, lo = orbit(
                 model, om, patterns_i, g_i, y, 0.0, T, TRUE, max_phases, rows, records_i
             )
@@ -308,8 +341,8 @@ def solve(
             if not found or res <= tol or attempt == 1:
                 found = found and res <= tol
                 break
-            status, need, y2, ok, _, its, _, _ = newton(
-                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, TRUE
+            status, need, y2, ok, _, its, _, _, _ = newton(
+                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, TRUE, no_records()
             )
             if status == NEED_PATTERN:
                 return status, need, i

@@ -358,20 +358,25 @@ def _solution(table: Table, i: int, g, loads, wear, y0, y1, converged: bool, ite
 
 
 def _orbits(table: Table, at: np.ndarray, g: np.ndarray, guesses: list, chain: bool, tol: float,
-            max_iter: int, transient_periods: int, path: np.ndarray | None = None) -> dict:  # fmt: skip
+            max_iter: int, transient_periods: int, path: np.ndarray | None = None,
+            reuse: float | np.ndarray = 0.0) -> dict:  # fmt: skip
     """Periodic orbits of the problems ``(at[p], g[p])`` in one compiled call (:func:`periodic.solve`).
 
     Problem ``p``: frequency ``at[p]`` of ``table`` with slip forces ``g[p]``
     (N, shape (nf,)); ``guesses[p]``: the states tried first; ``chain``: then
     the orbits extrapolated along ``path`` (default the frequencies) and the
-    previous orbit. Returns the kernel's outputs per problem (arrays with a
-    first axis of length P) and the records (``rec``, ``offsets``).
+    previous orbit; ``reuse`` (per problem or one for all): a converged Newton
+    whose last step is at most this (relative) keeps its last evaluated period
+    as the recorded one (default 0: only a verified state). Returns the kernel's
+    outputs per problem (arrays with a first axis of length P) and the
+    records (``rec``, ``offsets``).
     """
     P, n, nf, D = len(at), table.n, table.nf, table.dim
     n2 = 2 * n
     at = np.ascontiguousarray(at, dtype=np.int64)
     g = np.ascontiguousarray(g, dtype=float)
     path = table.omegas[at] if path is None else np.ascontiguousarray(path, dtype=float)
+    reuse = np.ascontiguousarray(np.broadcast_to(reuse, (P,)), dtype=float)
     G = max((len(q) for q in guesses), default=0)
     guess_array = np.zeros((P, max(G, 1), n2))
     for p, q in enumerate(guesses):
@@ -399,7 +404,7 @@ def _orbits(table: Table, at: np.ndarray, g: np.ndarray, guesses: list, chain: b
     start = 0
     while True:
         status, need, start = periodic.solve(
-            table.model_arrays, table.omegas, table.stacked(), (at, path, g), starts, options,
+            table.model_arrays, table.omegas, table.stacked(), (at, path, g, reuse), starts, options,
             table.extrema_rows, start, results, attempts, offsets, rec.packed(),
         )  # fmt: skip
         if status == NEED_PATTERN:
@@ -588,8 +593,9 @@ def periodic_state(
     y = check_state(eng, y_guess, "y_guess")
     while True:
         status, need, y1, converged, *_ = periodic.newton(
-            eng.model_arrays, eng.omega, eng.arrays(), g, y, tol, max_iter, _MAX_PHASES, True
-        )
+            eng.model_arrays, eng.omega, eng.arrays(), g, y, tol, max_iter, _MAX_PHASES, True,
+            periodic.no_records(),
+        )  # fmt: skip
         if status != NEED_PATTERN:
             return (y1, converged) if status == OK else (y, False)
         eng.require(int(need))
