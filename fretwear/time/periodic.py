@@ -214,8 +214,9 @@ def solve(
     ``tol`` is iterated further with verification. Newton records every period
     it marches: when its last step is at most ``reuse[i]`` (relative to the
     state; 0: only a verified state) the period of its last evaluation, that
-    close to the orbit, is the recorded one and no further period is marched. ``neutral_out[i]`` counts
-    the contacts stuck during the whole period (neutral stuck offsets).
+    close to the orbit, is the recorded one and no further period is marched.
+    ``neutral_out[i]`` counts the contacts stuck during the whole period
+    (neutral stuck offsets).
 
     Returns ``(status, need, i)``: :data:`OK` when every problem is done,
     else :data:`NEED_PATTERN` (build pattern ``need``) or :data:`NEED_SPACE`
