@@ -182,10 +182,10 @@ KERNELS: dict[str, Kernel] = {
             "exact",
             "the exact event-driven dynamics: shooting, time integration, exact wear tables",
             (
-                "fretwear.time.kernels:solve",
-                "fretwear.time.kernels:newton",
-                "fretwear.time.kernels:march",
-                "fretwear.time.kernels:orbit",
+                "fretwear.time.periodic:solve",
+                "fretwear.time.periodic:newton",
+                "fretwear.time.marching:march",
+                "fretwear.time.integrals:orbit",
                 "fretwear.wear.sliding:_invert",
             ),  # fmt: skip
             60.0,
@@ -286,7 +286,7 @@ class Need:
 
 
 _SHOOTING = (
-    "fretwear.time.kernels:solve",
+    "fretwear.time.periodic:solve",
     "fretwear.wear.sliding:_invert",
     "fretwear.hbm.condensation:condense_loop",
 )

@@ -26,7 +26,7 @@ integrates them with a compiled **event-driven, piecewise-exact** scheme:
 3. at each event the new contact states follow the Coulomb law at acceleration
    level (a box-constrained QP on the Delassus matrix ``B M^-1 B^T``), with a
    stated higher-order rule for contacts exactly at their limit
-   (:mod:`fretwear.time.kernels`).
+   (:mod:`fretwear.time.events`; the march: :mod:`fretwear.time.marching`).
 
 Sliding distance and friction energy are exact (the relative displacement is
 monotone within a slip phase); input work, viscous dissipation and the first
@@ -48,7 +48,9 @@ from functools import lru_cache
 import numpy as np
 
 from ..model import OPEN, SLIP, STICK, Model
-from . import kernels
+from .codes import DEGENERATE, NEED_PATTERN, NEED_SPACE, OK
+from .integrals import dense, orbit
+from .marching import march as march_kernel
 from .patterns import Engine
 
 __all__ = [
@@ -206,9 +208,8 @@ class Trajectory:
 
 
 def _dense(rec: _Record, times: np.ndarray):
-    _, Ah, force_rows, _, _, step, _ = rec.arrays
-    return kernels.dense(Ah, force_rows, step, rec.t, rec.length, rec.pattern, rec.phase, rec.X,
-                         rec.phase_state, len(rec.t), times)  # fmt: skip
+    steps = (rec.t, rec.length, rec.pattern, rec.phase, rec.X)
+    return dense(rec.arrays, steps, rec.phase_state, len(rec.t), times)
 
 
 # ---------------------------------------------------------------------------
@@ -258,11 +259,6 @@ def check_state(eng: Engine, y, name: str) -> np.ndarray:
     return y
 
 
-def model_arrays(eng: Engine) -> tuple:
-    """``(M^-1, B, C, K, forces, omega)`` of the engine's model, as the kernels take them."""
-    return eng.Minv, eng.B, eng.C, eng.K, eng.forces, eng.omega
-
-
 @dataclass(frozen=True)
 class Records:
     """Buffers the compiled march records into: steps, phases and events (capacities are their lengths)."""
@@ -297,10 +293,13 @@ class Records:
             getattr(out, name)[: len(a)] = a
         return out
 
-    def args(self) -> tuple:
-        """The buffers in the order of the kernels' arguments."""
-        return (self.st_t, self.st_len, self.st_pat, self.st_phase, self.st_X, self.ph_t, self.ph_state,
-                self.ph_dir, self.ev_t, self.ev_c, self.ev_kind, self.ev_dir)  # fmt: skip
+    def packed(self) -> tuple:
+        """The buffers as the kernels take them: ``(steps, phases, events)`` (:mod:`fretwear.time.codes`)."""
+        return (
+            (self.st_t, self.st_len, self.st_pat, self.st_phase, self.st_X),
+            (self.ph_t, self.ph_state, self.ph_dir),
+            (self.ev_t, self.ev_c, self.ev_kind, self.ev_dir),
+        )
 
 
 _NO_RECORD = Records.empty(0, 0, 0, 0)
@@ -350,7 +349,7 @@ def make_trajectory(table: Engine, i: int, rec: Records, steps: slice, phases: s
 
 
 def _failure(status: int, t: float) -> str:
-    if status == kernels.DEGENERATE:
+    if status == DEGENERATE:
         return f"contact states could not be resolved near t = {t!r} s (cascade of events at one instant)"
     return f"the state became non-finite near t = {t!r} s (unbounded motion)"
 
@@ -363,14 +362,14 @@ def march(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, *, j
     """Run the compiled march (no records), building patterns on demand.
 
     Returns ``(status, y, J, sliding)``: ``status`` is
-    :data:`~fretwear.time.kernels.OK`, ``DEGENERATE`` or ``NONFINITE``.
+    :data:`~fretwear.time.codes.OK`, ``DEGENERATE`` or ``NONFINITE``.
     """
     while True:
-        status, need, y, J, sliding, *_ = kernels.march(
-            *model_arrays(eng), *eng.arrays(), g, y0, float(t0), float(t1), jacobian, False,
-            _max_phases(eng, t0, t1), *_NO_RECORD.args(),
+        status, need, y, J, sliding, *_ = march_kernel(
+            eng.model_arrays, eng.omega, eng.arrays(), g, y0, float(t0), float(t1), jacobian, False,
+            _max_phases(eng, t0, t1), _NO_RECORD.packed(),
         )  # fmt: skip
-        if status != kernels.NEED_PATTERN:
+        if status != NEED_PATTERN:
             return status, y, J, sliding
         eng.require(int(need))
 
@@ -389,16 +388,16 @@ def recorded(eng: Engine, g: np.ndarray, y0: np.ndarray, t0: float, t1: float, t
     steps = int(1.5 * (t1 - t0) / eng.step[0, : eng.count].min()) + 16
     buf = Records.empty(steps, 16, eng.dim, eng.nf)
     while True:
-        out = kernels.orbit(*model_arrays(eng), *eng.arrays(), g, y0, float(t0), float(t1), jacobian,
-                            _max_phases(eng, t0, t1), rows, *buf.args())  # fmt: skip
+        out = orbit(eng.model_arrays, eng.omega, eng.arrays(), g, y0, float(t0), float(t1), jacobian,
+                    _max_phases(eng, t0, t1), rows, buf.packed())  # fmt: skip
         status, need, y, J, sliding, ns, nph, nev, work, visc, fre, fim, hi, lo = out
-        if status == kernels.NEED_PATTERN:
+        if status == NEED_PATTERN:
             eng.require(int(need))
-        elif status == kernels.NEED_SPACE:
+        elif status == NEED_SPACE:
             steps = len(buf.st_t) * (4 if ns >= len(buf.st_t) else 1)
             phases = len(buf.ph_t) * (4 if max(nph, nev) >= len(buf.ph_t) else 1)
             buf = Records.empty(steps, phases, eng.dim, eng.nf)
-        elif status != kernels.OK:
+        elif status != OK:
             raise RuntimeError(_failure(status, buf.st_t[ns - 1] if ns else t0))
         else:
             break
@@ -498,6 +497,6 @@ def period_map(model: Model, omega: float, y0, *, wear=None) -> tuple[np.ndarray
     eng, g = engine(model, omega, wear)
     y0 = check_state(eng, y0, "y0")
     status, y, _, sliding = march(eng, g, y0, 0.0, eng.period)
-    if status != kernels.OK:
+    if status != OK:
         raise RuntimeError(_failure(status, 0.0))
     return y, sliding, g * sliding

@@ -26,7 +26,7 @@ Each pattern is propagated by its Taylor series over steps of length
 below ``1e-20 |X|`` (a bound in a balanced norm, checked here). On a step
 every guard function (a stuck force minus or plus its slip limit, the
 relative velocity of a slipping contact) is then a polynomial of known
-coefficients: :mod:`fretwear.time.kernels` locates its first root with
+coefficients: :mod:`fretwear.time.series` locates its first root with
 certified bounds. The series is exact for any ``A_S``: singular (rigid-body
 motion, a free mass slipping), defective or resonant (undamped, ``omega`` an
 eigenfrequency) patterns need no special case.
@@ -197,6 +197,8 @@ class Table:
         self.periods = 2 * np.pi / self.omegas
         self.n, self.nf, self.dim = st.n, st.nf, st.dim
         self.B, self.Minv, self.C, self.K, self.forces = st.B, st.Minv, st.C, st.K, st.forces
+        #: ``(M^-1, B, C, K, forces)`` as the kernels take them (:mod:`fretwear.time.codes`)
+        self.model_arrays = (st.Minv, st.B, st.C, st.K, st.forces)
         self.extrema_rows = st.extrema_rows
         self.count = 0
         #: the linear stuck responses per set of loaded contacts (filled by the shooting solver)

@@ -2,7 +2,7 @@
 
 :func:`shooting` solves ``y(T; y0) = y0`` by Newton's method with the exact
 monodromy matrix of :mod:`fretwear.time.integrator` (compiled: every Newton
-iteration and period march runs in :mod:`fretwear.time.kernels`);
+iteration and period march runs in :mod:`fretwear.time.periodic`);
 :func:`steady_state` marches periods until the transient has died out;
 :func:`shooting_sweep` follows a frequency grid, each solve seeded by its
 predecessor. The result, :class:`ShootingSolution`, has the attributes of
@@ -26,7 +26,8 @@ from functools import cached_property, partial
 import numpy as np
 
 from ..model import STICK, Model
-from . import kernels
+from . import periodic
+from .codes import DEGENERATE, NEED_PATTERN, NEED_SPACE, NONFINITE, OK
 from .integrator import (
     ContactEvent,
     Records,
@@ -35,7 +36,6 @@ from .integrator import (
     engine,
     engine_loads,
     make_trajectory,
-    model_arrays,
     recorded,
     slip_forces,
 )
@@ -45,6 +45,9 @@ __all__ = ["ShootingSolution", "shooting", "periodic_state", "steady_state", "sh
 
 _MARCHES = (20, 100, 400)  # periods marched before the second, third and fourth Newton starts
 _MAX_PHASES = 1_000_000  # per period: more is a degenerate cascade
+# the outputs of :func:`periodic.solve` per problem, in the order of its ``results``
+_RESULTS = ("y0", "y1", "converged", "iterations", "J", "sliding", "work", "viscous", "fre", "fim", "hi",
+            "lo", "neutral")  # fmt: skip
 
 
 @dataclass(frozen=True, eq=False)
@@ -229,14 +232,14 @@ class ShootingSolution:
 # the solver
 # ---------------------------------------------------------------------------
 _STATUS = {
-    kernels.DEGENERATE: "a cascade of contact events at one instant could not be resolved",
-    kernels.NONFINITE: "the motion became unbounded (non-finite state)",
+    DEGENERATE: "a cascade of contact events at one instant could not be resolved",
+    NONFINITE: "the motion became unbounded (non-finite state)",
 }
 _START_NAMES = {
-    kernels.GUESS_START: "the guess",
-    kernels.EXTRAPOLATED_START: "the extrapolated neighbours",
-    kernels.NEIGHBOUR_START: "the neighbour",
-    kernels.RIGID_START: "the rigid linear state",
+    periodic.GUESS_START: "the guess",
+    periodic.EXTRAPOLATED_START: "the extrapolated neighbours",
+    periodic.NEIGHBOUR_START: "the neighbour",
+    periodic.RIGID_START: "the rigid linear state",
 }
 
 
@@ -304,8 +307,8 @@ def _message(kinds, codes, residuals, tol: float) -> str:
     """Why a solve failed, from its log of Newton starts."""
     tried = []
     for kind, code, residual in zip(kinds, codes, residuals, strict=True):
-        name = _START_NAMES.get(int(kind), f"{_MARCHES[int(kind) - kernels.MARCH_START]} periods marched")
-        why = f"residual {residual:.2e}" if code == kernels.NOT_CONVERGED else _STATUS.get(int(code), "")
+        name = _START_NAMES.get(int(kind), f"{_MARCHES[int(kind) - periodic.MARCH_START]} periods marched")
+        why = f"residual {residual:.2e}" if code == periodic.NOT_CONVERGED else _STATUS.get(int(code), "")
         tried.append(f"from {name}: {why}")
     return f"Newton on the period map did not reach the tolerance {tol:.1e} ({'; '.join(tried)})"
 
@@ -355,20 +358,25 @@ def _solution(table: Table, i: int, g, loads, wear, y0, y1, converged: bool, ite
 
 
 def _orbits(table: Table, at: np.ndarray, g: np.ndarray, guesses: list, chain: bool, tol: float,
-            max_iter: int, transient_periods: int, path: np.ndarray | None = None) -> dict:  # fmt: skip
-    """Periodic orbits of the problems ``(at[p], g[p])`` in one compiled call (:func:`kernels.solve`).
+            max_iter: int, transient_periods: int, path: np.ndarray | None = None,
+            reuse: float | np.ndarray = 0.0) -> dict:  # fmt: skip
+    """Periodic orbits of the problems ``(at[p], g[p])`` in one compiled call (:func:`periodic.solve`).
 
     Problem ``p``: frequency ``at[p]`` of ``table`` with slip forces ``g[p]``
     (N, shape (nf,)); ``guesses[p]``: the states tried first; ``chain``: then
     the orbits extrapolated along ``path`` (default the frequencies) and the
-    previous orbit. Returns the kernel's outputs per problem (arrays with a
-    first axis of length P) and the records (``rec``, ``offsets``).
+    previous orbit; ``reuse`` (per problem or one for all): a converged Newton
+    whose last step is at most this (relative) keeps its last evaluated period
+    as the recorded one (default 0: only a verified state). Returns the kernel's
+    outputs per problem (arrays with a first axis of length P) and the
+    records (``rec``, ``offsets``).
     """
     P, n, nf, D = len(at), table.n, table.nf, table.dim
     n2 = 2 * n
     at = np.ascontiguousarray(at, dtype=np.int64)
     g = np.ascontiguousarray(g, dtype=float)
     path = table.omegas[at] if path is None else np.ascontiguousarray(path, dtype=float)
+    reuse = np.ascontiguousarray(np.broadcast_to(reuse, (P,)), dtype=float)
     G = max((len(q) for q in guesses), default=0)
     guess_array = np.zeros((P, max(G, 1), n2))
     for p, q in enumerate(guesses):
@@ -385,20 +393,23 @@ def _orbits(table: Table, at: np.ndarray, g: np.ndarray, guesses: list, chain: b
         "fre": np.zeros((P, n)), "fim": np.zeros((P, n)), "hi": np.zeros((P, len(table.extrema_rows))),
         "lo": np.zeros((P, len(table.extrema_rows))), "neutral": np.zeros(P, dtype=np.int64),
     }  # fmt: skip
-    offsets = [np.zeros(P + 1, dtype=np.int64) for _ in range(3)]
+    offsets = tuple(np.zeros(P + 1, dtype=np.int64) for _ in range(3))
     per_period = int(1.5 * np.max(table.periods[:, None] / table.step[:, : table.count])) + 16
     rec = Records.empty(P * per_period, P * 8 + 16, D, nf)
     rigid, rigid_ok = _rigid_states(table, g, at)
+    starts = (guess_array, n_guesses, rigid, rigid_ok, marches)
+    options = (bool(chain), float(tol), int(max_iter), _MAX_PHASES)
+    results = tuple(out[k] for k in _RESULTS)
+    attempts = tuple(out[k] for k in ("att_kind", "att_code", "att_res", "n_att"))
     start = 0
     while True:
-        status, need, start = kernels.solve(
-            table.Minv, table.B, table.C, table.K, table.forces, table.omegas, *table.stacked(), at, path, g,
-            guess_array, n_guesses, rigid, rigid_ok, chain, tol, max_iter, marches, _MAX_PHASES,
-            table.extrema_rows, start, *out.values(), *offsets, *rec.args(),
+        status, need, start = periodic.solve(
+            table.model_arrays, table.omegas, table.stacked(), (at, path, g, reuse), starts, options,
+            table.extrema_rows, start, results, attempts, offsets, rec.packed(),
         )  # fmt: skip
-        if status == kernels.NEED_PATTERN:
+        if status == NEED_PATTERN:
             table.require(int(need))
-        elif status == kernels.NEED_SPACE:
+        elif status == NEED_SPACE:
             rec = rec.grown(2)
         else:
             break
@@ -581,11 +592,12 @@ def periodic_state(
     _check_options(tol, max_iter, 0)
     y = check_state(eng, y_guess, "y_guess")
     while True:
-        status, need, y1, converged, *_ = kernels.newton(
-            *model_arrays(eng), *eng.arrays(), g, y, tol, max_iter, _MAX_PHASES, True
-        )
-        if status != kernels.NEED_PATTERN:
-            return (y1, converged) if status == kernels.OK else (y, False)
+        status, need, y1, converged, *_ = periodic.newton(
+            eng.model_arrays, eng.omega, eng.arrays(), g, y, tol, max_iter, _MAX_PHASES, True,
+            periodic.no_records(),
+        )  # fmt: skip
+        if status != NEED_PATTERN:
+            return (y1, converged) if status == OK else (y, False)
         eng.require(int(need))
 
 
@@ -637,14 +649,14 @@ def steady_state(
     else:
         y = check_state(eng, y_guess, "y_guess").copy()
     while True:
-        status, need, y, marched, change = kernels.settle(
-            *model_arrays(eng), *eng.arrays(), g, y, int(max_periods), float(tol), _MAX_PHASES
+        status, need, y, marched, change = periodic.settle(
+            eng.model_arrays, eng.omega, eng.arrays(), g, y, int(max_periods), float(tol), _MAX_PHASES
         )
-        if status != kernels.NEED_PATTERN:
+        if status != NEED_PATTERN:
             break
         eng.require(int(need))
-    converged = status == kernels.OK and change <= tol
-    if status != kernels.OK:
+    converged = status == OK and change <= tol
+    if status != OK:
         message = _STATUS[status]
     elif not converged:
         message = f"the change over one period is {change:.2e} > tol = {tol:.1e} after {marched} periods"

@@ -3,23 +3,16 @@
 :func:`wear_history` is the front function; :data:`METHODS` the registry of the
 slow-time methods, one module each (:mod:`~fretwear.wear.exact`,
 :mod:`~fretwear.wear.stepping`, :mod:`~fretwear.wear.polynomial`,
-:mod:`~fretwear.wear.time_integration`); :mod:`~fretwear.wear.common` holds
-Archard's law, the input checks and the result type :class:`WearHistory`.
+:mod:`~fretwear.wear.time_integration`); :mod:`~fretwear.wear.result` holds
+Archard's law, the input checks and the result type :class:`WearHistory`;
+:mod:`~fretwear.wear.dynamics` the periodic response at a wear state.
 """
 
-from .common import (
-    DYNAMICS,
-    TWO_SCALE_LIMIT,
-    WearHistory,
-    check_wear_inputs,
-    cycle_grid,
-    describe,
-    resolve_dynamics,
-    snapshot_cycles,
-)
+from .dynamics import DYNAMICS, resolve_dynamics
 from .exact import exact_path_applies, wear_exact
 from .history import METHODS, Method, exact_answer_applies, method_options, resolve_method, wear_history
 from .polynomial import wear_polynomial
+from .result import TWO_SCALE_LIMIT, WearHistory, check_wear_inputs, cycle_grid, describe, snapshot_cycles
 from .stepping import wear_stepping
 from .time_integration import integrate_wear
 

@@ -16,14 +16,8 @@ import numpy as np
 
 from ..hbm.periodic import LOAD, Problem, solve_problem, walk
 from ..model import Model
-from .common import (
-    DEFAULT_HARMONICS,
-    WearHistory,
-    check_wear_inputs,
-    observables,
-    resolve_dynamics,
-    two_scale_warning,
-)
+from .dynamics import DEFAULT_HARMONICS, observables, resolve_dynamics
+from .result import WearHistory, check_wear_inputs, two_scale_warning
 from .sliding import _shoot_at, cached_solves, sliding_table, sliding_tables, unit_forcing
 
 __all__ = ["wear_exact", "exact_path_applies", "exact_wear_map"]

@@ -1,7 +1,7 @@
 """One front function for wear on the slow time scale, and the registry of its methods.
 
 :func:`wear_history` runs one slow-time method at one frequency and returns a
-:class:`~fretwear.wear.common.WearHistory`. Each method lives in a module of its
+:class:`~fretwear.wear.result.WearHistory`. Each method lives in a module of its
 own and is registered in :data:`METHODS` with the options it takes, so that the
 command line, the dashboard and the figures ask the registry instead of
 keeping their own lists:
@@ -28,9 +28,10 @@ from typing import Any
 
 from ..model import Model
 from ..time.patterns import unsupported
-from .common import WearHistory, resolve_dynamics
+from .dynamics import resolve_dynamics
 from .exact import exact_path_applies, wear_exact
 from .polynomial import wear_polynomial
+from .result import WearHistory
 from .stepping import wear_stepping
 from .time_integration import integrate_wear
 
@@ -86,7 +87,7 @@ def resolve_method(model: Model, method: str = "auto", fixed_step=None) -> str:
     ``"auto"`` falls back to ``"stepping"`` for several contacts or unilateral
     contacts, and for a fixed step (an option only stepping takes). The
     dynamics the method runs on are resolved apart
-    (:func:`~fretwear.wear.common.resolve_dynamics`): with no options, the exact
+    (:func:`~fretwear.wear.dynamics.resolve_dynamics`): with no options, the exact
     ones wherever they apply.
     """
     if method == "auto":
@@ -130,7 +131,7 @@ def wear_history(
         The method's options (:data:`METHODS`): ``harmonics`` (``Nh``), ``samples``
         (per period), ``tol`` (local error on ``w / u0``, or of the cycle jumps),
         ``dynamics`` (``"auto"``, ``"shooting"`` or ``"dlft"``: see
-        :func:`~fretwear.wear.common.resolve_dynamics`), ``fixed_step`` (cycles),
+        :func:`~fretwear.wear.dynamics.resolve_dynamics`), ``fixed_step`` (cycles),
         ``degree`` and ``basis`` (polynomial). An option the method does not
         take raises ``ValueError``, except with ``"auto"``, which uses those of
         the method it picks.

@@ -80,7 +80,8 @@ from ..hbm.kernels import LOAD, NEWTON, newton_kernel, walk_kernel
 from ..hbm.periodic import solve_problem
 from ..hbm.problem import Problem
 from ..model import Model
-from .common import Recorder, WearHistory, check_wear_inputs, observables, two_scale_warning
+from .dynamics import observables
+from .result import Recorder, WearHistory, check_wear_inputs, two_scale_warning
 
 __all__ = ["wear_polynomial", "BASES", "FIT_FRACTION", "MISFIT_LIMIT"]
 

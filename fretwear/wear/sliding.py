@@ -63,6 +63,11 @@ TOL = 3e-3
 _FIRST = 8
 #: a first table reaches this factor below the load ratio asked for (F_ex up to this factor larger)
 _REACH = 4.0
+#: a table's solve keeps the period of Newton's last evaluation (no period marched to record the orbit)
+#: when Newton's last step is at most ``_REUSE d^1.5`` of the state, ``d = 1 - rho / rho_stick``: a relative
+#: state error e moves s_hat by up to ~ e / d^1.5 (grazing slip near the threshold; measured on the paper
+#: model at 0.5, 0.7 and 1.1 Hz, within a factor 2), hence by up to TOL / 30 here
+_REUSE = TOL / 30
 #: the response quantities of a table besides s_hat (per unit forcing)
 _RESPONSE = ("amplitude", "half_peak_to_peak", "relative_half_peak_to_peak")
 
@@ -599,16 +604,24 @@ class _Job:
         t.solves += solves
 
 
-def _shoot(engine: Table, problems: list[tuple[int, float, list]], chain: bool) -> list[tuple | None]:
+def _shoot(
+    engine: Table, problems: list[tuple[int, float, list]], chain: bool, stick: np.ndarray | None = None
+) -> list[tuple | None]:
     """Periodic orbits of ``(frequency index, rho, guesses)`` under unit forcing with slip force ``rho``.
 
-    One compiled call for all (:func:`fretwear.time.shooting._orbits`).
+    One compiled call for all (:func:`fretwear.time.shooting._orbits`). With
+    ``stick`` (the stick threshold per frequency index), a solve records the
+    period of Newton's last evaluation when its last step is below ``_REUSE
+    d^1.5``; without, every orbit is verified to the shooting tolerance.
     Returns per problem ``(s_hat, amplitude, half p2p, relative half p2p, y0)``
     per unit forcing, or None where shooting failed (left out of the table).
     """
     at = np.array([p[0] for p in problems], dtype=np.int64)
     g = np.array([[p[1]] for p in problems])
-    o = _orbits(engine, at, g, [p[2] for p in problems], chain, 1e-10, 30, 400)
+    reuse = 0.0
+    if stick is not None:
+        reuse = _REUSE * np.clip(1.0 - g[:, 0] / stick[at], 0.0, 1.0) ** 1.5
+    o = _orbits(engine, at, g, [p[2] for p in problems], chain, 1e-10, 30, 400, reuse=reuse)
     amplitude = np.hypot(o["fre"], o["fim"]) * (2.0 / engine.periods[at])[:, None]
     half = (o["hi"] - o["lo"]) / 2
     n = engine.n
@@ -644,7 +657,7 @@ def _spacing(rho_stick: float):
     return (lambda r: np.log(r / (rho_stick - r))), (lambda u: rho_stick / (1.0 + np.exp(-u)))
 
 
-def _first_samples(engine: Table, jobs: list[_Job]) -> None:
+def _first_samples(engine: Table, jobs: list[_Job], stick: np.ndarray) -> None:
     """The ends (frictionless and stuck responses) and the first samples of new tables.
 
     The first samples lie evenly in ``log(rho / (rho_stick - rho))`` from
@@ -654,7 +667,7 @@ def _first_samples(engine: Table, jobs: list[_Job]) -> None:
     """
     ends = [(job.index, 0.0, []) for job in jobs] + [(job.index, 2.0 * max(job.table.rho_stick, 1.0), [])
                                                     for job in jobs]  # fmt: skip
-    rows = _shoot(engine, ends, False)
+    rows = _shoot(engine, ends, False, stick)
     for job, free, stuck in zip(jobs, rows[: len(jobs)], rows[len(jobs) :], strict=True):
         if stuck is None:
             raise RuntimeError("shooting failed on the stuck structure")
@@ -667,7 +680,7 @@ def _first_samples(engine: Table, jobs: list[_Job]) -> None:
                                     _FIRST)) for job in jobs]  # fmt: skip
     for k in range(_FIRST):
         problems = [(job.index, float(grid[k]), []) for job, grid in zip(jobs, grids, strict=True)]
-        for (_, rho, _), job, row in zip(problems, jobs, _shoot(engine, problems, True), strict=True):
+        for (_, rho, _), job, row in zip(problems, jobs, _shoot(engine, problems, True, stick), strict=True):
             _add(job, rho, row)
 
 
@@ -715,19 +728,20 @@ def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None
     ``rho = 0`` to the first sample is checked at its thirds in ``rho``.
     """
     engine = Table(model, [job.table.omega for job in jobs])
+    stick = np.array([job.table.rho_stick for job in jobs])
     spent = dict.fromkeys(range(len(jobs)), 0)
     new = [job for job in jobs if not job.points]
     if new:
         for job in new:
             spent[job.index] += 2 + _FIRST
-        _first_samples(engine, new)
+        _first_samples(engine, new, stick)
     below = []  # an existing table extended below its lowest sample: three samples, from its lowest orbit
     for job in jobs:
         r0 = min(job.points, default=np.inf)
         if job not in new and r0 > job.lo:
             below += job.problems(job.from_u(np.linspace(job.to_u(job.lo), job.to_u(r0), 4))[:-1])
     if below:
-        for (i, rho, _), row in zip(below, _shoot(engine, below, False), strict=True):
+        for (i, rho, _), row in zip(below, _shoot(engine, below, False, stick), strict=True):
             spent[i] += 1
             _add(jobs[i], rho, row)
     while True:
@@ -753,7 +767,7 @@ def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None
             problems += job.problems(thirds.ravel())
         if not problems:
             break
-        rows = iter(_shoot(engine, problems, False))
+        rows = iter(_shoot(engine, problems, False, stick))
         for job, pairs, thirds, x, c in checks:
             spent[job.index] += thirds.size
             predicted = _q_at(x, c, thirds.ravel()).reshape(thirds.shape)

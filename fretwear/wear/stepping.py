@@ -22,14 +22,8 @@ import numpy as np
 
 from ..model import Model
 from ..slow_time import integrate
-from .common import (
-    Dynamics,
-    Recorder,
-    WearHistory,
-    check_wear_inputs,
-    clip_wear,
-    two_scale_warning,
-)
+from .dynamics import Dynamics
+from .result import Recorder, WearHistory, check_wear_inputs, clip_wear, two_scale_warning
 
 __all__ = ["wear_stepping", "MAX_INCREMENT"]
 
@@ -76,7 +70,7 @@ def wear_stepping(
         ``fixed_step=1`` is the paper's per-period update (eq. 24).
     dynamics : {"auto", "dlft", "shooting"}
         Periodic solver: exact shooting on the event-driven dynamics, or HBM + DLFT
-        (an approximation); ``"auto"``: :func:`~fretwear.wear.common.resolve_dynamics`.
+        (an approximation); ``"auto"``: :func:`~fretwear.wear.dynamics.resolve_dynamics`.
     stop_fraction : float
         Stop when every contact reaches ``stop_fraction * u0``.
     max_steps : int

@@ -71,7 +71,7 @@ from numpy.typing import ArrayLike
 from ..model import Model
 from ..time.integrator import integrate, period_map
 from ..time.shooting import periodic_state, shooting
-from .common import TWO_SCALE_LIMIT, WearHistory, check_wear_inputs
+from .result import TWO_SCALE_LIMIT, WearHistory, check_wear_inputs
 
 __all__ = ["integrate_wear"]
 

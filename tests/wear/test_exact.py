@@ -5,6 +5,8 @@ import pytest
 from scipy.integrate import quad
 
 import fretwear as fw
+from fretwear.time.patterns import Table
+from fretwear.wear import sliding
 from fretwear.wear.sliding import SlidingTable, cached_solves, sliding_table
 
 OMEGA = 2 * np.pi * 0.7
@@ -223,3 +225,18 @@ def test_history_records_are_shooting_solutions_at_their_wear():
         np.testing.assert_allclose(h.amplitude[k], sol.amplitude, rtol=1e-8)
         np.testing.assert_allclose(h.half_peak_to_peak[k], sol.half_peak_to_peak, rtol=1e-8)
         np.testing.assert_allclose(h.sliding_distance[k], sol.sliding_distance, rtol=1e-8)
+
+
+def test_table_solves_keep_newtons_last_period_within_their_bound():
+    # a table's solve records the period Newton last marched (none marched after it) when Newton's last
+    # step is below _REUSE d^1.5, d = 1 - rho / rho_stick: s_hat within TOL / 30 of the verified orbit's
+    model = fw.paper_model(fex=10)
+    unit = model.scaled(1.0 / sliding.unit_forcing(model))
+    omegas = 2 * np.pi * np.array([0.5, 0.7, 1.1])
+    stick = np.array([sliding._stick_threshold(model, w) for w in omegas])
+    d = np.array([1e-3, 1e-2, 0.1, 0.5])
+    problems = [(k, float(stick[k] * (1 - x)), []) for k in range(len(omegas)) for x in d]
+    verified = sliding._shoot(Table(unit, omegas), problems, False)
+    reused = sliding._shoot(Table(unit, omegas), problems, False, stick)
+    err = np.array([abs(b[0] / a[0] - 1) for a, b in zip(verified, reused, strict=True)])
+    assert np.all(err <= sliding.TOL / 30) and np.any(err > 0)  # within the bound, and taken

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fretwear import FrictionContact, Model, paper_model, solve_periodic
-from fretwear.wear import common as wear_module
+from fretwear.wear import dynamics as wear_module
 from fretwear.wear.exact import wear_exact
 from fretwear.wear.polynomial import wear_polynomial
 from fretwear.wear.stepping import wear_stepping

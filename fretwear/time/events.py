@@ -1,0 +1,297 @@
+"""Contact states at an event of the event-driven march: the Coulomb law at acceleration level.
+
+**Contact states at an event** (:func:`select`). The contacts at zero
+relative velocity (stuck ones, the one whose velocity vanished, others within
+round-off of zero) get their forces from the Coulomb law at acceleration
+level: ``min 1/2 l^T W l - b^T l`` over ``|l_j| <= g_j``, ``W = B_Z M^-1 B_Z^T``
+(the Delassus matrix), ``b = B_Z M^-1 r``: a unique solution (``W`` positive
+definite). A contact strictly inside its cone sticks; one at its limit whose
+relative acceleration points along its force beyond round-off slips that way.
+A contact at its limit with zero relative acceleration (critical: stick
+exactly at the limit, grazing) is decided at higher order: it slips if its
+force guard is the one that triggered the event (a stick that must end at
+once); otherwise it slips when the first derivative of its stuck force
+(orders 1 to 3, on the pattern where every critical contact sticks) that is
+not zero within round-off points out of the cone, and it sticks when it points
+inwards or every derivative vanishes (a force held at the limit). A stuck
+force that starts beyond the limit within that rule's tolerance (``5e-10``
+of ``g_j``) is measured from where it starts (the guard is offset).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .codes import NEED_PATTERN, OK
+from .series import EPS_GUARD, dot
+
+__all__ = ["select", "find_slot", "augmented", "bits", "delassus", "project"]
+
+_BAND = 1e-12  # a force this close to its limit counts as at the limit
+_STICK_TOL = 5e-10  # critical contact: relative acceleration below this (force units, of g_j)
+_RATE_TOL = 1e-11  # derivatives of a critical stuck force below this (of its scale) vanish
+
+
+@njit(cache=True, nogil=True)
+def _box_qp(W, b, g, L):
+    """``min 1/2 x^T W x - b^T x`` subject to ``|x| <= g`` (``W = L L^T`` positive definite)."""
+    z = b.shape[0]
+    if z == 1:
+        return np.array([min(max(b[0] / W[0, 0], -g[0]), g[0])])
+    x = _chol_solve(L, b)
+    for i in range(z):
+        x[i] = min(max(x[i], -g[i]), g[i])
+    gmax = g.max()
+    for _ in range(10_000):  # projected Gauss-Seidel: converges for positive definite W
+        change = 0.0
+        for i in range(z):
+            s = b[i]
+            for k in range(z):
+                s -= W[i, k] * x[k]
+            xi = min(max(x[i] + s / W[i, i], -g[i]), g[i])
+            change = max(change, abs(xi - x[i]))
+            x[i] = xi
+        if change <= 1e-15 * gmax:
+            break
+    # polish: exact solve on the identified active set, kept when consistent
+    bound = np.abs(x) >= g * (1 - 1e-9)
+    xp = np.zeros(z)
+    nfree = 0
+    for i in range(z):
+        if bound[i]:
+            xp[i] = g[i] if x[i] > 0 else -g[i]
+        else:
+            nfree += 1
+    if nfree:
+        idx = np.flatnonzero(~bound)
+        Wf = np.empty((nfree, nfree))
+        rhs = np.empty(nfree)
+        for p in range(nfree):
+            rhs[p] = b[idx[p]]
+            for k in range(z):
+                if bound[k]:
+                    rhs[p] -= W[idx[p], k] * xp[k]
+            for q in range(nfree):
+                Wf[p, q] = W[idx[p], idx[q]]
+        sol = _chol_solve(_cholesky(Wf), rhs)
+        for p in range(nfree):
+            xp[idx[p]] = sol[p]
+    a = b - W @ xp
+    bscale = np.abs(b).max()
+    for i in range(z):
+        if bound[i]:
+            if np.sign(xp[i]) * a[i] < -1e-12 * bscale:
+                return x
+        elif abs(xp[i]) > g[i]:
+            return x
+    return xp
+
+
+@njit(cache=True, nogil=True)
+def find_slot(masks, count, mask):
+    for k in range(count):
+        if masks[k] == mask:
+            return k
+    return -1
+
+
+@njit(cache=True, nogil=True)
+def augmented(y, t, g, dirs, omega, nf, X):
+    """Augmented state ``(u, v, lambda, 1, cos, sin)`` (zero force for stuck and open contacts)."""
+    n2 = y.shape[0]
+    X[:n2] = y
+    for j in range(nf):
+        X[n2 + j] = g[j] * dirs[j]
+    X[n2 + nf] = 1.0
+    X[n2 + nf + 1] = math.cos(omega * t)
+    X[n2 + nf + 2] = math.sin(omega * t)
+
+
+@njit(cache=True, nogil=True)
+def bits(mask, nf):
+    """Indices of the set bits of ``mask`` below ``nf``."""
+    count = 0
+    for j in range(nf):
+        if mask >> j & 1:
+            count += 1
+    idx = np.empty(count, dtype=np.int64)
+    count = 0
+    for j in range(nf):
+        if mask >> j & 1:
+            idx[count] = j
+            count += 1
+    return idx
+
+
+@njit(cache=True, nogil=True)
+def _cholesky(W):
+    """Lower Cholesky factor of the small positive definite ``W``."""
+    z = W.shape[0]
+    L = np.zeros((z, z))
+    for i in range(z):
+        for k in range(i + 1):
+            s = W[i, k]
+            for m in range(k):
+                s -= L[i, m] * L[k, m]
+            L[i, k] = math.sqrt(max(s, 1e-300)) if i == k else s / L[k, k]
+    return L
+
+
+@njit(cache=True, nogil=True)
+def _chol_solve(L, b):
+    """``W^-1 b`` from the Cholesky factor ``L`` of ``W``."""
+    z = L.shape[0]
+    x = b.copy()
+    for i in range(z):
+        for m in range(i):
+            x[i] -= L[i, m] * x[m]
+        x[i] /= L[i, i]
+    for i in range(z - 1, -1, -1):
+        for m in range(i + 1, z):
+            x[i] -= L[m, i] * x[m]
+        x[i] /= L[i, i]
+    return x
+
+
+@njit(cache=True, nogil=True)
+def delassus(Minv, B, idx):
+    """``B_Z``, ``M^-1 B_Z^T`` and the Cholesky factor of ``W = B_Z M^-1 B_Z^T``."""
+    n, z = Minv.shape[0], idx.shape[0]
+    BZ = np.empty((z, n))
+    for p in range(z):
+        BZ[p] = B[idx[p]]
+    MiBt = np.zeros((n, z))
+    for i in range(n):
+        for p in range(z):
+            s = 0.0
+            for m in range(n):
+                s += Minv[i, m] * BZ[p, m]
+            MiBt[i, p] = s
+    W = np.zeros((z, z))
+    for p in range(z):
+        for q in range(z):
+            s = 0.0
+            for m in range(n):
+                s += BZ[p, m] * MiBt[m, q]
+            W[p, q] = s
+    return BZ, MiBt, W, _cholesky(W)
+
+
+@njit(cache=True, nogil=True)
+def project(MiBt, BZ, L, V):
+    """``V <- V - M^-1 B_Z^T W^-1 B_Z V`` column by column (M-orthogonal projection onto ``B_Z V = 0``)."""
+    n, cols = V.shape
+    z = BZ.shape[0]
+    w = np.empty(z)
+    for col in range(cols):
+        for p in range(z):
+            s = 0.0
+            for m in range(n):
+                s += BZ[p, m] * V[m, col]
+            w[p] = s
+        x = _chol_solve(L, w)
+        for i in range(n):
+            s = 0.0
+            for p in range(z):
+                s += MiBt[i, p] * x[p]
+            V[i, col] -= s
+
+
+@njit(cache=True, nogil=True)
+def select(t, y, Z, forced, g, dirs, model, omega, patterns):
+    """Contact states at ``(t, y)`` for the contacts ``Z`` (bit mask) at zero relative velocity.
+
+    See the module docstring for the rule. ``forced``: contacts whose force
+    guard triggered the event; ``model``, ``patterns``: packed as
+    :mod:`fretwear.time.codes` says. ``y``'s velocities are projected in place
+    so that the contacts of ``Z`` have exactly zero relative velocity (an
+    M-orthogonal round-off correction).
+
+    Returns ``(status, stuck mask, directions, need)``.
+    """
+    Minv, B, C, Kmat, F = model
+    masks, Ah, force_rows, _, _, _, count = patterns
+    n, nf = Minv.shape[0], B.shape[0]
+    out = dirs.copy()
+    idx = bits(Z, nf)
+    z = idx.size
+    if z == 0:
+        return OK, 0, out, 0
+    BZ, MiBt, W, L = delassus(Minv, B, idx)
+    project(MiBt, BZ, L, y[n:].reshape((n, 1)))
+    co, si = math.cos(omega * t), math.sin(omega * t)
+    r = np.empty(n)
+    for i in range(n):
+        s = F[i, 0] + F[i, 1] * co + F[i, 2] * si
+        for m in range(n):
+            s -= C[i, m] * y[n + m] + Kmat[i, m] * y[m]
+        for j in range(nf):
+            if not (Z >> j & 1):
+                s -= B[j, i] * g[j] * dirs[j]
+        r[i] = s
+    b = np.empty(z)
+    gz = np.empty(z)
+    for p in range(z):
+        s = 0.0
+        for i in range(n):
+            s += MiBt[i, p] * r[i]
+        b[p] = s
+        gz[p] = g[idx[p]]
+    lam = _box_qp(W, b, gz, L)
+    rscale = np.abs(r).sum()
+    stuck = 0
+    critical = 0
+    for p in range(z):
+        j = idx[p]
+        acc = b[p]
+        for q in range(z):
+            acc -= W[p, q] * lam[q]
+        sgn = 1 if lam[p] > 0 else -1
+        if abs(lam[p]) < g[j] * (1 - _BAND):
+            stuck |= 1 << j
+            out[j] = 0
+        elif sgn * acc / W[p, p] > _STICK_TOL * g[j] + EPS_GUARD * rscale:
+            out[j] = sgn
+        elif forced >> j & 1:
+            out[j] = sgn
+        else:
+            critical |= 1 << j
+            out[j] = sgn
+    if critical:
+        trial = stuck | critical
+        k = find_slot(masks, count, trial)
+        if k < 0:
+            return NEED_PATTERN, 0, out, trial
+        D = Ah.shape[1]
+        X = np.empty(D)
+        tmp = out.copy()
+        for j in range(nf):
+            if trial >> j & 1:
+                tmp[j] = 0
+        augmented(y, t, g, tmp, omega, nf, X)
+        c = np.empty((4, D))
+        c[0] = X
+        for q in range(1, 4):
+            c[q] = Ah[k] @ c[q - 1] / q
+        for p in range(z):
+            j = idx[p]
+            if not (critical >> j & 1):
+                continue
+            row = force_rows[k, j]
+            scale = g[j] + dot(row, X, 0, D)[1]
+            decided = False
+            for q in range(1, 4):
+                rate = dot(row, c[q], 0, D)[0]
+                if abs(rate) > _RATE_TOL * scale:
+                    decided = True
+                    if out[j] * rate <= 0:  # inwards: stick
+                        stuck |= 1 << j
+                        out[j] = 0
+                    break
+            if not decided:  # held at the limit
+                stuck |= 1 << j
+                out[j] = 0
+    return OK, stuck, out, 0

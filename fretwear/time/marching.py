@@ -1,0 +1,293 @@
+"""The compiled event-driven march of the piecewise-linear Coulomb dynamics, with its monodromy.
+
+Steps of the Taylor series of :mod:`fretwear.time.patterns` up to the first
+crossing of a guard (:mod:`fretwear.time.series`), contact states at each
+event (:mod:`fretwear.time.events`).
+
+**Monodromy**. The state-transition matrix of ``y = (u, v)`` is the product of
+the step propagators ``exp(A_yy s)`` and, at each event, of the saltation
+matrix ``I + (f+ - f-) grad(h)^T / (dh/dt)`` of the triggering guard ``h``; a
+contact that becomes stuck, or is stuck at the start, annihilates the
+perturbations of its relative velocity (M-orthogonal projection, the
+first-order effect of the short slip such a perturbation causes).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .codes import (
+    DEGENERATE,
+    NEED_PATTERN,
+    NEED_SPACE,
+    NONE,
+    NONFINITE,
+    OK,
+    OPEN_CODE,
+    REVERSAL_EVENT,
+    SLIP_CODE,
+    SLIP_EVENT,
+    STICK_CODE,
+    STICK_EVENT,
+)
+from .events import augmented, bits, delassus, find_slot, project, select
+from .patterns import matmul_into
+from .series import EPS_GUARD, K, dot, first_crossing, row_series, state_at, taylor_series
+
+__all__ = ["march", "MAX_NULL"]
+
+MAX_NULL = 40  # consecutive events at one instant before giving up
+_NEAR = 1e-12  # a slipping contact this close to zero relative velocity joins an event
+
+
+@njit(cache=True, nogil=True)
+def _phi_at(series, sigma, out):
+    """``exp(A_yy h sigma) = sum_k series[k] sigma^k``."""
+    out[:, :] = series[K]
+    for k in range(K - 1, -1, -1):
+        out *= sigma
+        out += series[k]
+
+
+@njit(cache=True, nogil=True)
+def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, records):
+    """Integrate from ``(t0, y0)`` to ``t1`` (``model``, ``patterns``, ``records``: :mod:`.codes`).
+
+    Returns ``(status, need, y, J, sliding, n_steps, n_phases, n_events)``:
+    the state at ``t1``, ``dy(t1)/dy(t0)`` (identity unless ``jacobian``) and
+    the distance slid by each contact (m). With ``record``, the steps
+    (start time, length, pattern slot, phase, start state), phases (start,
+    state codes, directions) and events (time, contact, kind, direction) are
+    written to the buffers ``records``; :data:`NEED_SPACE` when they are full.
+    """
+    Minv, B, _, _, _ = model
+    masks, Ah, force_rows, phi, phi_series, step, count = patterns
+    steps, phases, events = records
+    st_t, st_len, st_pat, st_phase, st_X = steps
+    ph_t, ph_state, ph_dir = phases
+    ev_t, ev_c, ev_kind, ev_dir = events
+    n, nf = Minv.shape[0], B.shape[0]
+    n2 = 2 * n
+    D = n2 + nf + 3
+    y = y0.copy()
+    J = np.eye(n2)
+    sliding = np.zeros(nf)
+    n_steps = n_phases = n_events = 0
+    t = t0
+    # initial states: contacts at zero relative velocity are decided by the Coulomb law
+    vscale = 0.0
+    for i in range(n):
+        vscale = max(vscale, 2 * abs(y[n + i]))
+    dirs = np.zeros(nf, dtype=np.int64)
+    Z = NONE
+    for j in range(nf):
+        if g[j] <= 0:
+            continue
+        vr = dot(B[j], y, n, 2 * n)[0]
+        if abs(vr) <= 1e-13 * vscale:
+            Z |= 1 << j
+        else:
+            dirs[j] = 1 if vr > 0 else -1
+    status, S, dirs, need = select(t, y, Z, NONE, g, dirs, model, omega, patterns)
+    if status != OK:
+        return status, need, y, J, sliding, 0, 0, 0
+    if jacobian and S:
+        BZ, MiBt, _, L = delassus(Minv, B, bits(S, nf))
+        project(MiBt, BZ, L, J[n:, :])
+    X = np.empty(D)
+    Xn = np.empty(D)
+    c = np.empty((K + 1, D))
+    a = np.empty(K + 1)
+    Phi = np.empty((n2, n2))
+    Jt = np.empty((n2, n2))
+    ur0 = np.zeros(nf)
+    off_up = np.zeros(nf)
+    off_lo = np.zeros(nf)
+    null_events = 0
+    new_phase = True
+    phase_start = t
+    while True:
+        k = find_slot(masks, count, S)
+        if k < 0:
+            return NEED_PATTERN, S, y, J, sliding, n_steps, n_phases, n_events
+        h = step[k]
+        augmented(y, t, g, dirs, omega, nf, X)
+        for j in range(nf):
+            if S >> j & 1:
+                X[n2 + j] = 0.0
+        # guard offsets: a stuck force that starts beyond its limit (within the rule's tolerance)
+        for j in range(nf):
+            off_up[j] = off_lo[j] = 0.0
+            if S >> j & 1:
+                lam = dot(force_rows[k, j], X, 0, D)[0]
+                off_up[j] = max(0.0, lam - g[j])
+                off_lo[j] = max(0.0, -lam - g[j])
+        if new_phase:
+            if record:
+                if n_phases >= ph_t.shape[0]:
+                    return NEED_SPACE, 0, y, J, sliding, n_steps, n_phases, n_events
+                ph_t[n_phases] = t
+                for j in range(nf):
+                    ph_dir[n_phases, j] = dirs[j]
+                    code = SLIP_CODE if g[j] > 0 else OPEN_CODE
+                    ph_state[n_phases, j] = STICK_CODE if S >> j & 1 else code
+            n_phases += 1
+            if n_phases > max_phases:
+                return DEGENERATE, 0, y, J, sliding, n_steps, n_phases, n_events
+            phase_start = t
+            for j in range(nf):
+                ur0[j] = dot(B[j], y, 0, n)[0]
+        who = -1
+        kind = -1  # 0 force up, 1 force down, 2 velocity
+        while True:
+            remaining = t1 - t
+            smax = min(1.0, remaining / h)
+            if smax <= 0.0:
+                break
+            taylor_series(Ah[k], X, c, n)
+            best = smax
+            who = -1
+            for j in range(nf):
+                if g[j] <= 0:
+                    continue
+                if S >> j & 1:
+                    row = force_rows[k, j]
+                    eps = EPS_GUARD * (g[j] + dot(row, X, 0, D)[1])
+                    for side in range(2):
+                        sgn = -1.0 if side == 0 else 1.0
+                        row_series(row, c, 0, D, sgn, a)
+                        a[0] += g[j] + (off_up[j] if side == 0 else off_lo[j])
+                        s = first_crossing(a, eps, 0.0, best)
+                        if s >= 0 and (s < best or who < 0):
+                            best, who, kind = s, j, side
+                else:
+                    row_series(B[j], c, n, n2, float(dirs[j]), a)
+                    scale = 0.0
+                    for i in range(n):
+                        scale += abs(B[j, i]) * (abs(X[n + i]) + omega * abs(X[i]))
+                    s = first_crossing(a, EPS_GUARD * scale, 0.0, best)
+                    if s >= 0 and (s < best or who < 0):
+                        best, who, kind = s, j, 2
+            if record:
+                if n_steps >= st_t.shape[0]:
+                    return NEED_SPACE, 0, y, J, sliding, n_steps, n_phases, n_events
+                st_t[n_steps] = t
+                st_len[n_steps] = best * h
+                st_pat[n_steps] = k
+                st_phase[n_steps] = n_phases - 1
+                st_X[n_steps] = X
+            n_steps += 1
+            state_at(c, best, Xn)
+            if jacobian:
+                if best == 1.0:
+                    matmul_into(phi[k], J, Jt)
+                else:
+                    _phi_at(phi_series[k], best, Phi)
+                    matmul_into(Phi, J, Jt)
+                J, Jt = Jt, J
+            X[:] = Xn
+            if who < 0 and best == smax and smax < 1.0:
+                t = t1
+            else:
+                t = t + best * h
+            if who >= 0 or t >= t1:
+                break
+        y[:] = X[:n2]
+        for i in range(n2):
+            if not math.isfinite(y[i]):
+                return NONFINITE, 0, y, J, sliding, n_steps, n_phases, n_events
+        for j in range(nf):
+            if g[j] > 0 and not (S >> j & 1):
+                sliding[j] += max(dirs[j] * (dot(B[j], y, 0, n)[0] - ur0[j]), 0.0)
+        if who < 0:
+            return OK, 0, y, J, sliding, n_steps, n_phases, n_events
+        # the event: contacts at zero relative velocity, and the triggering guard
+        Zm = S
+        forced = 0
+        if kind == 2:
+            Zm |= 1 << who
+        else:
+            forced = 1 << who
+        for j in range(nf):
+            if g[j] > 0 and not (Zm >> j & 1):
+                vr = dot(B[j], y, n, n2)[0]
+                vs = 0.0
+                for i in range(n):
+                    vs += abs(B[j, i]) * (abs(y[n + i]) + omega * abs(y[i]))
+                if abs(vr) <= _NEAR * vs:
+                    Zm |= 1 << j
+        status, S_new, d_new, need = select(t, y, Zm, forced, g, dirs, model, omega, patterns)
+        if status != OK:
+            return status, need, y, J, sliding, n_steps, n_phases, n_events
+        k_new = find_slot(masks, count, S_new)
+        if k_new < 0:
+            return NEED_PATTERN, S_new, y, J, sliding, n_steps, n_phases, n_events
+        changed = S_new != S
+        for j in range(nf):
+            if d_new[j] != dirs[j]:
+                changed = True
+        if jacobian and changed:
+            # saltation of the triggering guard
+            grad = np.zeros(n2)
+            if kind == 2:
+                for i in range(n):
+                    grad[n + i] = dirs[who] * B[who, i]
+            else:
+                sgn = -1.0 if kind == 0 else 1.0
+                for i in range(n2):
+                    grad[i] = sgn * force_rows[k, who, i]
+            f_minus = (Ah[k] @ X)[:n2] / h
+            Xp = np.empty(D)
+            augmented(y, t, g, d_new, omega, nf, Xp)
+            for j in range(nf):
+                if S_new >> j & 1:
+                    Xp[n2 + j] = 0.0
+            f_plus = (Ah[k_new] @ Xp)[:n2] / step[k_new]
+            hdot = grad @ f_minus
+            jump = f_plus - f_minus
+            if abs(hdot) > 1e-14 * np.abs(grad).sum() * np.abs(f_minus).sum() and np.abs(jump).max() > 0:
+                for col in range(n2):  # J += (jump / hdot) (grad^T J)
+                    gj = 0.0
+                    for r in range(n2):
+                        gj += grad[r] * J[r, col]
+                    gj /= hdot
+                    for r in range(n2):
+                        J[r, col] += jump[r] * gj
+            if S_new & ~S:
+                BZ, MiBt, _, L = delassus(Minv, B, bits(S_new, nf))
+                project(MiBt, BZ, L, J[n:, :])
+        if changed and record:
+            for j in range(nf):
+                was, now = S >> j & 1, S_new >> j & 1
+                kd = -1
+                if was and not now:
+                    kd = SLIP_EVENT
+                elif now and not was:
+                    kd = STICK_EVENT
+                elif not now and d_new[j] != dirs[j] and g[j] > 0:
+                    kd = REVERSAL_EVENT
+                if kd >= 0:
+                    if n_events >= ev_t.shape[0]:
+                        return NEED_SPACE, 0, y, J, sliding, n_steps, n_phases, n_events
+                    ev_t[n_events] = t
+                    ev_c[n_events] = j
+                    ev_kind[n_events] = kd
+                    ev_dir[n_events] = d_new[j]
+                    n_events += 1
+        elif changed:
+            n_events += 1
+        if t - phase_start <= 1e-13 * h or not changed:
+            null_events += 1
+            if null_events > MAX_NULL:
+                return DEGENERATE, 0, y, J, sliding, n_steps, n_phases, n_events
+        else:
+            null_events = 0
+        new_phase = changed
+        if not changed:  # same states: the phase goes on (guards measured from here)
+            for j in range(nf):
+                if g[j] > 0 and not (S >> j & 1):
+                    sliding[j] -= max(dirs[j] * (dot(B[j], y, 0, n)[0] - ur0[j]), 0.0)
+        S, dirs = S_new, d_new

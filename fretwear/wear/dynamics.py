@@ -1,0 +1,119 @@
+"""The periodic response at a wear state, as the slow-time methods call it: exact (shooting) or DLFT.
+
+Wear changes the dynamics only through the normal loads ``F_N,j(w_j)``
+(eq. 30d): :class:`Dynamics` solves the periodic response at each wear state
+the slow-time scheme asks for, warm-started from the previous one;
+:func:`resolve_dynamics` chooses the dynamics, :func:`observables` recovers the
+response quantities a history records from DLFT contact forces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..hbm.condensation import recover
+from ..hbm.harmonics import amplitude, extrema, full_synthesis
+from ..hbm.periodic import Problem, follow_normal_load, newton, solve_problem
+from ..hbm.solution import PeriodicSolution
+from ..model import Model
+from ..time.patterns import unsupported
+from ..time.shooting import shooting
+
+__all__ = ["Dynamics", "DYNAMICS", "DEFAULT_HARMONICS", "resolve_dynamics", "observables"]
+
+#: the periodic dynamics a slow-time method can run on (``dynamics=``)
+DYNAMICS = ("auto", "shooting", "dlft")
+#: ``Nh`` of the DLFT dynamics when ``dynamics="dlft"`` is asked for without ``harmonics``
+DEFAULT_HARMONICS = 21
+
+
+def resolve_dynamics(model: Model, dynamics: str = "auto", harmonics: int | None = None,
+                     samples: int | None = None) -> str:  # fmt: skip
+    """The dynamics that ``dynamics`` names for ``model``: ``"shooting"`` or ``"dlft"``.
+
+    ``"auto"`` is the exact event-driven dynamics (``"shooting"``) wherever they
+    apply (friction contacts only, ``M`` positive definite, independent
+    contacts), unless harmonic-balance settings (``harmonics``, ``samples``) are
+    given: asking for ``Nh`` asks for the DLFT approximation. ``"shooting"``
+    on a model it does not apply to, or with those settings, is a ``ValueError``.
+    """
+    if dynamics not in DYNAMICS:
+        raise ValueError(f"dynamics must be one of {', '.join(map(repr, DYNAMICS))}, got {dynamics!r}")
+    dlft_settings = harmonics is not None or samples is not None
+    if dynamics == "auto":
+        return "dlft" if dlft_settings or unsupported(model) else "shooting"
+    if dynamics == "shooting":
+        if reason := unsupported(model):
+            raise ValueError(
+                f"dynamics='shooting' does not apply to this model: the time integrator {reason}"
+            )
+        if dlft_settings:
+            raise ValueError("harmonics and samples are settings of the DLFT dynamics: "
+                             "dynamics='shooting' (exact, event-driven) takes neither")  # fmt: skip
+    return dynamics
+
+
+class Dynamics:
+    """Periodic response at a wear state, warm-started from the previous call (DLFT or shooting)."""
+
+    def __init__(self, model, omega, harmonics, samples, kw, dynamics):
+        self.model, self.omega, self.kw = model, omega, kw
+        self.kind = resolve_dynamics(model, dynamics, harmonics, samples)
+        self.harmonics = (harmonics or DEFAULT_HARMONICS) if self.kind == "dlft" else None
+        self.solves = 0
+        self.guess = None
+        if self.kind == "dlft":
+            self.problem = Problem(model, omega, self.harmonics, samples)
+
+    def _solve(self, problem: Problem) -> PeriodicSolution:
+        """Warm start: Newton from the last solution, then the exact normal-load walk, then cold."""
+        last = getattr(self, "last", None)
+        if self.guess is None or last is None or self.guess.shape != (problem.size,):
+            return solve_problem(problem)
+        res = newton(problem, self.guess, 1e-10, 8)
+        path = "dlft"
+        if not res.converged and problem.n_active == 1 and last.n_active == 1:
+            res, path = follow_normal_load(last, self.guess, problem), "dlft-load-walk"
+        if not res.converged:
+            return solve_problem(problem, self.guess)
+        return PeriodicSolution.build(problem, res.x, res, path)
+
+    def __call__(self, wear: np.ndarray, keep: bool = True):
+        """Return ``(rate dw/dN, sliding distance, solution)`` or ``None`` if the solve fails."""
+        self.solves += 1
+        loads = self.model.normal_loads(wear)
+        if self.kind == "dlft":
+            problem = self.problem.with_wear(wear)
+            sol = self._solve(problem)
+            self.last = problem if keep and sol.converged else getattr(self, "last", None)
+        else:
+            sol = shooting(self.model, self.omega, self.guess, wear=wear)
+        if not sol.converged:
+            return None
+        if keep:
+            self.guess = sol.unknowns
+        slid = np.asarray(sol.sliding_distance)
+        return self.kw * loads * slid, slid, sol
+
+
+def observables(problem: Problem, lam: np.ndarray):
+    """Amplitude and half peak-to-peak of every DOF (m), and relative half peak-to-peak (m), of the
+    responses with contact-force harmonics ``lam`` (K, nc H) in ``problem``'s basis.
+
+    The DOF harmonics are affine in ``lam`` (eq. 10-11), so one linear map
+    recovers all ``K`` responses at once; the extrema are exact (refined from
+    4 samples per shortest period).
+    """
+    model, b = problem.model, problem.basis
+    nh = b.harmonics
+    base = recover(model, problem.B, problem.omega, nh, np.zeros((problem.n_active, 2 * nh + 1)))
+    unit = np.stack([recover(model, problem.B, problem.omega, nh, b.to_full(e.reshape(-1, b.size))) - base
+                     for e in np.eye(problem.size)])  # fmt: skip
+    U = base[None] + np.einsum("kj,jnm->knm", lam, unit)  # (K, n, 2 Nh + 1)
+    K, n = U.shape[:2]
+    rel = np.einsum("cn,knm->kcm", model.relative_map(), U)
+    rows = np.concatenate([U.reshape(-1, U.shape[-1]), rel.reshape(-1, U.shape[-1])])
+    noise = 1e-12 * np.abs(U).max(initial=0.0)  # relative motions are differences of DOF motions: round-off
+    hi, lo = extrema(rows, rows @ full_synthesis(nh, 8 * nh + 8).T, noise)
+    half = (hi - lo) / 2
+    return amplitude(U), half[: K * n].reshape(K, n), half[K * n :].reshape(K, -1)
