@@ -65,6 +65,11 @@ def unsupported(model: Model) -> str | None:
     independent contacts; the exact dynamics (:func:`fretwear.shooting`) apply
     exactly where it runs.
     """
+    if model.pairs is not None:
+        return (
+            "supports 1-D friction contacts only: contact node pairs (model.pairs, "
+            f"{model.n_pairs} given) have the coupled normal/tangential law; use fretwear.solve_periodic"
+        )
     if model.normal:
         return (
             "supports friction contacts only: unilateral normal contacts "

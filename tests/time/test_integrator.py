@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+import fretwear as fw
 import fretwear.time as ti
 from fretwear import FrictionContact, Model, NormalContact, jenkins_oscillator, paper_model
 from fretwear.model import OPEN, SLIP, STICK
@@ -337,6 +338,8 @@ def test_bad_input():
     )
     with pytest.raises(ValueError, match="normal contacts"):
         ti.integrate(normal, 1.0, np.zeros(4), 0.0, 1.0)
+    with pytest.raises(ValueError, match="contact node pairs"):  # not solved without its contacts
+        ti.shooting(fw.paper_interface(), 1.0)
     with pytest.raises(ValueError, match="shape"):
         ti.integrate(model, 1.0, np.zeros(3), 0.0, 1.0)
     with pytest.raises(ValueError, match="shape"):
