@@ -50,7 +50,7 @@ from .dense import FASTMATH, lu_factor, lu_solve
 
 __all__ = [
     "DLFT", "COUPLED", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
-    "coupled_law", "newton", "walk", "tangent", "step_past",
+    "coupled_law", "newton", "walk", "tangent", "step_past", "keep_full_step",
 ]  # fmt: skip
 
 #: law codes: the 1-D friction/unilateral law, the coupled normal/tangential pair law
@@ -184,6 +184,17 @@ def _direction(code, J, R, A, eps, piv, dx):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
+def keep_full_step(r, best, it, max_iter):
+    """Whether full Newton step ``it`` (counted from 1) to residual ``r`` is kept, ``best`` the least seen.
+
+    The non-monotone rule of :func:`newton` (and of the Galerkin Newton of
+    :mod:`fretwear.wear.polynomial`): within a factor 1000 of the best
+    residual, for the first half of the budget ``max_iter``.
+    """
+    return np.isfinite(r) and r < 1e3 * best and it < max_iter // 2
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def newton(law, x0, Z, F, eps, target, max_iter):
     """Non-monotone Newton's method from ``x0`` with a damped fallback from the best iterate (module text).
 
@@ -226,7 +237,7 @@ def newton(law, x0, Z, F, eps, target, max_iter):
         if not damped:
             xt = x + dx
             rt = _residual(law, xt, Z, F, eps, Rt, Jt, buffers)
-            if np.isfinite(rt) and rt < 1e3 * best_r and it < max_iter // 2:
+            if keep_full_step(rt, best_r, it, max_iter):
                 x, r = xt, rt
                 R[:] = Rt
                 J[:, :] = Jt
