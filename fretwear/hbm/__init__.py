@@ -3,8 +3,11 @@
 Layers, bottom up: :mod:`~fretwear.hbm.harmonics` (Fourier basis and DFT
 matrices, eq. 9-10), :mod:`~fretwear.hbm.condensation` (reduced dynamic
 stiffness on the contact coordinates, eq. 11), :mod:`~fretwear.hbm.dlft` (the
-contact law: prediction/correction in time, eq. 17-23, compiled),
-:mod:`~fretwear.hbm.kernels` (compiled Newton and piecewise-linear walks),
+contact law: prediction/correction in time, eq. 17-23, compiled) and
+:mod:`~fretwear.hbm.coupled` (the coupled normal/tangential law of contact
+interfaces), :mod:`~fretwear.hbm.newton` (one compiled Newton's method and
+one piecewise-linear walk, handed either law; :mod:`~fretwear.hbm.kernels`
+calls them with the 1-D law),
 :mod:`~fretwear.hbm.periodic` (one frequency: :func:`solve_periodic`),
 :mod:`~fretwear.hbm.continuation` and :mod:`~fretwear.hbm.arclength` (over
 frequency: :func:`sweep`, :func:`continuation`), :mod:`~fretwear.hbm.linear`

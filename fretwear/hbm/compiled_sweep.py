@@ -41,6 +41,7 @@ from .condensation import Condensed, condense_sweep, recover
 from .dense import FASTMATH, lu_factor, lu_solve
 from .dlft import (
     FRICTION,
+    assemble_augmented,
     augmented_boundary,
     augmented_jacobian,
     augmented_march,
@@ -50,6 +51,7 @@ from .dlft import (
     sampled_residual,
     state_code,
 )
+from .newton import step_past, tangent
 from .problem import EPS_FACTOR, NewtonResult, Problem
 from .solution import PeriodicSolution
 
@@ -207,7 +209,7 @@ def _walk(v0, p0, p_end, mode, M, F, r0, eps, law, max_pieces, cur, work):
     p = p0
     row = np.zeros(n + 1)
     row[n] = 1.0
-    orientation = 0
+    orientation, stalled = 0, 0
     yes = np.bool_(True)
     for piece in range(1, max_pieces + 1):
         augmented_march(v, eps, kinds, limits, PhiT, half_wave, lam, X, state, dep, sgn, hilo, U)
@@ -218,20 +220,9 @@ def _walk(v0, p0, p_end, mode, M, F, r0, eps, law, max_pieces, cur, work):
             aug[i, n] = dR[i]
         for j in range(n + 1):
             aug[n, j] = row[j]
-        sign = lu_factor(aug, piv)
-        if sign == 0:
+        orientation = tangent(aug, piv, t, orientation)
+        if orientation == 0:
             return v0.copy(), p0, 0, False
-        for i in range(n + 1):
-            t[i] = 0.0
-        t[n] = 1.0
-        lu_solve(aug, piv, t)
-        norm = 0.0
-        for i in range(n + 1):
-            norm += t[i] * t[i]
-        flip = -1.0 if orientation != 0 and sign != orientation else 1.0
-        for i in range(n + 1):
-            t[i] *= flip / np.sqrt(norm)
-        orientation = orientation if flip < 0 else sign
         for i in range(n):
             dv[i] = t[i]
         reach = (p_end - p) / t[n] if t[n] > 0 else np.inf
@@ -243,7 +234,7 @@ def _walk(v0, p0, p_end, mode, M, F, r0, eps, law, max_pieces, cur, work):
         big = abs(p)
         for i in range(n):
             big = max(big, abs(v[i]))
-        step = tau * (1 + 1e-9) + 1e-13 * (big + 1e-300)
+        step, stalled = step_past(tau, big, stalled)
         for i in range(n):
             v[i] += step * dv[i]
         p += step * t[n]
@@ -342,20 +333,11 @@ def _pattern_start(v, M, F, eps, law, code, at_v, cur, work, vp):
     R, lam, dep, sgn = cur[0], cur[1], cur[4], cur[5]
     hilo, U = at_v[6], at_v[7]  # the samples of v and their extremes
     nc = kinds.shape[0]
-    Ns, H = Phi.shape
     n = v.shape[0]
     for c in range(nc):
         if not forced_march(U[c], code[c], kinds[c], limits[c], eps[c], half_wave, lam[c], dep[c], sgn[c]):
             return False
-    for i in range(n):
-        acc = -F[i]
-        for j in range(n):
-            acc += M[i, j] * (v[j] - F[j])
-        R[i] = acc
-    for c in range(nc):
-        for s in range(Ns):
-            for j in range(H):
-                R[c * H + j] += lam[c, s] * PsiT[s, j]
+    assemble_augmented(v, M, F, lam, PsiT, R)
     augmented_jacobian(M, dep, sgn, hilo, Phi, Psi, P, Q, stride, A, J)
     if lu_factor(J, piv) == 0:
         return False

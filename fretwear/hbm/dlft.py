@@ -41,8 +41,8 @@ from .dense import FASTMATH
 
 __all__ = [
     "FRICTION", "UNILATERAL", "STICK", "SLIP", "OPEN", "evaluate", "jacobian_from_blocks", "augmented_march",
-    "sampled_march", "augmented_residual", "sampled_residual", "augmented_jacobian", "augmented_boundary",
-    "block_sums", "state_code", "forced_march",
+    "sampled_march", "augmented_residual", "assemble_augmented", "sampled_residual", "augmented_jacobian",
+    "augmented_boundary", "block_sums", "state_code", "forced_march",
 ]  # fmt: skip
 
 FRICTION, UNILATERAL = 0, 1  # contact kinds
@@ -243,16 +243,23 @@ def evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def jacobian_from_blocks(Z, eps, A, J):
-    """J = Z + blockdiag(A_c) (diag(eps) - Z): exact derivative of the residual."""
-    nc, H = A.shape[0], A.shape[1]
-    for c in range(nc):
-        r0 = c * H
-        AZ = A[c] @ np.ascontiguousarray(Z[r0 : r0 + H, :])
-        for i in range(H):
-            for j in range(nc * H):
+    """J = Z + blockdiag(A_c) (diag(eps) - Z): exact derivative of the residual of any DLFT law (N/m).
+
+    ``A`` (nb, m, m): one block per contact (``m = H``, this module's law) or per
+    pair of coordinates (``m = 2 H``, :mod:`fretwear.hbm.coupled`); ``eps`` one
+    penalty per coordinate, each over ``H = n / len(eps)`` consecutive unknowns.
+    """
+    nb, m = A.shape[0], A.shape[1]
+    n = Z.shape[0]
+    H = n // eps.shape[0]
+    for c in range(nb):
+        r0 = c * m
+        AZ = A[c] @ np.ascontiguousarray(Z[r0 : r0 + m, :])
+        for i in range(m):
+            for j in range(n):
                 J[r0 + i, j] = Z[r0 + i, j] - AZ[i, j]
-            for j in range(H):
-                J[r0 + i, r0 + j] += eps[c] * A[c, i, j]
+            for j in range(m):
+                J[r0 + i, r0 + j] += eps[(r0 + j) // H] * A[c, i, j]
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -335,10 +342,23 @@ def augmented_residual(
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def sampled_residual(v, M, F, eps, kinds, limits, PsiT, half_wave, R, lam, X, state, dep, sgn, hilo, U):
     """:func:`augmented_residual` with ``U`` holding the samples of ``v`` already (:func:`sampled_march`)."""
-    nc = kinds.shape[0]
-    Ns, H = PsiT.shape
     n = v.shape[0]
     sampled_march(eps, kinds, limits, half_wave, lam, X, state, dep, sgn, hilo, U)
+    assemble_augmented(v, M, F, lam, PsiT, R)
+    r = 0.0
+    for i in range(n):
+        if not abs(R[i]) < np.inf:
+            return np.inf
+        r = max(r, abs(R[i]))
+    return r
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def assemble_augmented(v, M, F, lam, PsiT, R):
+    """``R = M (v - F) - F + Psi lam`` (N): the augmented residual from the march's forces ``lam``."""
+    nc = lam.shape[0]
+    Ns, H = PsiT.shape
+    n = v.shape[0]
     for i in range(n):
         acc = -F[i]
         for j in range(n):
@@ -350,12 +370,6 @@ def sampled_residual(v, M, F, eps, kinds, limits, PsiT, half_wave, R, lam, X, st
             ls = lam[c, s]
             for j in range(H):
                 Rc[j] += ls * PsiT[s, j]
-    r = 0.0
-    for i in range(n):
-        if not abs(R[i]) < np.inf:
-            return np.inf
-        r = max(r, abs(R[i]))
-    return r
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)

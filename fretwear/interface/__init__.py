@@ -18,8 +18,9 @@ Layers, bottom up:
 * :mod:`~fretwear.interface.static`: quasi-static contact (Hertz,
   Cattaneo-Mindlin; :func:`static_benchmark`);
 * :mod:`~fretwear.interface.contact`, :mod:`~fretwear.interface.kernels`: the
-  coupled normal/tangential DLFT law of eq. 17-23 per pair (Numba) and the
-  compiled Newton loop and load walk;
+  coupled normal/tangential DLFT law of eq. 17-23 per pair (Numba, in
+  :mod:`fretwear.hbm.coupled`) and the compiled Newton loop and load walk (the
+  shared ones of :mod:`fretwear.hbm.newton`, handed this law);
 * :mod:`~fretwear.interface.periodic`: the periodic response
   (:class:`InterfaceProblem`, :func:`solve_interface`);
 * :mod:`~fretwear.interface.history`: the record of a nodal wear history

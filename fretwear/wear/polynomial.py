@@ -77,6 +77,7 @@ from numba import njit
 
 from ..hbm import dlft
 from ..hbm.kernels import LOAD, NEWTON, newton_kernel, walk_kernel
+from ..hbm.newton import keep_full_step
 from ..hbm.periodic import solve_problem
 from ..hbm.problem import Problem
 from ..model import Model
@@ -634,7 +635,8 @@ class _Slow:
 
     def _newton(self, Cx, a, H, V, D, wq, V0, tol, max_iter):
         """Newton's method, non-monotone (full steps while the residual stays within 1e3 of the best) for
-        half the budget, then damped from the best iterate: the residual is only piecewise smooth."""
+        half the budget (:func:`~fretwear.hbm.newton.keep_full_step`), then damped from the best iterate:
+        the residual is only piecewise smooth."""
         Z, F, eps, kinds, Phi, Psi, half_wave = self.dyn
         nX = Cx.size
 
@@ -658,7 +660,7 @@ class _Slow:
             if not damped:
                 Gt, Jt = evaluate(v + d)
                 rt = float(np.abs(Gt).max())
-                if np.isfinite(rt) and rt < 1e3 * best[0] and it <= max_iter // 2:
+                if keep_full_step(rt, best[0], it, max_iter):
                     v, G, J, r = v + d, Gt, Jt, rt
                     if r < best[0]:
                         best = (r, v, G, J)

@@ -1,0 +1,420 @@
+"""One Newton's method and one piecewise-linear walk for every contact law (compiled).
+
+The periodic DLFT equations of every structure read ``R(x) = Z x + Lambda(x) -
+F = 0`` (eq. 12): ``x`` the harmonics of the contact coordinates, ``Lambda`` the
+contact forces of a contact law marched over the samples of a period, with
+the exact Jacobian ``J = Z + blockdiag(A) (E - Z)``
+(:func:`fretwear.hbm.dlft.jacobian_from_blocks`). The residual is piecewise
+linear, which both solvers here use:
+
+* :func:`newton`: non-monotone Newton. Once the stick/slip/separation pattern
+  is right a full step lands on the solution; on the way, full steps may raise
+  the residual while the pattern settles (a monotone line search stalls at the
+  kinks), so full steps are taken while the residual stays within a factor
+  1000 of the best one seen, for half the budget; then a backtracking line
+  search restarts from the best iterate;
+* :func:`walk`: the solution curve of ``R(x; F0 + p F1) - (1 - p) r0 = 0`` in
+  ``(x, p)`` is a polygon, followed piece by piece along the null vector of
+  ``[dR/dx, dR/dp]`` to the next change of state (found exactly by the law) and
+  just past it. ``F0 = 0, F1 = F, r0 = 0``: the load continuation;
+  ``F0 = F, F1 = 0, r0 = R(x0)``: the global Newton homotopy; ``F0`` static,
+  ``F1`` the excitation: the continuation in the excitation amplitude.
+
+**The law** is handed as a tuple built by :func:`dlft_law` (1-D friction and
+unilateral contacts, :mod:`fretwear.hbm.dlft`) or :func:`coupled_law` (coupled
+normal/tangential node pairs, :mod:`fretwear.hbm.coupled`), whose integer code
+chooses the law's functions inside the kernels. The other option, Numba
+first-class functions (``types.FunctionType`` arguments), was measured: the
+kernel itself loads from the on-disk cache, but every compiled caller that
+passes it a law function (the sweep, the polynomial method's node solve)
+cannot be cached ("uses dynamic globals") and would compile again in every
+new process; with a code, every kernel caches and the law's functions are
+inlined.
+
+Each law keeps its linear algebra: the 1-D law's systems have tens of
+unknowns, solved by the LU loops of :mod:`fretwear.hbm.dense`, which report a
+singular matrix (code ``SINGULAR``; a singular walk ends where it started);
+the coupled law's systems have hundreds, most of them in pairs stuck all
+period whose block of ``J`` is ``diag(eps)``: those are eliminated first and
+the rest solved by LAPACK, which raises on a singular matrix (the caller
+reports it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from . import coupled, dlft
+from .dense import FASTMATH, lu_factor, lu_solve
+
+__all__ = [
+    "DLFT", "COUPLED", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
+    "coupled_law", "newton", "walk", "tangent", "step_past", "keep_full_step",
+]  # fmt: skip
+
+#: law codes: the 1-D friction/unilateral law, the coupled normal/tangential pair law
+DLFT, COUPLED = 0, 1
+#: codes of :func:`newton`: converged, non-finite step, line search failed, budget, singular Jacobian
+CONVERGED, NON_FINITE, LINE_SEARCH, BUDGET, SINGULAR = 0, 1, 2, 3, 4
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def dlft_law(kinds, limits, Phi, Psi, half_wave):
+    """The law of :func:`fretwear.hbm.dlft.evaluate`: contact ``kinds``, ``limits`` (N or m), the iDFT
+    ``Phi`` (Ns, H) and DFT ``Psi`` (H, Ns) matrices, ``half_wave`` march."""
+    none = np.empty(0)
+    return (np.int64(DLFT), kinds, limits, half_wave, none, none, none, Phi, Psi)
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def coupled_law(gap, mu, xref, Phi, Psi):
+    """The law of :func:`fretwear.hbm.coupled.evaluate`: per pair ``gap`` plus wear (m), friction
+    coefficient ``mu`` and reference slip variable ``xref`` (m); ``Phi``, ``Psi`` as in :func:`dlft_law`."""
+    none = np.empty(0)
+    return (np.int64(COUPLED), np.empty(0, dtype=np.int64), none, False, gap, mu, xref, Phi, Psi)
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _buffers(law):
+    """Work arrays of the law's march: Jacobian blocks ``A`` (nb, m, m), then per block and sample the
+    (tangential) force, the normal force (coupled law), the slip variable and the state."""
+    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+    Ns, H = Phi.shape
+    nb, m = (kinds.shape[0], H) if code == DLFT else (gap.shape[0], 2 * H)
+    return (
+        np.empty((nb, m, m)),
+        np.empty((nb, Ns)),
+        np.empty((nb, Ns) if code == COUPLED else (0, Ns)),
+        np.empty((nb, Ns)),
+        np.empty((nb, Ns), dtype=np.int8),
+    )
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _evaluate(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+    """The law's residual (eq. 12) into ``R`` and, with ``want_blocks``, its blocks into ``A``."""
+    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+    if code == DLFT:
+        dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A, lam, X, state)
+    else:
+        coupled.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _boundary(law, lu, dlu, eps, tau_max):
+    """Largest step along ``lambda_u + tau d lambda_u`` (``tau <= tau_max``) that keeps every state."""
+    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+    if code == DLFT:
+        return dlft.boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max)
+    return coupled.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _residual(law, x, Z, F, eps, R, J, buffers):
+    """Residual ``R`` and Jacobian ``J`` at ``x``; returns ``max |R|`` (N)."""
+    A, lam, lamN, X, state = buffers
+    _evaluate(law, x, Z, F, eps, np.bool_(True), R, A, lam, lamN, X, state)  # not a literal: one version
+    dlft.jacobian_from_blocks(Z, eps, A, J)
+    return np.abs(R).max()
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _eliminated_solve(J, R, A, eps):
+    """Solve ``J dx = -R``, eliminating the blocks that are the identity first (LAPACK; raises if singular).
+
+    A block closed and stuck all period at its reference slip variable has
+    ``A_i = I``, so its rows of ``J`` are ``diag(eps)``: its step is ``-R / eps``
+    and only the other blocks enter the dense solve (in partial slip the whole
+    stick zone drops out).
+    """
+    nb, m = A.shape[0], A.shape[1]
+    n = J.shape[0]
+    H = n // eps.shape[0]
+    fixed = np.zeros(nb, dtype=np.bool_)
+    n_free = 0
+    for i in range(nb):
+        dev = 0.0
+        for a in range(m):
+            for b in range(m):
+                dev = max(dev, abs(A[i, a, b] - (1.0 if a == b else 0.0)))
+        fixed[i] = dev < 1e-12
+        if not fixed[i]:
+            n_free += m
+    if n_free == n:
+        return np.linalg.solve(J, -R)
+    dx = np.zeros(n)
+    free = np.empty(n_free, dtype=np.int64)
+    k = 0
+    for i in range(nb):
+        for a in range(m):
+            r = i * m + a
+            if fixed[i]:
+                dx[r] = -R[r] / eps[r // H]
+            else:
+                free[k] = r
+                k += 1
+    if n_free == 0:
+        return dx
+    rhs = -R - J @ dx
+    Jr = np.empty((n_free, n_free))
+    br = np.empty(n_free)
+    for a in range(n_free):
+        br[a] = rhs[free[a]]
+        for b in range(n_free):
+            Jr[a, b] = J[free[a], free[b]]
+    sol = np.linalg.solve(Jr, br)
+    for a in range(n_free):
+        dx[free[a]] = sol[a]
+    return dx
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _direction(code, J, R, A, eps, piv, dx):
+    """The Newton step ``dx = -J^-1 R`` by the law's linear algebra (module text); False if ``J`` is
+    singular (the LU loops; ``J`` is overwritten by its factors)."""
+    if code == COUPLED:
+        dx[:] = _eliminated_solve(J, R, A, eps)
+        return True
+    if lu_factor(J, piv) == 0:
+        return False
+    dx[:] = -R
+    lu_solve(J, piv, dx)
+    return True
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def keep_full_step(r, best, it, max_iter):
+    """Whether full Newton step ``it`` (counted from 1) to residual ``r`` is kept, ``best`` the least seen.
+
+    The non-monotone rule of :func:`newton` (and of the Galerkin Newton of
+    :mod:`fretwear.wear.polynomial`): within a factor 1000 of the best
+    residual, for the first half of the budget ``max_iter``.
+    """
+    return np.isfinite(r) and r < 1e3 * best and it < max_iter // 2
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def newton(law, x0, Z, F, eps, target, max_iter):
+    """Non-monotone Newton's method from ``x0`` with a damped fallback from the best iterate (module text).
+
+    Parameters
+    ----------
+    law : tuple of :func:`dlft_law` or :func:`coupled_law`.
+    x0 : (n,) start (m). Z, F : dynamic stiffness (n, n) (N/m) and force (n,) (N).
+    eps : penalty per coordinate (N/m). target : float, converged when ``max |R| <= target`` (N).
+    max_iter : int, Newton steps at most.
+
+    Returns ``(x, converged, iterations, max|R|, code)``, ``code`` one of
+    ``CONVERGED``, ``NON_FINITE``, ``LINE_SEARCH``, ``BUDGET``, and ``(x0,
+    False, 0, inf, SINGULAR)`` for a singular Jacobian.
+    """
+    code = law[0]
+    n = x0.shape[0]
+    buffers = _buffers(law)
+    A = buffers[0]
+    R, Rt, dx = np.empty(n), np.empty(n), np.empty(n)
+    J, Jt = np.empty((n, n)), np.empty((n, n))
+    piv = np.empty(n, dtype=np.int64)
+    x = x0.copy()
+    r = _residual(law, x, Z, F, eps, R, J, buffers)
+    best_r, best_x = r, x.copy()
+    it = 0
+    damped = False
+    while it < max_iter:
+        if r <= target:
+            return x, True, it, r, CONVERGED
+        if not _direction(code, J, R, A, eps, piv, dx):  # J is computed again before it is used again
+            return x0.copy(), False, 0, np.inf, SINGULAR
+        if not np.all(np.isfinite(dx)):
+            if damped:
+                return x, False, it, r, NON_FINITE
+            damped = True
+            x = best_x.copy()
+            r = _residual(law, x, Z, F, eps, R, J, buffers)
+            continue
+        it += 1
+        if not damped:
+            xt = x + dx
+            rt = _residual(law, xt, Z, F, eps, Rt, Jt, buffers)
+            if keep_full_step(rt, best_r, it, max_iter):
+                x, r = xt, rt
+                R[:] = Rt
+                J[:, :] = Jt
+                if r < best_r:
+                    best_r, best_x = r, x.copy()
+                continue
+            damped = True
+            x = best_x.copy()
+            r = _residual(law, x, Z, F, eps, R, J, buffers)
+            continue
+        step = 1.0
+        accepted = False
+        xt = x
+        rt = r
+        for _ in range(30):
+            xt = x + step * dx
+            rt = _residual(law, xt, Z, F, eps, Rt, Jt, buffers)
+            if rt < (1 - 1e-4 * step) * r:
+                accepted = True
+                break
+            step *= 0.5
+        if not accepted:
+            return x, False, it, r, LINE_SEARCH
+        x, r = xt, rt
+        R[:] = Rt
+        J[:, :] = Jt
+    if r <= target:
+        return x, True, it, r, CONVERGED
+    return x, False, it, r, BUDGET
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def tangent(aug, piv, t, orientation):
+    """Unit tangent ``t`` of ``[J dR]`` from ``aug = [J dR; row]`` (factorised in place), oriented.
+
+    ``sign(det [J dR; t]) = sign(det [J dR; row])`` for ``t`` solving
+    ``[J dR; row] t = e_n+1``, so one LU factorisation gives both; ``t`` is
+    flipped to keep ``orientation`` (0: the first piece, any). Returns the
+    sign kept, 0 for a singular ``aug``.
+    """
+    m = aug.shape[0]
+    sign = lu_factor(aug, piv)
+    if sign == 0:
+        return 0
+    for i in range(m):
+        t[i] = 0.0
+    t[m - 1] = 1.0
+    lu_solve(aug, piv, t)
+    norm = 0.0
+    for i in range(m):
+        norm += t[i] * t[i]
+    flip = -1.0 if orientation != 0 and sign != orientation else 1.0
+    scale = flip / np.sqrt(norm)
+    for i in range(m):
+        t[i] *= scale
+    return orientation if flip < 0 else sign
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _tangent_lapack(aug, orientation):
+    """:func:`tangent` by LAPACK for the large systems of the coupled law (raises if singular)."""
+    m = aug.shape[0]
+    rhs = np.zeros(m)
+    rhs[m - 1] = 1.0
+    t = np.linalg.solve(aug, rhs)
+    t /= np.sqrt(np.sum(t * t))
+    aug[m - 1, :] = t
+    sign = int(np.linalg.slogdet(aug)[0])
+    if orientation != 0 and sign != orientation:
+        t = -t
+        sign = orientation
+    return t, sign
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def step_past(tau, big, stalled):
+    """The step that goes just past a state change at distance ``tau``, and the new count of stalls.
+
+    ``big``: the size of the point (``max |x|, |p|``), which sets the nudge
+    past the change. A vertex where several samples change state at once can
+    send a walk back and forth between their pieces without progress: each
+    stalled piece (``tau`` below the nudge) steps ten times further past.
+    """
+    nudge = 1e-13 * (big + 1e-300)
+    stalled = stalled + 1 if tau < nudge else 0
+    return tau * (1 + 1e-9) + nudge * 10.0 ** min(stalled, 8), stalled
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _slid(X, half_wave):
+    """Distance slid per period from the slip variable of the march (m)."""
+    n = X.shape[0]
+    total = 0.0
+    for s in range(n):
+        prev = X[s - 1] if s > 0 else (-X[n - 1] if half_wave else X[n - 1])
+        total += abs(X[s] - prev)
+    return 2.0 * total if half_wave else total
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def walk(law, x0, p0, p_end, Z, F0, F1, r0, eps, max_pieces, rec_x, rec_p, rec_s):
+    """Follow the piecewise-linear solution curve of ``R(x; F0 + p F1) - (1 - p) r0 = 0`` to ``p_end``.
+
+    Parameters
+    ----------
+    law : tuple of :func:`dlft_law` or :func:`coupled_law`.
+    x0, p0 : (n,) start on the curve (m) and its parameter. p_end : float, where to stop.
+    Z : (n, n) dynamic stiffness (N/m). F0, F1 : (n,) forces (N): ``F0 + p F1`` at ``p``.
+    r0 : (n,) residual offset (N) of the Newton homotopy (zeros otherwise).
+    eps : penalty per coordinate (N/m). max_pieces : int, pieces at most.
+    rec_x, rec_p, rec_s : (k, n), (k,), (k,) out, or with no rows: the start of every
+        piece (unknowns, parameter and the distance slid per period by the first
+        block's slip variable, m), which are linear in ``p`` within a piece; the
+        end point last.
+
+    Returns ``(x, p, pieces, arrived, recorded)``; the tangent keeps the sign of
+    ``det [J dR/dp; t]``, the invariant of a regular curve across the kinks (a
+    dot product with the previous tangent is not). A singular augmented matrix
+    ends the walk where it started (no piece).
+    """
+    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+    n = x0.shape[0]
+    A, lam, lamN, X, state = _buffers(law)
+    nb, m = A.shape[0], A.shape[1]
+    R, J, dR = np.empty(n), np.empty((n, n)), np.empty(n)
+    H = n // eps.shape[0]
+    E = np.empty(n)
+    for k in range(n):
+        E[k] = eps[k // H]
+    x = x0.copy()
+    p = p0
+    row = np.zeros(n + 1)
+    row[n] = 1.0
+    orientation = 0
+    n_rec = rec_x.shape[0]
+    k = 0
+    aug, piv, t = np.empty((n + 1, n + 1)), np.empty(n + 1, dtype=np.int64), np.empty(n + 1)
+    blocks, no_blocks = np.bool_(True), np.bool_(False)  # not literals: one version of evaluate
+    stalled = 0
+    for piece in range(1, max_pieces + 1):
+        Fp = F0 + p * F1
+        _evaluate(law, x, Z, Fp, eps, blocks, R, A, lam, lamN, X, state)
+        if k < n_rec - 1:
+            rec_x[k] = x
+            rec_p[k] = p
+            rec_s[k] = _slid(X[0], half_wave)
+            k += 1
+        dlft.jacobian_from_blocks(Z, eps, A, J)
+        for c in range(nb):  # dR/dp = -(I - A) F1 + r0, block by block
+            AF = A[c] @ F1[c * m : (c + 1) * m]
+            for j in range(m):
+                dR[c * m + j] = -(F1[c * m + j] - AF[j]) + r0[c * m + j]
+        aug[:n, :n] = J
+        aug[:n, n] = dR
+        aug[n, :] = row
+        if code == COUPLED:
+            t, orientation = _tangent_lapack(aug, orientation)
+        else:
+            orientation = tangent(aug, piv, t, orientation)
+        if orientation == 0:  # singular: the walk ends where it started
+            return x0.copy(), p0, 0, False, 0
+        tx = t[:n]
+        reach = (p_end - p) / t[n] if t[n] > 0 else np.inf
+        lu = Fp - Z @ x + E * x
+        dlu = -(Z @ tx) + E * tx + t[n] * F1
+        tau = _boundary(law, lu, dlu, eps, min(reach, 1e300))
+        if reach <= tau:
+            x = x + reach * tx
+            if n_rec > 0:
+                _evaluate(law, x, Z, F0 + p_end * F1, eps, no_blocks, R, A, lam, lamN, X, state)
+                rec_x[k] = x
+                rec_p[k] = p_end
+                rec_s[k] = _slid(X[0], half_wave)
+                k += 1
+            return x, p_end, piece, True, k
+        step, stalled = step_past(tau, max(np.abs(x).max(), abs(p)), stalled)
+        x = x + step * tx
+        p = p + step * t[n]
+        row[:] = t
+    return x, p, max_pieces, False, k
