@@ -32,15 +32,12 @@ All quantities are in SI units: kg, N/m, N s/m, N, m, rad/s.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from .pairs import ContactPairs
-
-if TYPE_CHECKING:  # the reduction module builds models: imported for the annotation only
-    from .reduction import Reduction
 
 __all__ = [
     "STICK",
@@ -233,7 +230,8 @@ class Model:
     pairs: ContactPairs | None = None
     names: dict[str, int] = field(default_factory=dict)
     info: dict[str, float] = field(default_factory=dict)
-    reduction: Reduction | None = field(default=None, repr=False)
+    # a fretwear.model.reduction.Reduction: that module builds models, so it is not imported here
+    reduction: Any = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
