@@ -70,3 +70,12 @@ def pytest_sessionstart(session: pytest.Session) -> None:
     if reporter is not None:
         reporter.write_line("compiling numerical kernels in two processes (first run only, a few minutes)")
     compiled.warm_in_processes(env={**os.environ, "FRETWEAR_CACHE_DIR": ""})  # no sliding tables left
+
+
+@pytest.fixture(scope="session")
+def small_cylinder():
+    """The cylinder-on-flat benchmark on a coarse mesh (5 contact pairs): the reduction tests' model."""
+    from fretwear import cylinder_on_flat
+
+    return cylinder_on_flat(contact_nodes=5, growth=1.6, pad_height=0.004, pad_half_width=0.004,
+                            flat_half_width=0.006, flat_depth=0.004)  # fmt: skip

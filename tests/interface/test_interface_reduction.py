@@ -4,15 +4,13 @@ import numpy as np
 import pytest
 
 from fretwear.hbm.harmonics import HarmonicBasis
-from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.reduction import ContactCondensation
 from fretwear.model import craig_bampton
 
 
 @pytest.fixture(scope="module")
-def model():
-    return cylinder_on_flat(contact_nodes=5, growth=1.6, pad_height=0.004, pad_half_width=0.004,
-                            flat_half_width=0.006, flat_depth=0.004)  # fmt: skip
+def model(small_cylinder):
+    return small_cylinder
 
 
 def test_condensation_on_contact_coordinates(model):

@@ -4,14 +4,12 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
-from fretwear.interface.fe import cylinder_on_flat
 from fretwear.model import ContactPairs, Model, craig_bampton
 
 
 @pytest.fixture(scope="module")
-def model():
-    return cylinder_on_flat(contact_nodes=5, growth=1.6, pad_height=0.004, pad_half_width=0.004,
-                            flat_half_width=0.006, flat_depth=0.004)  # fmt: skip
+def model(small_cylinder):
+    return small_cylinder
 
 
 def test_guyan_stiffness_is_the_exact_schur_complement(model):

@@ -9,14 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import fretwear as fw
-from fretwear.model import (
-    ContactPairs,
-    FrictionContact,
-    Model,
-    NormalContact,
-    jenkins_oscillator,
-    paper_model,
-)
+from fretwear import ContactPairs, FrictionContact, Model, NormalContact, jenkins_oscillator, paper_model
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 
