@@ -4,10 +4,12 @@
 the paper's 2-DOF example; :mod:`~fretwear.model.pairs` the contact node pairs of
 an interface (:class:`ContactPairs`); :mod:`~fretwear.model.reduction` the
 Craig-Bampton reduction of a model (:func:`craig_bampton`, a :class:`Model` in,
-a :class:`Model` out); :mod:`~fretwear.model.modelfile` reads and writes models
-as TOML (:func:`read_model`).
+a :class:`Model` out); :mod:`~fretwear.model.disk` the lumped bladed disk
+(:func:`bladed_disk`, its cyclic sector :class:`DiskSector`); :mod:`~fretwear.model.modelfile`
+reads and writes models as TOML (:func:`read_model`).
 """
 
+from .disk import DiskSector, bladed_disk
 from .modelfile import ModelFileError, dump_model, read_model
 from .pairs import ContactPairs
 from .reduction import Reduction, craig_bampton
@@ -27,11 +29,13 @@ __all__ = [
     "SLIP",
     "STICK",
     "ContactPairs",
+    "DiskSector",
     "FrictionContact",
     "Model",
     "ModelFileError",
     "NormalContact",
     "Reduction",
+    "bladed_disk",
     "craig_bampton",
     "dump_model",
     "jenkins_oscillator",

@@ -1,0 +1,177 @@
+"""The lumped bladed disk of Laxalde, Thouverez, Sinou and Lombard (Eur. J. Mech. A/Solids 26, 2007).
+
+``N`` identical sectors in a ring, three DOFs each (one ``x`` per mass, in
+order disk, blade root, blade tip):
+
+* the disk mass ``m0`` on a spring ``kG`` to the ground and a spring ``k0`` to
+  the next sector's disk mass (the ring closes: sector ``N - 1`` to sector 0);
+* the blade masses ``mb1`` (spring ``kb1`` to the disk) and ``mb2`` (spring
+  ``kb2`` to ``mb1``).
+
+With the default values (24 sectors) the natural frequencies start at
+88.2637, 169.3441 (x2), 189.3019 (x2), 193.0496 (x2) Hz and end at 2045.4706 (x2),
+2062.9757 Hz. Mistuning scales blade ``i``'s springs: ``kb1 (1 + delta_i)`` and
+``kb2 (1 + delta_i)``. Damping is modal, one ratio for every mode of the tuned
+or mistuned disk.
+
+Cyclic symmetry (:class:`DiskSector`): a tuned disk's modes have ``nd`` nodal
+diameters, the sector's motion repeated with the phase ``exp(i 2 pi nd / N)``
+from one sector to the next; per ``nd`` the sector's three frequencies solve
+``(K0 + K1 e^{i theta} + K1^T e^{-i theta}) phi = omega^2 M0 phi`` with
+``theta = 2 pi nd / N``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sl
+
+from .structure import Model
+
+__all__ = ["DiskSector", "bladed_disk"]
+
+#: DOFs of one sector, in order
+SECTOR_DOFS = ("disk", "root", "tip")
+
+
+def _positive(name: str, value: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a number > 0, got {value!r}")
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class DiskSector:
+    """One sector of the tuned disk and its cyclic-symmetry matrices.
+
+    Parameters
+    ----------
+    sectors : int
+        Number of sectors ``N >= 3``.
+    m0, mb1, mb2 : float
+        Disk, blade-root and blade-tip masses (kg), > 0.
+    kG, k0, kb1, kb2 : float
+        Springs (N/m), > 0: disk to ground, disk to the next disk, disk to root, root to tip.
+    """
+
+    sectors: int = 24
+    m0: float = 1.2
+    mb1: float = 0.35
+    mb2: float = 0.25
+    kG: float = 6e5
+    k0: float = 5e7
+    kb1: float = 1e6
+    kb2: float = 2e6
+
+    def __post_init__(self) -> None:
+        if (
+            isinstance(self.sectors, bool)
+            or not isinstance(self.sectors, (int, np.integer))
+            or self.sectors < 3
+        ):
+            raise ValueError(f"sectors must be an integer >= 3, got {self.sectors!r}")
+        for name in ("m0", "mb1", "mb2", "kG", "k0", "kb1", "kb2"):
+            object.__setattr__(self, name, _positive(name, getattr(self, name)))
+
+    @property
+    def mass(self) -> np.ndarray:
+        """Sector mass matrix ``M0`` (kg), diagonal (3, 3)."""
+        return np.diag([self.m0, self.mb1, self.mb2])
+
+    def stiffness(self, kb1: float | None = None, kb2: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``K0`` (the sector's own springs) and ``K1`` (its coupling to the next sector), (3, 3) each, N/m.
+
+        ``kb1``, ``kb2`` replace the blade springs (a mistuned blade).
+        """
+        kb1 = self.kb1 if kb1 is None else kb1
+        kb2 = self.kb2 if kb2 is None else kb2
+        K0 = np.array([
+            [self.kG + kb1 + 2 * self.k0, -kb1, 0.0],
+            [-kb1, kb1 + kb2, -kb2],
+            [0.0, -kb2, kb2],
+        ])  # fmt: skip
+        K1 = np.zeros((3, 3))
+        K1[0, 0] = -self.k0  # this disk to the next one
+        return K0, K1
+
+    def frequencies(self, nodal_diameter: int) -> np.ndarray:
+        """The sector's three natural frequencies (Hz) with ``nodal_diameter`` nodal diameters, ascending."""
+        if isinstance(nodal_diameter, bool) or not isinstance(nodal_diameter, (int, np.integer)):
+            raise ValueError(f"nodal_diameter must be an integer, got {nodal_diameter!r}")
+        theta = 2 * np.pi * nodal_diameter / self.sectors
+        K0, K1 = self.stiffness()
+        K = K0 + K1 * np.exp(1j * theta) + K1.T * np.exp(-1j * theta)  # Hermitian
+        return np.sqrt(sl.eigh(K, self.mass, eigvals_only=True)) / (2 * np.pi)
+
+    def zzenf(self) -> np.ndarray:
+        """Frequencies (Hz) against nodal diameter ``0 .. N // 2``, shape (N // 2 + 1, 3): the ZZENF
+        diagram."""
+        return np.array([self.frequencies(nd) for nd in range(self.sectors // 2 + 1)])
+
+
+def bladed_disk(
+    sectors: int = 24,
+    *,
+    m0: float = 1.2,
+    mb1: float = 0.35,
+    mb2: float = 0.25,
+    kG: float = 6e5,
+    k0: float = 5e7,
+    kb1: float = 1e6,
+    kb2: float = 2e6,
+    damping_ratio: float = 1e-3,
+    mistuning=None,
+    engine_order: int = 1,
+    fex: float = 1.0,
+) -> Model:
+    """The lumped bladed disk (module docstring) under a travelling wave on the blade tips, no contacts yet.
+
+    Parameters
+    ----------
+    sectors, m0, mb1, mb2, kG, k0, kb1, kb2
+        As :class:`DiskSector` (kg, N/m).
+    damping_ratio : float
+        Modal damping ratio of every mode (-), in [0, 1).
+    mistuning : array_like, shape (sectors,), optional
+        ``delta_i``: blade ``i``'s springs are ``kb1 (1 + delta_i)`` and ``kb2 (1 + delta_i)``; each
+        ``delta_i > -1``. Default: tuned.
+    engine_order : int
+        Engine order ``EO`` of the excitation: tip ``i`` is forced by ``fex cos(omega t - 2 pi EO i / N)``.
+    fex : float
+        Force amplitude on each tip (N), finite.
+
+    Returns
+    -------
+    Model
+        ``3 N`` DOFs, sector ``i``'s at ``3 i`` (disk), ``3 i + 1`` (root), ``3 i + 2`` (tip), named
+        ``disk{i}``, ``root{i}``, ``tip{i}``; ``info`` holds the parameters.
+    """
+    sector = DiskSector(sectors, m0, mb1, mb2, kG, k0, kb1, kb2)
+    n_sec = sector.sectors
+    delta = np.zeros(n_sec) if mistuning is None else np.array(mistuning, dtype=float)
+    if delta.shape != (n_sec,) or not np.all(np.isfinite(delta)) or np.any(delta <= -1):
+        raise ValueError(f"mistuning must hold {n_sec} finite numbers > -1, got shape {delta.shape}")
+    if not (0 <= damping_ratio < 1):
+        raise ValueError(f"damping_ratio must lie in [0, 1), got {damping_ratio!r}")
+    n = 3 * n_sec
+    M = np.kron(np.eye(n_sec), sector.mass)
+    K = np.zeros((n, n))
+    for i in range(n_sec):  # assembly, once per model (3 N DOFs)
+        K0, K1 = sector.stiffness(kb1 * (1 + delta[i]), kb2 * (1 + delta[i]))
+        j, nxt = 3 * i, 3 * ((i + 1) % n_sec)
+        K[j : j + 3, j : j + 3] += K0
+        K[j : j + 3, nxt : nxt + 3] += K1
+        K[nxt : nxt + 3, j : j + 3] += K1.T
+    # modal damping: C = M Phi diag(2 zeta omega_r) Phi^T M with Phi mass-normalised
+    w2, phi = sl.eigh(K, M)
+    MPhi = M @ phi
+    C = MPhi @ np.diag(2 * damping_ratio * np.sqrt(w2)) @ MPhi.T
+    names = {f"{part}{i}": 3 * i + k for i in range(n_sec) for k, part in enumerate(SECTOR_DOFS)}
+    info = dict(sectors=n_sec, m0=m0, mb1=mb1, mb2=mb2, kG=kG, k0=k0, kb1=kb1, kb2=kb2,
+                damping_ratio=damping_ratio, engine_order=engine_order, fex=fex)  # fmt: skip
+    model = Model(M=M, C=0.5 * (C + C.T), K=K, names=names, info=info)
+    return model.travelling_wave(np.arange(n_sec) * 3 + 2, engine_order, fex)
