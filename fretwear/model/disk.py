@@ -28,20 +28,12 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sl
 
-from .structure import Model
+from .structure import Model, _finite
 
 __all__ = ["DiskSector", "bladed_disk"]
 
 #: DOFs of one sector, in order
 SECTOR_DOFS = ("disk", "root", "tip")
-
-
-def _positive(name: str, value: float) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be a number > 0, got {value!r}")
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return float(value)
 
 
 @dataclass(frozen=True)
@@ -75,7 +67,7 @@ class DiskSector:
         ):
             raise ValueError(f"sectors must be an integer >= 3, got {self.sectors!r}")
         for name in ("m0", "mb1", "mb2", "kG", "k0", "kb1", "kb2"):
-            object.__setattr__(self, name, _positive(name, getattr(self, name)))
+            object.__setattr__(self, name, _finite(name, getattr(self, name), 0.0, strict=True))
 
     @property
     def mass(self) -> np.ndarray:

@@ -28,7 +28,8 @@ import scipy.sparse as sp
 __all__ = ["ContactPairs"]
 
 
-def _as_float(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
+def finite_array(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
+    """``value`` as a read-only float array of ``shape``, finite (a ``ValueError`` names ``name``)."""
     a = np.array(value, dtype=float)
     if a.shape != shape:
         raise ValueError(f"{name} must have shape {shape}, got {a.shape}")
@@ -91,36 +92,36 @@ class ContactPairs:
             d = d.astype(np.int64)
             d.setflags(write=False)
             set_(self, name, d)
-        normal = _as_float("normal", self.normal, (nc, dim))
+        normal = finite_array("normal", self.normal, (nc, dim))
         length = np.linalg.norm(normal, axis=1)
         if np.any(length == 0):
             raise ValueError(f"normal of pair {int(np.argmin(length))} is zero; normals must be non-zero")
         normal = normal / length[:, None]
         normal.setflags(write=False)
         set_(self, "normal", normal)
-        area = _as_float("area", self.area, (nc,))
+        area = finite_array("area", self.area, (nc,))
         if np.any(area <= 0):
             i = int(np.argmin(area))
             raise ValueError(f"area must be > 0 for every pair, got {area[i]!r} for pair {i}")
         set_(self, "area", area)
-        mu = _as_float("mu", np.broadcast_to(np.asarray(self.mu, dtype=float), (nc,)), (nc,))
+        mu = finite_array("mu", np.broadcast_to(np.asarray(self.mu, dtype=float), (nc,)), (nc,))
         if np.any(mu < 0):
             raise ValueError(f"mu must be >= 0, got {mu.min()!r}")
         set_(self, "mu", mu)
-        set_(self, "gap", _as_float("gap", np.zeros(nc) if self.gap is None else self.gap, (nc,)))
+        set_(self, "gap", finite_array("gap", np.zeros(nc) if self.gap is None else self.gap, (nc,)))
         if self.tangent is None:
             if dim == 3:
                 raise ValueError("tangent (the slip direction) is required for 3-D pairs")
             tangent = np.column_stack([normal[:, 1], -normal[:, 0]])
         else:
-            tangent = np.array(_as_float("tangent", self.tangent, (nc, dim)))
+            tangent = np.array(finite_array("tangent", self.tangent, (nc, dim)))
             tangent /= np.maximum(np.linalg.norm(tangent, axis=1), 1e-300)[:, None]
             if np.any(np.abs(np.sum(tangent * normal, axis=1)) > 1e-8):
                 raise ValueError("tangent must be orthogonal to the normal for every pair")
         tangent.setflags(write=False)
         set_(self, "tangent", tangent)
         pos = np.arange(nc, dtype=float) if self.position is None else self.position
-        set_(self, "position", _as_float("position", pos, (nc,)))
+        set_(self, "position", finite_array("position", pos, (nc,)))
 
     @property
     def count(self) -> int:

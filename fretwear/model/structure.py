@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .pairs import ContactPairs
+from .pairs import ContactPairs, finite_array
 
 __all__ = [
     "STICK",
@@ -265,11 +265,7 @@ class Model:
             set_(self, name, a)
         for name in ("force_cos", "force_sin", "force_static"):
             v = getattr(self, name)
-            v = np.zeros(n) if v is None else np.array(v, dtype=float)
-            if v.shape != (n,) or not np.all(np.isfinite(v)):
-                raise ValueError(f"{name} must be a finite vector of length {n}, got shape {v.shape}")
-            v.setflags(write=False)
-            set_(self, name, v)
+            set_(self, name, finite_array(name, np.zeros(n) if v is None else v, (n,)))
         for kind, cls, contacts in (
             ("friction", FrictionContact, self.friction),
             ("normal", NormalContact, self.normal),
