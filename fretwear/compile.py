@@ -196,7 +196,7 @@ KERNELS: dict[str, Kernel] = {
             "contact interfaces with many node pairs (fretwear.interface)",
             (
                 "fretwear.interface.kernels:newton_kernel",
-                "fretwear.interface.kernels:load_walk_kernel",
+                "fretwear.interface.kernels:walk_kernel",
                 "fretwear.interface.polynomial:rate_sensitivity",
                 "fretwear.interface.time_integration:integrate_kernel",
             ),  # fmt: skip

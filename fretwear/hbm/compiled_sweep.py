@@ -52,8 +52,9 @@ from .dlft import (
     state_code,
 )
 from .newton import step_past, tangent
-from .problem import EPS_FACTOR, NewtonResult, Problem
+from .problem import EPS_FACTOR, Problem
 from .solution import PeriodicSolution
+from .strategy import NewtonResult, newton_message
 
 __all__ = ["solve", "sweep_kernel", "compile_callees"]
 
@@ -794,15 +795,15 @@ _PATHS = {
     NEWTON_HOMOTOPY: "dlft-newton-homotopy",
     LOAD_HOMOTOPY: "dlft-homotopy",
 }
-_NEWTON_MESSAGES = {1: "non-finite Newton step", 2: "line search failed", SINGULAR: "singular Jacobian"}
 
 
 def _message(code: int, budget: int, pieces: int, load: float) -> str:
     """The failure message of :func:`fretwear.hbm.periodic.solve_problem` from a ``status`` row."""
     if code == ZERO_LOAD:
         return "no solution at zero load"
-    newton = _NEWTON_MESSAGES.get(code, f"no convergence in {budget} iterations")
-    return f"load continuation ended at load factor {load:.6g} after {pieces} pieces; " + newton
+    return f"load continuation ended at load factor {load:.6g} after {pieces} pieces; " + newton_message(
+        code, budget
+    )
 
 
 def solve(

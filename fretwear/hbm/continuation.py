@@ -22,8 +22,9 @@ from ..model import Model
 from . import compiled_sweep, dlft
 from .arclength import Evaluate, track
 from .condensation import Condensed, condense
-from .periodic import NewtonResult, Problem, newton_homotopy, solve_problem
+from .periodic import Problem, newton_homotopy, solve_problem
 from .solution import PeriodicSolution
+from .strategy import NewtonResult
 
 __all__ = ["Sweep", "sweep", "sweep_point_by_point", "Branch", "continuation"]
 

@@ -24,13 +24,16 @@ kernel at one frequency), with the same answers.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from ..model import Model
-from . import compiled_sweep, dlft
-from .kernels import LOAD, NEWTON, SINGULAR, newton_kernel, walk_kernel
-from .problem import NewtonResult, Problem
+from . import compiled_sweep, dlft, strategy
+from .kernels import LOAD, NEWTON, newton_kernel, walk_kernel
+from .problem import Problem
 from .solution import PeriodicSolution
+from .strategy import NewtonResult, newton_message
 
 __all__ = [
     "Problem",
@@ -70,9 +73,7 @@ def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int =
         np.array(x0, dtype=float), problem.Z, problem.F, problem.eps, problem.kinds, problem.limits,
         b.synthesis, b.analysis, b.half_wave, tol * scale, max_iter,
     )  # fmt: skip
-    messages = {0: "", 1: "non-finite Newton step", 2: "line search failed",
-                3: f"no convergence in {max_iter} iterations", SINGULAR: "singular Jacobian"}  # fmt: skip
-    return NewtonResult(x, bool(ok), int(it), float(r / scale), messages[code])
+    return NewtonResult(x, bool(ok), int(it), float(r / scale), newton_message(code, max_iter))
 
 
 def polish(problem: Problem, x: np.ndarray) -> np.ndarray:
@@ -246,10 +247,10 @@ def solve_problem(
 ) -> PeriodicSolution:
     """Solve a prepared :class:`Problem`, computing only the effects present.
 
-    Linear paths first (no active contact; exact stuck solution). Then, from a
-    ``guess`` (a neighbour's solution): Newton, and if it fails the global
-    Newton homotopy from the guess. Without a guess, or if those fail: Newton
-    from the stuck solution and then the exact load continuation.
+    Linear paths first (no active contact; exact stuck solution); then the
+    strategy of :mod:`fretwear.hbm.strategy` with this law's steps: Newton and
+    the Newton homotopy from the ``guess``, Newton from the stuck solution, the
+    exact load continuation.
     """
     if problem.n_active == 0:
         return PeriodicSolution.build(problem, None, NewtonResult(np.zeros(0), True, 0, 0.0), "linear-open")
@@ -257,24 +258,12 @@ def solve_problem(
     if friction_only and problem.stick_ratio() < 1.0:
         x = problem.stuck_solution()
         return PeriodicSolution.build(problem, x, NewtonResult(x, True, 0, 0.0), "linear-stuck")
-    iterations = 0
-    if guess is not None:
-        guess = np.asarray(guess, dtype=float)
-        if guess.shape != (problem.size,):
-            raise ValueError(f"guess must have shape ({problem.size},), got {guess.shape}")
-        res = newton(problem, guess, tol, min(max_iter, 12))
-        if res.converged:
-            return PeriodicSolution.build(problem, res.x, res, "dlft")
-        res = newton_homotopy(problem, res.x, tol)  # from Newton's best iterate
-        if res.converged:
-            res.iterations += 12
-            return PeriodicSolution.build(problem, res.x, res, "dlft-newton-homotopy")
-        iterations = res.iterations + 12
-    start = problem.stuck_solution() if friction_only else problem.stuck_guess()
-    res = newton(problem, start, tol, min(max_iter, 16))
-    path = "dlft"
-    if not res.converged:
-        res = load_homotopy(problem, tol, max_iter)
-        path = "dlft-homotopy"
-    res.iterations += iterations
+    steps = strategy.Steps(
+        problem.size,
+        partial(newton, problem),
+        partial(newton_homotopy, problem),
+        problem.stuck_solution if friction_only else problem.stuck_guess,
+        partial(load_homotopy, problem),
+    )
+    res, path = strategy.solve(steps, guess, tol, max_iter)
     return PeriodicSolution.build(problem, res.x, res, path)

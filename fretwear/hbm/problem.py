@@ -21,21 +21,10 @@ from . import dlft
 from .condensation import Condensed, condense, condense_sweep
 from .harmonics import HarmonicBasis, default_samples
 
-__all__ = ["Problem", "NewtonResult", "EPS_FACTOR"]
+__all__ = ["Problem", "EPS_FACTOR"]
 
 #: default penalty, as a multiple of the condensed dynamic stiffness scale
 EPS_FACTOR = 10.0
-
-
-@dataclass
-class NewtonResult:
-    """Outcome of a Newton solve on the DLFT residual."""
-
-    x: np.ndarray
-    converged: bool
-    iterations: int
-    residual: float
-    message: str = ""
 
 
 @dataclass

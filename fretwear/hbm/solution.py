@@ -17,7 +17,8 @@ from ..model import Model
 from . import dlft
 from .condensation import recover
 from .harmonics import amplitude, extrema, full_synthesis
-from .problem import NewtonResult, Problem
+from .problem import Problem
+from .strategy import NewtonResult
 
 __all__ = ["PeriodicSolution"]
 

@@ -1,4 +1,4 @@
-"""Compiled Newton loop and load walk on the coupled interface DLFT residual (:mod:`fretwear.hbm.coupled`).
+"""Compiled Newton loop and piecewise-linear walk on the interface DLFT law (:mod:`fretwear.hbm.coupled`).
 
 Both are written once for every contact law in :mod:`fretwear.hbm.newton`
 (non-monotone Newton; the exact piecewise-linear walk); these are their calls
@@ -13,7 +13,7 @@ from numba import njit
 from ..hbm.dense import FASTMATH
 from ..hbm.newton import coupled_law, newton, walk
 
-__all__ = ["newton_kernel", "load_walk_kernel"]
+__all__ = ["newton_kernel", "walk_kernel"]
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -27,17 +27,18 @@ def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def load_walk_kernel(x0, p0, Z, F_static, F_exc, eps, gap, mu, xref, Phi, Psi, max_pieces):
-    """Follow the piecewise-linear solution curve in the excitation scale ``p`` from ``(x0, p0)`` to 1.
+def walk_kernel(x0, p0, Z, F0, F1, r0, eps, gap, mu, xref, Phi, Psi, max_pieces):
+    """Follow the piecewise-linear solution curve of ``R(x; F0 + p F1) = (1 - p) r0`` from ``(x0, p0)`` to 1.
 
-    The forces are ``F_static + p F_exc``; the residual is piecewise linear in
-    ``(x, p)`` jointly, so its solution curve is a polygon
-    (:func:`fretwear.hbm.newton.walk`). Returns ``(x, p, pieces, arrived)``.
+    The load walk has ``F0`` the static load, ``F1`` the excitation and
+    ``r0 = 0``; the Newton homotopy has ``F0`` the full load, ``F1 = 0`` and
+    ``r0 = R(x0)``. The residual is piecewise linear in ``(x, p)`` jointly, so
+    its solution curve is a polygon (:func:`fretwear.hbm.newton.walk`).
+    Returns ``(x, p, pieces, arrived)``.
     """
-    n = x0.shape[0]
-    none = np.empty((0, n))
+    none = np.empty((0, x0.shape[0]))
     x, p, pieces, arrived, _ = walk(
-        coupled_law(gap, mu, xref, Phi, Psi), x0, p0, 1.0, Z, F_static, F_exc, np.zeros(n), eps, max_pieces,
+        coupled_law(gap, mu, xref, Phi, Psi), x0, p0, 1.0, Z, F0, F1, r0, eps, max_pieces,
         none, np.empty(0), np.empty(0),
     )  # fmt: skip
     return x, p, pieces, arrived

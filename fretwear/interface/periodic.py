@@ -9,10 +9,11 @@ solved for their harmonics with the coupled normal/tangential law of
    (:func:`~fretwear.interface.static.solve_static`) gives the reference slip
    variables ``X_ref`` (where pairs stuck when the normal load was applied)
    and the starting point (its mean harmonics, no oscillation);
-2. Newton from a ``guess`` (a neighbouring solution) when given, else from
-   that start;
-3. if Newton fails, the exact piecewise-linear continuation in the excitation
-   amplitude from 0 (where the start is exact) to 1 (:func:`load_walk`).
+2. the strategy of every periodic solve (:mod:`fretwear.hbm.strategy`) with
+   this law's steps: Newton and the Newton homotopy from a ``guess`` (a
+   neighbouring solution) when given; Newton from that start; the exact
+   piecewise-linear continuation in the excitation amplitude from 0 (where the
+   start is exact) to 1 (:func:`load_walk`).
 
 The full harmonic basis is used (static normal load: no half-wave symmetry).
 """
@@ -21,14 +22,17 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, partial
 
 import numpy as np
 
+from ..hbm import strategy
 from ..hbm.harmonics import HarmonicBasis, default_samples
+from ..hbm.newton import SINGULAR
+from ..hbm.strategy import NewtonResult, Steps, newton_message
 from .contact import STICK, evaluate, slip_work
 from .interrupt import check_interrupt
-from .kernels import load_walk_kernel, newton_kernel
+from .kernels import newton_kernel, walk_kernel
 from .reduction import ContactCondensation
 from .static import solve_static
 
@@ -36,9 +40,9 @@ __all__ = [
     "EPS_FACTOR",
     "InterfaceProblem",
     "InterfaceSolution",
-    "NewtonResult",
     "solve_interface",
     "newton",
+    "newton_homotopy",
     "load_walk",
 ]
 
@@ -168,15 +172,6 @@ class InterfaceProblem:
         return max(float(np.abs(self.F).max()), 1e-300)
 
 
-@dataclass
-class NewtonResult:
-    x: np.ndarray
-    converged: bool
-    iterations: int
-    residual: float
-    message: str = ""
-
-
 def newton(problem: InterfaceProblem, x0: np.ndarray, tol: float = 1e-10, max_iter: int = 50) -> NewtonResult:
     """Newton's method on the coupled DLFT residual (compiled: :func:`~.kernels.newton_kernel`).
 
@@ -190,66 +185,68 @@ def newton(problem: InterfaceProblem, x0: np.ndarray, tol: float = 1e-10, max_it
             problem.xref, b.synthesis, b.analysis, tol * scale, max_iter,
         )  # fmt: skip
     except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
-        return NewtonResult(np.asarray(x0, dtype=float), False, 0, np.inf, "singular Jacobian")
-    messages = {0: "", 1: "non-finite Newton step", 2: "line search failed",
-                3: f"no convergence in {max_iter} iterations"}  # fmt: skip
-    return NewtonResult(x, bool(ok), int(it), float(r / scale), messages[code])
+        return NewtonResult(np.asarray(x0, dtype=float), False, 0, np.inf, newton_message(SINGULAR, max_iter))
+    return NewtonResult(x, bool(ok), int(it), float(r / scale), newton_message(code, max_iter))
 
 
-def load_walk(problem: InterfaceProblem, tol: float = 1e-10, max_pieces: int = 20_000) -> NewtonResult:
+def _walk(problem: InterfaceProblem, x0, F0, F1, r0, tol: float, max_pieces: int, what: str) -> NewtonResult:
+    """Walk ``R(x; F0 + p F1) = (1 - p) r0`` from ``(x0, 0)`` to ``p = 1``, then polish by Newton."""
+    check_interrupt()
+    b = problem.basis
+    try:
+        x, p, pieces, _ = walk_kernel(
+            np.array(x0, dtype=float), 0.0, problem.Z, F0, F1, r0, problem.eps, problem.gap, problem.mu,
+            problem.xref, b.synthesis, b.analysis, max_pieces,
+        )  # fmt: skip
+    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
+        return NewtonResult(np.array(x0, dtype=float), False, 0, np.inf, f"{what}: singular system")
+    final = newton(problem, x, tol, 20)
+    final.iterations += int(pieces)
+    if not final.converged:
+        final.message = f"{what} ended at {p:.6g} after {pieces} pieces; " + final.message
+    return final
+
+
+def load_walk(problem: InterfaceProblem, tol: float = 1e-10, max_iter: int = 50) -> NewtonResult:
     """Solve ``problem`` by the exact piecewise-linear continuation in the excitation amplitude.
 
     From the quasi-static start (exact at zero excitation) the solution curve
     of ``R(x, p) = 0``, with forces ``F_static + p F_exc``, is a polygon followed
-    piece by piece (:func:`~fretwear.interface.kernels.load_walk_kernel`): one
+    piece by piece (:func:`~fretwear.interface.kernels.walk_kernel`): one
     linear solve per piece crossed, no Newton iteration that can fail on the
-    way. The end point is polished by Newton's method.
+    way. The end point is polished by Newton's method (``max_iter`` is not used:
+    the walk's budget is its pieces).
     """
-    check_interrupt()
-    b = problem.basis
-    try:
-        x, p, pieces, arrived = load_walk_kernel(
-            problem.start(), 0.0, problem.Z, problem.F_static, problem.force_scale * problem.F_exc,
-            problem.eps, problem.gap, problem.mu, problem.xref, b.synthesis, b.analysis, max_pieces,
-        )  # fmt: skip
-    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
-        return NewtonResult(problem.start(), False, 0, np.inf, "load walk: singular system")
-    final = newton(problem, x, tol, 20)
-    final.iterations += int(pieces)
-    if not final.converged:
-        final.message = f"load walk ended at excitation scale {p:.6g} after {pieces} pieces; " + final.message
-    return final
+    F_exc = problem.force_scale * problem.F_exc
+    return _walk(problem, problem.start(), problem.F_static, F_exc, np.zeros(problem.size), tol, 20_000,
+                 "load walk: excitation scale")  # fmt: skip
+
+
+def newton_homotopy(problem: InterfaceProblem, x0: np.ndarray, tol: float = 1e-10) -> NewtonResult:
+    """Solve ``problem`` from a nearby point ``x0`` by the global Newton homotopy ``R(x) = (1 - p) R(x0)``.
+
+    Its curve from ``(x0, 0)`` to ``p = 1`` is piecewise linear and followed
+    exactly; from a neighbour's solution it crosses few pieces.
+    """
+    r0 = problem.evaluate(x0)[0]
+    return _walk(problem, x0, problem.F, np.zeros(problem.size), r0, tol, 500, "Newton homotopy: sigma")
 
 
 def solve_interface(
     problem: InterfaceProblem, guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 50
 ) -> InterfaceSolution:
-    """Periodic response of the interface ``problem`` (see the module docstring for the path).
+    """Periodic response of the interface ``problem`` by the strategy of :mod:`fretwear.hbm.strategy`.
 
-    Parameters
-    ----------
-    problem : InterfaceProblem
-    guess : ndarray, optional
-        Starting unknowns (e.g. ``solution.unknowns`` at a neighbouring frequency or wear state).
-    tol : float
-        Relative residual tolerance.
-    max_iter : int
-        Newton iterations per solve.
+    Newton and the Newton homotopy from the ``guess`` (e.g. ``solution.unknowns``
+    at a neighbouring frequency or wear state), Newton from the quasi-static
+    state, the exact load walk. ``tol`` is the relative residual tolerance,
+    ``max_iter`` the Newton iterations per solve.
     """
     check_interrupt()  # between solves: Ctrl-C cannot stop a compiled kernel (:mod:`.interrupt`)
-    if guess is not None:
-        guess = np.asarray(guess, dtype=float)
-        if guess.shape != (problem.size,):
-            raise ValueError(f"guess must have shape ({problem.size},), got {guess.shape}")
-        res = newton(problem, guess, tol, max_iter)
-        if res.converged:
-            return InterfaceSolution(problem, res.x, True, res.iterations, res.residual, "", "dlft")
-    check_interrupt()
-    res = newton(problem, problem.start(), tol, max_iter)
-    path = "dlft"
-    if not res.converged:
-        res = load_walk(problem, tol)
-        path = "dlft-load-walk"
+    # a walk piece costs a dense solve of all pairs' harmonics: Newton keeps its whole budget
+    steps = Steps(problem.size, partial(newton, problem), partial(newton_homotopy, problem), problem.start,
+                  partial(load_walk, problem), guess_steps=max_iter, start_steps=max_iter)  # fmt: skip
+    res, path = strategy.solve(steps, guess, tol, max_iter)
     if res.converged:
         res.residual = float(np.abs(problem.evaluate(res.x)[0]).max() / problem.residual_scale())
     return InterfaceSolution(problem, res.x, res.converged, res.iterations, res.residual, res.message, path)
@@ -271,7 +268,7 @@ class InterfaceSolution:
     message : str
         Why the solve failed, empty on success.
     path : str
-        ``"dlft"`` or ``"dlft-load-walk"``.
+        ``"dlft"``, ``"dlft-newton-homotopy"`` or ``"dlft-homotopy"`` (:func:`fretwear.hbm.strategy.solve`).
 
     Time fields are sampled on the DLFT grid of one period, ``t_n = n T / N``.
     """

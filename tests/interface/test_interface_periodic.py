@@ -6,7 +6,7 @@ import pytest
 import fretwear as fw
 from fretwear.interface.contact import OPEN, SLIP, STICK, march_pair
 from fretwear.interface.fe import cylinder_on_flat
-from fretwear.interface.kernels import load_walk_kernel
+from fretwear.interface.kernels import walk_kernel
 from fretwear.interface.paper import paper_interface
 from fretwear.interface.periodic import InterfaceProblem, newton, solve_interface
 from fretwear.interface.reduction import ContactCondensation
@@ -157,9 +157,9 @@ def test_the_load_walk_passes_a_vertex_where_several_samples_change_state(bench)
     model, cond = bench
     prob = InterfaceProblem(cond, 2 * np.pi * 70.0, harmonics=3)
     b = prob.basis
-    x, p, pieces, arrived = load_walk_kernel(
-        prob.start(), 0.0, prob.Z, prob.F_static, prob.force_scale * prob.F_exc, prob.eps, prob.gap, prob.mu,
-        prob.xref, b.synthesis, b.analysis, 8000,
+    x, p, pieces, arrived = walk_kernel(
+        prob.start(), 0.0, prob.Z, prob.F_static, prob.force_scale * prob.F_exc, np.zeros(prob.size),
+        prob.eps, prob.gap, prob.mu, prob.xref, b.synthesis, b.analysis, 8000,
     )  # fmt: skip
     ref = solve_interface(prob)
     assert arrived and p == 1.0 and ref.converged
