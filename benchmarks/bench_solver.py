@@ -10,7 +10,7 @@ Prints three tables, each figure next to its target and the ratio:
 1. warm timings (median over repeats, after a warm-up call that compiles the
    kernels) of a 101-point frequency sweep (:func:`fretwear.sweep`, the
    compiled sweep) and of the same sweep point by point in Python
-   (:func:`fretwear.hbm.continuation.sweep_point_by_point`, the solver before
+   (``fretwear.hbm.continuation.sweep(..., compiled=False)``, the solver before
    the compiled sweep, timed in turn with it so that the machine's load hits
    both alike), at ``Nh = 7`` and ``21``, for (a) the paper's 2-DOF model at
    ``F_ex = 10 N`` over 0.3-1.3 Hz and (b) the 1-DOF oscillator with a Jenkins
@@ -46,7 +46,6 @@ sys.path.insert(0, str(ROOT))
 from timing import fmt_time, table  # noqa: E402
 
 from fretwear import jenkins_oscillator, paper_model, solve_periodic, sweep  # noqa: E402
-from fretwear.hbm.continuation import sweep_point_by_point  # noqa: E402
 from fretwear.hbm.harmonics import HarmonicBasis, default_samples  # noqa: E402
 from fretwear.hbm.periodic import Problem, solve_problem  # noqa: E402
 
@@ -97,7 +96,7 @@ def warm(quick: bool) -> None:
         for nh in (7, 21):
             compiled, by_point = interleaved_medians(
                 [lambda m=model, w=omegas, n=nh: sweep(m, w, n),
-                 lambda m=model, w=omegas, n=nh: sweep_point_by_point(m, w, n)],
+                 lambda m=model, w=omegas, n=nh: sweep(m, w, n, compiled=False)],
                 3 if quick else 11,
             )  # fmt: skip
             single = median_time(lambda m=model, w=omega, n=nh: solve_periodic(m, w, n), 5 if quick else 21)

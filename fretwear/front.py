@@ -114,14 +114,35 @@ def solve_periodic(model: Model, omega: float, harmonics: int = 7, **options) ->
     harmonics : int
         Highest harmonic ``Nh >= 1``.
     **options
-        ``samples``, ``wear`` (per friction contact or per pair, m), ``eps``
-        (N/m), ``half_wave``, ``guess``, ``tol``, ``max_iter``: see
-        :func:`fretwear.hbm.solve_periodic`; for pairs also ``factor`` (the
-        reduction, :func:`fretwear.interface.jobs.solve_periodic`).
+        samples : int
+            Time samples per period ``N >= 2 Nh + 1`` (default: next power of 2 >= 16 Nh).
+        wear : array_like
+            Worn depth of each friction contact, or of each pair (m), >= 0.
+        eps : float or array_like
+            DLFT penalty (N/m): one for all, or one per active contact (per
+            contact coordinate for pairs). Default: 10 times the largest
+            diagonal entry of the condensed dynamic stiffness (section 1.4).
+            It changes the convergence, and at finite ``Nh`` the answer only
+            within the truncation error.
+        half_wave : bool
+            Force or forbid the half-wave (odd harmonics) reduction (never for pairs:
+            the static normal load breaks the symmetry).
+        guess : ndarray
+            Starting unknowns (harmonics of the active contact coordinates),
+            e.g. ``solution.unknowns`` of a neighbour.
+        tol : float
+            Relative residual tolerance (default 1e-10).
+        max_iter : int
+            Newton iterations per solve (default 50).
+        factor : float
+            Pairs only: the reduction's mode count criterion
+            (:func:`fretwear.interface.jobs.condense`, default 2).
 
     Returns
     -------
     PeriodicSolution or InterfaceSolution
+        With ``converged``, ``residual``, ``iterations``, ``message`` and
+        ``path`` (the strategy of :mod:`fretwear.hbm.strategy`).
     """
     return _solver("solve_periodic", model)(model, omega, harmonics, **options)
 

@@ -26,7 +26,7 @@ from .periodic import Problem, newton_homotopy, solve_problem
 from .solution import PeriodicSolution
 from .strategy import NewtonResult
 
-__all__ = ["Sweep", "sweep", "sweep_point_by_point", "Branch", "continuation"]
+__all__ = ["Sweep", "sweep", "check_omegas", "Branch", "continuation"]
 
 # -- frequency ------------------------------------------------------------------
 
@@ -73,10 +73,13 @@ class Sweep:
         return np.array([s.converged for s in self.solutions])
 
 
-def _check_omegas(omegas) -> np.ndarray:
+def check_omegas(omegas) -> np.ndarray:
+    """``omegas`` as a new 1-D float array, checked: non-empty, finite, > 0 (rad/s)."""
     omegas = np.array(omegas, dtype=float)  # a copy: contiguous and writable, as the compiled sweep takes it
     if omegas.ndim != 1 or omegas.size == 0 or np.any(~np.isfinite(omegas)) or np.any(omegas <= 0):
-        raise ValueError("omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s")
+        raise ValueError(
+            f"omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s, got {omegas}"
+        )
     return omegas
 
 
@@ -91,6 +94,7 @@ def sweep(
     eps=None,
     tol: float = 1e-10,
     max_iter: int = 50,
+    compiled: bool = True,
 ) -> Sweep:
     """Periodic responses at the frequencies ``omegas`` (rad/s), in the given order.
 
@@ -103,37 +107,18 @@ def sweep(
 
     The whole sweep (condensation at every frequency, predictions, Newton,
     homotopies) runs in one compiled call (:mod:`fretwear.hbm.compiled_sweep`);
-    :func:`sweep_point_by_point` solves point by point in Python, with the
-    same answers (to round-off).
+    with ``compiled=False`` each point goes through :func:`solve_problem` in
+    Python instead: the reference the compiled sweep is checked and timed
+    against, with the same answers (to round-off), several times slower.
     """
-    omegas = _check_omegas(omegas)
+    omegas = check_omegas(omegas)
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
-    out = compiled_sweep.solve(model, omegas, settings, eps, tol, max_iter)
-    return Sweep(
-        [s if isinstance(s, PeriodicSolution) else solve_problem(s, None, tol, max_iter) for s in out]
-    )
-
-
-def sweep_point_by_point(
-    model: Model,
-    omegas,
-    harmonics: int = 7,
-    *,
-    samples: int | None = None,
-    wear=None,
-    half_wave: bool | None = None,
-    eps=None,
-    tol: float = 1e-10,
-    max_iter: int = 50,
-) -> Sweep:
-    """:func:`sweep` point by point: each frequency through :func:`~fretwear.hbm.periodic.solve_problem`.
-
-    The reference the compiled sweep is checked and timed against; same
-    parameters and results, several times slower.
-    """
-    omegas = _check_omegas(omegas)
-    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
-    out: list[PeriodicSolution] = []
+    if compiled:
+        out = compiled_sweep.solve(model, omegas, settings, eps, tol, max_iter)
+        return Sweep(
+            [s if isinstance(s, PeriodicSolution) else solve_problem(s, None, tol, max_iter) for s in out]
+        )
+    out = []
     previous: list[tuple[float, np.ndarray]] = []  # converged points (one active set: wear is fixed)
     first = Problem(model, omegas[0], eps=eps, **settings)
     batch = condense(model, first.B, omegas, first.basis) if first.n_active else None

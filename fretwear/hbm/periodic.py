@@ -203,39 +203,11 @@ def solve_periodic(
     tol: float = 1e-10,
     max_iter: int = 50,
 ) -> PeriodicSolution:
-    """Periodic response of ``model`` at ``omega`` by HBM + DLFT.
+    """Periodic response of a model with 1-D contacts at ``omega`` by HBM + DLFT.
 
-    Parameters
-    ----------
-    model : Model
-    omega : float
-        Excitation frequency (rad/s), > 0.
-    harmonics : int
-        Highest harmonic ``Nh >= 1``.
-    samples : int, optional
-        Time samples per period ``N >= 2 Nh + 1`` (default: next power of 2 >= 16 Nh).
-    wear : array_like, optional
-        Wear depth of each friction contact (m).
-    eps : float or array_like, optional
-        DLFT penalty (N/m); changes the convergence, and at finite ``Nh`` the
-        answer only within the truncation error.
-    half_wave : bool, optional
-        Force or forbid the half-wave (odd harmonics) reduction.
-    guess : ndarray, optional
-        Starting unknowns (harmonics of the active contact coordinates, in the
-        layout of :class:`Problem`), e.g. ``solution.unknowns`` of a neighbour.
-    tol : float
-        Relative residual tolerance.
-    max_iter : int
-        Newton iterations per solve.
-
-    Returns
-    -------
-    PeriodicSolution
-        With ``converged``, ``residual``, ``iterations``, ``message`` and ``path``.
-
-    The solve is the logic of :func:`solve_problem`, compiled: a one-frequency
-    :func:`fretwear.hbm.compiled_sweep.solve`.
+    Parameters and result as :func:`fretwear.solve_periodic`, which calls this
+    function for such a model. The solve is the logic of :func:`solve_problem`,
+    compiled: a one-frequency :func:`fretwear.hbm.compiled_sweep.solve`.
     """
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
     (out,) = compiled_sweep.solve(model, np.array([omega], dtype=float), settings, eps, tol, max_iter, guess)

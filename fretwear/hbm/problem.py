@@ -33,21 +33,10 @@ class Problem:
 
     Parameters
     ----------
-    model : Model
-    omega : float
-        Excitation frequency (rad/s), > 0.
-    harmonics : int
-        Highest harmonic ``Nh >= 1``.
-    samples : int, optional
-        Samples per period ``N >= 2 Nh + 1``; default :func:`default_samples`.
-    wear : array_like, optional
-        Wear depth of each friction contact (m); default zero.
-    eps : float or array_like, optional
-        DLFT penalty per active contact (N/m). Default: ``EPS_FACTOR`` times the
-        largest diagonal entry of the condensed dynamic stiffness over the
-        retained harmonics (the paper's advice, section 1.4).
-    half_wave : bool, optional
-        Use odd harmonics and half a period; default: when the model allows it.
+    model, omega, harmonics, samples, wear, eps, half_wave
+        As :func:`fretwear.solve_periodic`; the default ``eps`` is ``EPS_FACTOR``
+        times the largest diagonal entry of the condensed dynamic stiffness over
+        the retained harmonics, ``half_wave`` is used when the model allows it.
     force_scale : float
         Load factor applied to every external force (used by load continuation).
     condensed : Condensed or callable, optional

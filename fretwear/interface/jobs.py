@@ -25,7 +25,7 @@ import inspect
 
 import numpy as np
 
-from ..hbm.continuation import Sweep
+from ..hbm.continuation import Sweep, check_omegas
 from ..model import Model, craig_bampton
 from .history import InterfaceWearHistory
 from .periodic import InterfaceProblem, InterfaceSolution, solve_interface
@@ -53,18 +53,18 @@ def condense(model: Model, f_max: float, factor: float = 2.0) -> ContactCondensa
     return ContactCondensation(model if model.reduction is not None else craig_bampton(model, f_max, factor))
 
 
-def _problem(cond: ContactCondensation, omega: float, harmonics: int, samples, wear, eps) -> InterfaceProblem:
-    if eps is not None and np.ndim(eps) == 0:
-        eps = np.full(2 * cond.n_pairs, float(eps))  # one penalty for every contact coordinate
-    return InterfaceProblem(cond, omega, harmonics=harmonics, samples=samples, wear=wear, eps=eps)
-
-
-def _no_half_wave(half_wave: bool | None) -> None:
+def _problem(
+    cond: ContactCondensation, omega: float, harmonics: int, samples=None, wear=None, eps=None, half_wave=None
+) -> InterfaceProblem:
+    """The problem at ``omega`` with the settings of :func:`fretwear.solve_periodic` (``wear`` per pair)."""
     if half_wave:
         raise ValueError(
             "half_wave must be None or False for a model with contact pairs (the static normal load breaks "
             f"the half-wave symmetry), got {half_wave!r}"
         )
+    if eps is not None and np.ndim(eps) == 0:
+        eps = np.full(2 * cond.n_pairs, float(eps))  # one penalty for every contact coordinate
+    return InterfaceProblem(cond, omega, harmonics=harmonics, samples=samples, wear=wear, eps=eps)
 
 
 def _check_omega(omega: float) -> float:
@@ -80,54 +80,36 @@ def solve_periodic(
     omega: float,
     harmonics: int = 7,
     *,
-    samples: int | None = None,
-    wear=None,
-    eps=None,
-    half_wave: bool | None = None,
     guess: np.ndarray | None = None,
     tol: float = 1e-10,
     max_iter: int = 50,
     factor: float = 2.0,
+    **settings,
 ) -> InterfaceSolution:
     """Periodic response of a model with contact pairs at ``omega`` (rad/s): :func:`solve_interface`.
 
-    Parameters as :func:`fretwear.solve_periodic`; ``wear`` is the worn depth
-    per pair (m), ``eps`` a penalty (N/m) for every contact coordinate or one
-    per coordinate (2 nc), ``half_wave`` must not be True, ``factor`` is the
-    reduction's mode count criterion (module docstring).
+    Parameters as :func:`fretwear.solve_periodic`; ``settings`` are ``samples``,
+    ``wear`` (per pair, m), ``eps`` (one penalty for every contact coordinate
+    or one per coordinate, 2 nc, N/m) and ``half_wave`` (None or False);
+    ``factor`` is the reduction's mode count criterion (module docstring).
     """
-    _no_half_wave(half_wave)
     omega = _check_omega(omega)
     cond = condense(model, harmonics * omega / (2 * np.pi), factor)
-    return solve_interface(_problem(cond, omega, harmonics, samples, wear, eps), guess, tol, max_iter)
+    return solve_interface(_problem(cond, omega, harmonics, **settings), guess, tol, max_iter)
 
 
 def sweep(
-    model: Model,
-    omegas,
-    harmonics: int = 7,
-    *,
-    samples: int | None = None,
-    wear=None,
-    half_wave: bool | None = None,
-    eps=None,
-    tol: float = 1e-10,
-    max_iter: int = 50,
-    factor: float = 2.0,
-) -> Sweep:
+    model: Model, omegas, harmonics: int = 7, *, tol: float = 1e-10, max_iter: int = 50, factor: float = 2.0,
+    **settings,
+) -> Sweep:  # fmt: skip
     """Periodic responses of a model with contact pairs at ``omegas`` (rad/s), warm-started in order.
 
-    Parameters as :func:`fretwear.sweep` (and ``factor`` as
-    :func:`solve_periodic`); the points are :func:`sweep_interface`'s.
+    Parameters as :func:`solve_periodic` (no ``guess``); the points are
+    :func:`sweep_interface`'s.
     """
-    _no_half_wave(half_wave)
-    omegas = np.array(omegas, dtype=float)
-    if omegas.ndim != 1 or omegas.size == 0 or np.any(~np.isfinite(omegas)) or np.any(omegas <= 0):
-        raise ValueError(
-            f"omegas must be a non-empty 1-D array of finite frequencies > 0 rad/s, got {omegas}"
-        )
+    omegas = check_omegas(omegas)
     cond = condense(model, harmonics * omegas.max() / (2 * np.pi), factor)
-    problems = (_problem(cond, w, harmonics, samples, wear, eps) for w in omegas)
+    problems = (_problem(cond, w, harmonics, **settings) for w in omegas)  # one at a time: Z is large
     return Sweep(sweep_interface(problems, tol, max_iter))
 
 
@@ -191,7 +173,7 @@ def wear_history(
         )
     omega = _check_omega(omega)
     cond = condense(model, harmonics * omega / (2 * np.pi), factor)
-    problem = _problem(cond, omega, harmonics, samples, wear, None)
+    problem = _problem(cond, omega, harmonics, samples, wear)
     return wear_interface(problem, kw, cycles, method="stepping" if method == "auto" else method, **options)
 
 

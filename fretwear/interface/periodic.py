@@ -57,12 +57,8 @@ class InterfaceProblem:
     Parameters
     ----------
     condensation : ContactCondensation
-    omega : float
-        Excitation frequency (rad/s), > 0.
-    harmonics : int
-        Highest harmonic ``Nh >= 1``.
-    samples : int, optional
-        Samples per period (default :func:`~fretwear.hbm.harmonics.default_samples`).
+    omega, harmonics, samples
+        As :func:`fretwear.solve_periodic`.
     wear : ndarray, shape (nc,), optional
         Worn depth per pair (m), >= 0; opens the gaps (eq. 17b).
     xref : ndarray, shape (nc,), optional

@@ -7,7 +7,7 @@ from test_dlft import two_contact_model  # the same 3-DOF model with two frictio
 from fretwear import jenkins_oscillator, paper_model, solve_periodic
 from fretwear.hbm import compiled_sweep, dense, dlft
 from fretwear.hbm.condensation import condense, condense_sweep
-from fretwear.hbm.continuation import sweep, sweep_point_by_point
+from fretwear.hbm.continuation import sweep
 from fretwear.hbm.periodic import Problem, solve_problem
 
 TWO_PI = 2 * np.pi
@@ -38,7 +38,7 @@ def assert_same_solutions(a, b, rtol=1e-10):
 @pytest.mark.parametrize("nh", [7, 21])
 def test_compiled_sweep_gives_the_point_by_point_answers(case, nh):
     model, omegas = CASES[case]
-    fast, ref = sweep(model, omegas, nh), sweep_point_by_point(model, omegas, nh)
+    fast, ref = sweep(model, omegas, nh), sweep(model, omegas, nh, compiled=False)
     assert fast.converged.all()
     assert max(s.residual for s in fast.solutions) < 1e-10
     assert_same_solutions(fast.solutions, ref.solutions)
@@ -69,7 +69,7 @@ def test_several_contacts_unilateral_and_full_wave():
     cycle; outside that band the answers are the same."""
     model = two_contact_model()
     omegas = np.linspace(0.4, 2.0, 33)
-    fast, ref = sweep(model, omegas, 5), sweep_point_by_point(model, omegas, 5)
+    fast, ref = sweep(model, omegas, 5), sweep(model, omegas, 5, compiled=False)
     assert not fast.solutions[0].half_wave and fast.converged.all() and ref.converged.all()
     for sa, sb in zip(fast.solutions, ref.solutions, strict=True):
         R = sb.problem.evaluate(sa.unknowns, jacobian=False)[0]  # in x, by the reference's problem
@@ -89,7 +89,7 @@ def test_a_singular_penalty_map_falls_back_to_the_solver_in_x():
     eps = Problem(model, omegas[0], 5, half_wave=False).Z[0, 0]
     assert eps > 0
     fast = sweep(model, omegas, 5, half_wave=False, eps=eps)
-    ref = sweep_point_by_point(model, omegas, 5, half_wave=False, eps=eps)
+    ref = sweep(model, omegas, 5, half_wave=False, eps=eps, compiled=False)
     assert_same_solutions(fast.solutions, ref.solutions)
 
 
