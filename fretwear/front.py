@@ -162,9 +162,8 @@ def wear_history(model: Model, omega: float, method: str = "auto", *, kw: float 
 
     Parameters
     ----------
-    model : Model
-    omega : float
-        Excitation frequency (rad/s), > 0.
+    model, omega
+        As :func:`solve_periodic`.
     method : str
         Slow-time method; ``"auto"`` picks one. 1-D contacts:
         :data:`fretwear.wear.METHODS`; pairs: ``"stepping"`` or ``"polynomial"``.

@@ -26,6 +26,7 @@ from functools import cached_property, partial
 
 import numpy as np
 
+from .._fields import item
 from ..hbm import strategy
 from ..hbm.harmonics import HarmonicBasis, default_samples
 from ..hbm.newton import SINGULAR
@@ -257,14 +258,9 @@ class InterfaceSolution:
     problem : InterfaceProblem
     unknowns : ndarray
         Harmonics of the contact coordinates (solver layout), reusable as a ``guess``.
-    converged : bool
-    iterations : int
-    residual : float
-        Final ``max |R|`` relative to the largest reduced force.
-    message : str
-        Why the solve failed, empty on success.
-    path : str
-        ``"dlft"``, ``"dlft-newton-homotopy"`` or ``"dlft-homotopy"`` (:func:`fretwear.hbm.strategy.solve`).
+    converged, iterations, residual, message, path
+        The solve's status, as :class:`fretwear.hbm.PeriodicSolution`'s (the
+        residual relative to the largest reduced force).
 
     Time fields are sampled on the DLFT grid of one period, ``t_n = n T / N``.
     """
@@ -291,25 +287,10 @@ class InterfaceSolution:
         """Tributary area of each pair (m^2, or m per unit thickness)."""
         return self.problem.condensation.model.pairs.area
 
-    @property
-    def tangential_force(self) -> np.ndarray:
-        """``lambda_T`` per pair and sample, shape (nc, N) (N)."""
-        return self._fields[0]
-
-    @property
-    def normal_force(self) -> np.ndarray:
-        """``lambda_N >= 0`` per pair and sample, shape (nc, N) (N)."""
-        return self._fields[1]
-
-    @property
-    def slip_variable(self) -> np.ndarray:
-        """``X_T`` per pair and sample, shape (nc, N) (m)."""
-        return self._fields[2]
-
-    @property
-    def state(self) -> np.ndarray:
-        """STICK, SLIP or OPEN per pair and sample, shape (nc, N)."""
-        return self._fields[3]
+    tangential_force = item("_fields", 0, "``lambda_T`` per pair and sample, shape (nc, N) (N).")
+    normal_force = item("_fields", 1, "``lambda_N >= 0`` per pair and sample, shape (nc, N) (N).")
+    slip_variable = item("_fields", 2, "``X_T`` per pair and sample, shape (nc, N) (m).")
+    state = item("_fields", 3, "STICK, SLIP or OPEN per pair and sample, shape (nc, N).")
 
     @property
     def pressure(self) -> np.ndarray:

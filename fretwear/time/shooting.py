@@ -25,6 +25,7 @@ from functools import cached_property, partial
 
 import numpy as np
 
+from .._fields import item
 from ..model import STICK, Model
 from . import periodic
 from .codes import DEGENERATE, NEED_PATTERN, NEED_SPACE, NONFINITE, OK
@@ -197,10 +198,7 @@ class ShootingSolution:
         states, forces, codes = self.trajectory.evaluate(times)
         return times, states, forces, codes
 
-    @property
-    def time(self) -> np.ndarray:
-        """Sample times ``k T / N`` (s), shape (N,)."""
-        return self._histories[0]
+    time = item("_histories", 0, "Sample times ``k T / N`` (s), shape (N,).")
 
     @property
     def displacement(self) -> np.ndarray:
@@ -217,15 +215,9 @@ class ShootingSolution:
         """``u_r = B u`` of every contact (m), shape (n_friction, N)."""
         return self.model.relative_map(self.model.friction) @ self.displacement
 
-    @property
-    def contact_force(self) -> np.ndarray:
-        """Friction force of every contact (N), shape (n_friction, N)."""
-        return self._histories[2]
-
-    @property
-    def state(self) -> np.ndarray:
-        """:data:`~fretwear.model.STICK`, ``SLIP`` or ``OPEN`` of every contact, shape (n_friction, N)."""
-        return self._histories[3]
+    contact_force = item("_histories", 2, "Friction force of every contact (N), shape (n_friction, N).")
+    state = item("_histories", 3, ":data:`~fretwear.model.STICK`, ``SLIP`` or ``OPEN`` of every contact, "
+                 "shape (n_friction, N).")  # fmt: skip
 
 
 # ---------------------------------------------------------------------------
