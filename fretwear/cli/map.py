@@ -5,14 +5,13 @@ from __future__ import annotations
 
 import argparse
 import sys
-import warnings
 
 import numpy as np
 
 from ..arguments import atomic
-from ..studies import wear_map
+from ..studies import WearMap, wear_map
 from ..studies.maps import LazyHistories
-from ..wear import cycle_grid, exact_answer_applies
+from ..wear import cycle_grid
 from .shared import (
     EXIT_NOT_CONVERGED,
     EXIT_OK,
@@ -25,8 +24,7 @@ from .shared import (
     compile_notice,
     model_and_names,
     option,
-    say_warnings,
-    wear_options,
+    wear_result,
     write_csv,
     write_figure,
 )
@@ -62,18 +60,16 @@ def run(args: argparse.Namespace) -> int:
     compile_notice(args.command, kernel_needs(args, model))
     freqs = np.linspace(args.fmin, args.fmax, args.nf)
     cycles = cycle_grid(args.cycles, args.ncycles)
-    method, options = wear_options(args, model)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        wmap = wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
-    notes = [] if isinstance(wmap.histories, LazyHistories) else [
-        f"{h.frequency:.4g} Hz: {w}" for h in wmap.histories for w in h.warnings]  # fmt: skip
-    if wmap.label != "exact" and exact_answer_applies(model):  # an approximation
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            exact = wear_map(model, freqs, cycles, method="exact", kw=args.kw)
-            notes.insert(0, wmap.error_note(exact) or "its error against the exact answer is unknown")
-    say_warnings("map", notes, caught)
+
+    def compute(method: str, **options) -> WearMap:
+        return wear_map(model, freqs, cycles, method=method, kw=args.kw, **options)
+
+    def notes(wmap: WearMap) -> list[str]:
+        if isinstance(wmap.histories, LazyHistories):
+            return []
+        return [f"{h.frequency:.4g} Hz: {w}" for h in wmap.histories for w in h.warnings]
+
+    wmap, method, options = wear_result(args, model, compute, notes)
     if args.out.lower().endswith(FIGURE_SUFFIXES):
         from ..figures import load_backend, wear_map_figure
 

@@ -15,10 +15,11 @@ import signal
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TextIO
+from typing import TextIO, TypeVar
 
 import numpy as np
 
@@ -44,6 +45,8 @@ PAPER_BAND = (0.3, 1.3)
 
 #: the suffixes of --out that are a figure (``wear``, ``map``)
 FIGURE_SUFFIXES = (".png", ".svg", ".html")
+
+R = TypeVar("R")
 
 
 class UsageError(Exception):
@@ -320,6 +323,26 @@ def wear_options(args: argparse.Namespace, model: Model) -> tuple[str, dict]:
     if given.get("dynamics") == "shooting" and "harmonics" in from_file:  # the app's Nh is for its DLFT parts
         settings["harmonics"] = None
     return method, method_options(method, settings)
+
+
+def wear_result(args: argparse.Namespace, model: Model, compute: Callable[..., R],
+                notes: Callable[[R], list[str]]) -> tuple[R, str, dict]:  # fmt: skip
+    """``compute(method, **options)`` (a wear history or map) with the slow-time method and options of the
+    command line (:func:`wear_options`), its warnings printed (:func:`say_warnings`): ``notes(result)``,
+    led by the result's error against the exact answer ``compute("exact")`` when it is an approximation
+    and the exact answer applies. Returns the result, the method and its options."""
+    method, options = wear_options(args, model)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = compute(method, **options)
+    said = list(notes(result))
+    if result.label != "exact" and exact_answer_applies(model):  # an approximation
+        with warnings.catch_warnings():  # the reference's warnings repeat those of the approximation
+            warnings.simplefilter("ignore")
+            exact = compute("exact")
+            said.insert(0, result.error_note(exact) or "its error against the exact answer is unknown")
+    say_warnings(args.command, said, caught)
+    return result, method, options
 
 
 # -- results ---------------------------------------------------------------------------

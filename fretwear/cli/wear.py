@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-import warnings
 
 import numpy as np
 
-from ..wear import cycle_grid, exact_answer_applies, wear_history
+from ..wear import WearHistory, cycle_grid, wear_history
 from .shared import (
     EXIT_NOT_CONVERGED,
     EXIT_OK,
@@ -20,8 +19,7 @@ from .shared import (
     compile_notice,
     model_and_names,
     option,
-    say_warnings,
-    wear_options,
+    wear_result,
     write_csv,
     write_figure,
 )
@@ -52,16 +50,11 @@ def run(args: argparse.Namespace) -> int:
     """One wear history as CSV, one row per record (or its figure)."""
     model, names = model_and_names(args)
     compile_notice(args.command, kernel_needs(args, model))
-    method, options = wear_options(args, model)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        hist = wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
-    if hist.label != "exact" and exact_answer_applies(model):  # an approximation
-        with warnings.catch_warnings():  # the reference's warnings repeat those of the approximation
-            warnings.simplefilter("ignore")
-            exact = wear_history(model, 2 * np.pi * args.f, "exact", kw=args.kw, cycles=args.cycles)
-        hist.warnings.insert(0, hist.error_note(exact) or "its error against the exact answer is unknown")
-    say_warnings("wear", hist.warnings, caught)
+
+    def compute(method: str, **options) -> WearHistory:
+        return wear_history(model, 2 * np.pi * args.f, method, kw=args.kw, cycles=args.cycles, **options)
+
+    hist, _, options = wear_result(args, model, compute, lambda hist: hist.warnings)
     if args.out.lower().endswith(FIGURE_SUFFIXES):
         from ..figures import line_figure, load_backend, wear_curve
 

@@ -145,18 +145,25 @@ def track(
         R, J, dR = evaluate(xs, y[-1])
         return np.append(xs, y[-1]) / scales, J, dR, max_corrector
 
+    def land(zp, steps):
+        """The result at ``p_end`` corrected from ``zp`` (on the target) after ``steps`` steps, or None."""
+        got = correct(zp, e_p)
+        if got is None:
+            return None
+        y = got[0] * scales
+        if record:
+            points.append((y[:-1].copy(), p_end))
+        return TrackResult(y[:-1], p_end, True, steps, iterations, "", points)
+
     h = h0
     for step in range(max_steps):
         ahead = (target - z[-1]) / t[-1] if t[-1] != 0 else np.inf
         if 0 < ahead <= h:  # the predictor reaches the target: land on it
             zp = z + ahead * t
             zp[-1] = target
-            got = correct(zp, e_p)
-            if got is not None:
-                y = got[0] * scales
-                if record:
-                    points.append((y[:-1].copy(), p_end))
-                return TrackResult(y[:-1], p_end, True, step + 1, iterations, "", points)
+            landed = land(zp, step + 1)
+            if landed is not None:
+                return landed
             h = 0.5 * ahead
         else:
             got = correct(z + h * t, t)
@@ -164,12 +171,9 @@ def track(
                 # the corrector crossed the target: land between the two points
                 zc = got[0]
                 zl = z + (target - z[-1]) / (zc[-1] - z[-1]) * (zc - z)
-                landed = correct(zl, e_p)
+                landed = land(zl, step + 1)
                 if landed is not None:
-                    y = landed[0] * scales
-                    if record:
-                        points.append((y[:-1].copy(), p_end))
-                    return TrackResult(y[:-1], p_end, True, step + 1, iterations, "", points)
+                    return landed
                 got = None
             if got is not None:
                 zc, J, dR, its = got

@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from .codes import NEED_PATTERN, OK
+from .dense import back_substitute, matmul_into
 from .series import EPS_GUARD, dot
 
 __all__ = ["select", "find_slot", "augmented", "bits", "delassus", "project"]
@@ -143,16 +144,12 @@ def _cholesky(W):
 @njit(cache=True, nogil=True)
 def _chol_solve(L, b):
     """``W^-1 b`` from the Cholesky factor ``L`` of ``W``."""
-    z = L.shape[0]
     x = b.copy()
-    for i in range(z):
+    for i in range(L.shape[0]):  # L y = b
         for m in range(i):
             x[i] -= L[i, m] * x[m]
         x[i] /= L[i, i]
-    for i in range(z - 1, -1, -1):
-        for m in range(i + 1, z):
-            x[i] -= L[m, i] * x[m]
-        x[i] /= L[i, i]
+    back_substitute(L.T, x)  # L^T x = y
     return x
 
 
@@ -163,20 +160,10 @@ def delassus(Minv, B, idx):
     BZ = np.empty((z, n))
     for p in range(z):
         BZ[p] = B[idx[p]]
-    MiBt = np.zeros((n, z))
-    for i in range(n):
-        for p in range(z):
-            s = 0.0
-            for m in range(n):
-                s += Minv[i, m] * BZ[p, m]
-            MiBt[i, p] = s
-    W = np.zeros((z, z))
-    for p in range(z):
-        for q in range(z):
-            s = 0.0
-            for m in range(n):
-                s += BZ[p, m] * MiBt[m, q]
-            W[p, q] = s
+    MiBt = np.empty((n, z))
+    matmul_into(Minv, BZ.T, MiBt)
+    W = np.empty((z, z))
+    matmul_into(BZ, MiBt, W)
     return BZ, MiBt, W, _cholesky(W)
 
 

@@ -33,8 +33,8 @@ from .codes import (
     STICK_CODE,
     STICK_EVENT,
 )
+from .dense import matmul_into
 from .events import augmented, bits, delassus, find_slot, project, select
-from .patterns import matmul_into
 from .series import EPS_GUARD, K, dot, first_crossing, row_series, state_at, taylor_series
 
 __all__ = ["march", "MAX_NULL"]

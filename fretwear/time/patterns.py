@@ -41,8 +41,9 @@ import numpy as np
 from numba import njit
 
 from ..model import Model
+from .dense import matmul_into
 
-__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "Table", "matmul_into", "structure", "unsupported"]
+__all__ = ["TAYLOR_ORDER", "Engine", "Structure", "Table", "structure", "unsupported"]
 
 #: terms of the Taylor series of a step (polynomial degree)
 TAYLOR_ORDER = 30
@@ -366,18 +367,6 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
                 series[k, i, j] = t / k
                 phi[i, j] += series[k, i, j]
     return h
-
-
-@njit(cache=True, nogil=True)
-def matmul_into(A, B, out):
-    """``out = A @ B`` for small square matrices (no allocation; ``out`` distinct from both)."""
-    m = A.shape[0]
-    for i in range(m):
-        for j in range(m):
-            t = 0.0
-            for q in range(m):
-                t += A[i, q] * B[q, j]
-            out[i, j] = t
 
 
 @njit(cache=True, nogil=True)

@@ -8,6 +8,7 @@ import numpy as np
 from numba import njit
 
 from .codes import FALSE, NEED_PATTERN, NEED_SPACE, OK, STICK_CODE, TRUE
+from .dense import back_substitute
 from .integrals import integrals, orbit
 from .marching import march
 
@@ -85,10 +86,7 @@ def _newton_step(A, b):
             for q in range(col, m):
                 LU[r, q] -= f * LU[col, q]
             x[r] -= f * x[col]
-    for r in range(m - 1, -1, -1):
-        for q in range(r + 1, m):
-            x[r] -= LU[r, q] * x[q]
-        x[r] /= LU[r, r]
+    back_substitute(LU, x)
     return x
 
 
