@@ -90,6 +90,24 @@ class DiskSector:
         K1[0, 0] = -self.k0  # this disk to the next one
         return K0, K1
 
+    def assemble(self, mistuning: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Mass and stiffness matrices of the whole disk (kg, N/m), (3 N, 3 N) each.
+
+        ``mistuning``: ``delta_i`` per blade (checked by :func:`bladed_disk`);
+        blade ``i``'s springs are ``kb1 (1 + delta_i)`` and ``kb2 (1 + delta_i)``.
+        """
+        n_sec = self.sectors
+        n = 3 * n_sec
+        M = np.kron(np.eye(n_sec), self.mass)
+        K = np.zeros((n, n))
+        for i in range(n_sec):  # assembly, once per model (3 N DOFs)
+            K0, K1 = self.stiffness(self.kb1 * (1 + mistuning[i]), self.kb2 * (1 + mistuning[i]))
+            j, nxt = 3 * i, 3 * ((i + 1) % n_sec)
+            K[j : j + 3, j : j + 3] += K0
+            K[j : j + 3, nxt : nxt + 3] += K1
+            K[nxt : nxt + 3, j : j + 3] += K1.T
+        return M, K
+
     def frequencies(self, nodal_diameter: int) -> np.ndarray:
         """The sector's three natural frequencies (Hz) with ``nodal_diameter`` nodal diameters, ascending."""
         if isinstance(nodal_diameter, bool) or not isinstance(nodal_diameter, (int, np.integer)):
@@ -149,15 +167,7 @@ def bladed_disk(
         raise ValueError(f"mistuning must hold {n_sec} finite numbers > -1, got shape {delta.shape}")
     if not (0 <= damping_ratio < 1):
         raise ValueError(f"damping_ratio must lie in [0, 1), got {damping_ratio!r}")
-    n = 3 * n_sec
-    M = np.kron(np.eye(n_sec), sector.mass)
-    K = np.zeros((n, n))
-    for i in range(n_sec):  # assembly, once per model (3 N DOFs)
-        K0, K1 = sector.stiffness(kb1 * (1 + delta[i]), kb2 * (1 + delta[i]))
-        j, nxt = 3 * i, 3 * ((i + 1) % n_sec)
-        K[j : j + 3, j : j + 3] += K0
-        K[j : j + 3, nxt : nxt + 3] += K1
-        K[nxt : nxt + 3, j : j + 3] += K1.T
+    M, K = sector.assemble(delta)
     # modal damping: C = M Phi diag(2 zeta omega_r) Phi^T M with Phi mass-normalised
     w2, phi = sl.eigh(K, M)
     MPhi = M @ phi
