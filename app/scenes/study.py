@@ -44,6 +44,8 @@ QUANTITIES = {
     "relative_amplitude": ("relative displacement amplitude, no wear", "m", True),
     "sliding_distance": ("distance slid per period, no wear", "m", False),
     "friction_energy": ("friction energy per period, no wear", "J", False),
+    "slip_distance": ("distance slid per period by each pair, no wear", "m", False),  # contact pairs
+    "mean_pressure": ("pressure of each pair, mean over the period, no wear", "Pa", False),
 }
 #: statuses drawn as markers of their own (their value is NaN or inf)
 FAILED = tuple(s for s in STATUS if s in ("not_computed", "not_converged", "invalid", "error"))

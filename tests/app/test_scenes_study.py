@@ -41,6 +41,18 @@ harmonics = 5
 [wear]
 ncycles = 12
 """
+#: a study of the paper's 2-DOF model as a one-pair interface (a model with contact pairs)
+PAIRS = """
+[study]
+title = "pairs"
+quantities = ["frf"]
+[model]
+name = "paper_interface"
+[parameters]
+frequency = [0.5, 0.7, 0.9]
+mu = [0.5, 1.0]
+harmonics = 5
+"""
 #: the browser tests' study (16 draws; the normal mu goes negative for some), under its own title
 RANDOM = STUDY_SPEC.replace('title = "browser study"', 'title = "random"')
 
@@ -54,7 +66,7 @@ def stores(tmp_path_factory):
     with Client(
         processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
     ) as client:
-        for name, text in (("grid", GRID), ("random", RANDOM)):
+        for name, text in (("grid", GRID), ("random", RANDOM), ("pairs", PAIRS)):
             spec_path = root / f"{name}.toml"
             spec_path.write_text(text)
             out[name] = root / f"{name}.zarr"
@@ -72,6 +84,7 @@ def no_solver(monkeypatch):
     entries = [("fretwear.hbm.periodic", "solve_periodic"), ("fretwear.hbm.continuation", "sweep"),
                ("fretwear.wear.history", "wear_history"), ("fretwear.studies.run", "compute_block"),
                ("fretwear.studies.compute", "sweep"), ("fretwear.studies.compute", "wear_history"),
+               ("fretwear.studies.compute", "solve_periodic"),
                ("fretwear.studies.run", "run_study")]  # fmt: skip
     for module, name in entries:
         module = import_module(module)  # the module, not a function of the package named like it
@@ -115,6 +128,24 @@ def test_grid_slices_show_the_stored_values_without_a_solver(stores, no_solver):
     image = scene.figure("wear_map").get(0)
     stored = ds.wear_fraction.isel(mu=0).transpose("cycles", "frequency").values
     np.testing.assert_array_equal(image.dimension_values(2, flat=False), stored)
+
+
+def test_a_study_of_a_model_with_contact_pairs_shows_its_per_pair_values(stores, no_solver):
+    figures.load_backend("bokeh")
+    ds = xr.open_zarr(stores["pairs"])
+    scene = StudyScene(stores["pairs"])
+    assert scene.error == "" and scene.grid_dims == ("mu", "frequency")
+    assert {"amplitude", "slip_distance", "mean_pressure", "friction_energy"} <= set(
+        scene.param.quantity.objects
+    )
+    scene.param.update(quantity="slip_distance", axis="frequency")
+    scene.select("mu", 1)
+    x, y = curve_data(scene.figure("slice"), "slip_distance pair1")
+    np.testing.assert_array_equal(x, ds.frequency.values)
+    np.testing.assert_array_equal(y, ds.slip_distance.isel(mu=1, pair=0).values)
+    assert y[0] == 0 and np.all(y[1:] > 0)  # the paper's 10 N case: stuck at 0.5 Hz, slipping from 0.7 Hz
+    table = scene.datasets()["slice"]
+    np.testing.assert_array_equal(table["slip_distance pair1"], y)
 
 
 def test_random_samples_histogram_quantiles_and_invalid_draws(stores, no_solver):
