@@ -197,3 +197,31 @@ def test_bad_entries_name_the_key_and_the_valid_values(tmp_path, capsys, text, k
     assert cli.main(["study", str(path), "--out", str(out)]) == EXIT_USAGE
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"fretwear study: error: {key}: ") and not out.exists()
+
+
+def test_random_draws_of_a_pair_model_and_an_invalid_draw_is_a_status(tmp_path):
+    """``mu`` drawn at random (seeded per parameter as for 1-D contacts); a negative draw is an invalid
+    point (NaN, status ``invalid``, a message naming mu), the others the front function's numbers."""
+    path = tmp_path / "random.toml"
+    path.write_text(
+        '[study]\nquantities = ["frf"]\nseed = 3\nsamples = 8\n[model]\nname = "paper_interface"\n'
+        '[parameters]\nfrequency = 0.7\nmu = { distribution = "normal", mean = 0.3, std = 0.4 }\n'
+        "harmonics = 5\n"
+    )
+    spec = study_spec.read_spec(path)
+    mu = spec.draws()["mu"]
+    np.testing.assert_array_equal(
+        mu, np.random.default_rng([3, list(spec.parameters).index("mu")]).normal(0.3, 0.4, 8)
+    )
+    res = compute.compute_block(compute.Work.of(spec), {"mu": mu})
+    bad = mu < 0
+    assert bad.any() and (~bad).sum() >= 3
+    assert np.all(res["status"][bad] == compute.INVALID) and np.isnan(res["amplitude"][bad]).all()
+    assert all("mu" in m for i, m in res["messages"]) and {i for i, _ in res["messages"]} == set(
+        np.flatnonzero(bad)
+    )
+    reduced = fw.reduce(fw.paper_interface(), spec.reduce_hz)
+    for i in np.flatnonzero(~bad):
+        sol = fw.solve_periodic(replace(reduced, pairs=replace(reduced.pairs, mu=mu[i])), 2 * np.pi * 0.7, 5)
+        np.testing.assert_allclose(res["amplitude"][i], sol.amplitude, rtol=1e-12)
+        assert res["status"][i] == compute.OK
