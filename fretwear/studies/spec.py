@@ -67,7 +67,8 @@ times the highest ``Nh`` (:attr:`StudySpec.reduce_hz`); each point then calls
 :func:`fretwear.solve_periodic` or :func:`fretwear.wear_history` on that
 reduced model.
 
-Random draws: parameter ``k`` (in the order of :data:`PARAMETERS`) uses the
+Random draws: parameter ``k`` (in the order of :data:`PARAMETERS`, or of
+:data:`PAIR_PARAMETERS` for a model with contact pairs) uses the
 stream ``numpy.random.default_rng([seed, k])``, so sample ``i`` is the same
 whatever the number of samples (``--samples`` only adds or removes draws at the end).
 """
@@ -209,7 +210,7 @@ PAIR_PARAMETERS: Mapping[str, Parameter] = {
             random=False,
             fixed_why="a model with contact pairs is reduced once at the highest frequency: "
             "give a value or a grid",
-        ),  # fmt: skip
+        ),
         Parameter("force_scale", "force_scale", note="(every external force, the static load too)"),
         Parameter("mu", "interface_mu", note="(every pair)"),
         Parameter("kw", "interface_kw"),
@@ -234,7 +235,7 @@ _CYLINDER_ROWS = {"contact_nodes": "contact_nodes", "q_ratio": "q_ratio", "windo
 #: (None: checked by the builder), with ``paper`` the 1-D model and the others models with contact pairs
 MODELS: Mapping[str, Mapping[str, str | None]] = {
     "paper": {},
-    "cylinder_on_flat": {},  # filled below from CylinderOnFlat's fields (imported on first use)
+    "cylinder_on_flat": {},  # CylinderOnFlat's fields, by _model_keys (scikit-fem loads on first use)
     "paper_interface": {"fex": "fex", "mu": "mu", "normal_load": "fn", "kn": "kn"},
 }
 
@@ -382,7 +383,7 @@ class StudySpec:
                 "file": self.model_file,
                 "file_sha256": _sha(self.model_text),
                 "parameters": self.model_parameters,
-            },  # fmt: skip
+            },
             "fixed": self.fixed,
             "grid": {k: v.tolist() for k, v in self.grid.items()},
             "random": {k: v.describe() for k, v in self.random.items()},
