@@ -1,5 +1,8 @@
 """What one task of a study computes: the points of a block, each a model, a sweep or a wear history.
 
+Every point goes through the front functions (:func:`fretwear.sweep`, :func:`fretwear.solve_periodic`,
+:func:`fretwear.wear_history`), whatever the model's contacts.
+
 :func:`compute_block` is the Dask task; every failure of a point is recorded as a status code
 (:data:`STATUS`) and a message, never raised, so that a study goes on past it.
 
@@ -21,11 +24,9 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
-from ..front import solve_periodic
-from ..front import wear_history as front_wear_history
-from ..hbm import sweep
+from ..front import solve_periodic, sweep, wear_history
 from ..model import craig_bampton, paper_model
-from ..wear import METHODS, describe, resolve_dynamics, resolve_method, wear_history
+from ..wear import METHODS, describe, resolve_dynamics, resolve_method
 from ..wear.polynomial import DEFAULT_HARMONICS as POLYNOMIAL_HARMONICS
 from .spec import FRF_HARMONICS, StudySpec
 
@@ -181,7 +182,7 @@ def pair_method(p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
     """The slow-time method that runs at a point of a model with contact pairs and its options
     (``auto`` is ``stepping``; the spec's ``tol`` is the stepping's ``rtol``)."""
     name = "stepping" if p["method"] == "auto" else p["method"]
-    options = {"harmonics": int(p["harmonics"])}
+    options = {"harmonics": int(p["harmonics"])} if "harmonics" in p else {}
     if name == "stepping" and p.get("tol") is not None:
         options["rtol"] = float(p["tol"])
     return name, options
@@ -244,7 +245,7 @@ def _pair_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i:
             messages.append((i, f"not converged: {sol.message} (residual {sol.residual:.3g})"))
     if "wear" in work.quantities:
         name, options = pair_method(p)
-        h = front_wear_history(model, omega, name, kw=p["kw"], cycles=p["cycles"], **options)
+        h = wear_history(model, omega, name, kw=p["kw"], cycles=p["cycles"], **options)
         grid = work.cycle_grid
         # held past the last record when the history reached its end (a converged profile), NaN if it failed
         at = np.clip(grid, h.cycles[0], h.cycles[-1])

@@ -60,7 +60,7 @@ def _point_seconds(spec: StudySpec) -> float:
         )
         seconds = PAIR_SECONDS["frf"] if "frf" in spec.quantities else 0.0
         if "wear" in spec.quantities:
-            seconds += np.mean([PAIR_SECONDS[pair_method({"method": m, "harmonics": 1})[0]] for m in methods])
+            seconds += np.mean([PAIR_SECONDS[pair_method({"method": m})[0]] for m in methods])
         return float(seconds * spec.model.n_pairs * max(1.0, nh))
     nh = np.max(spec.grid.get("harmonics", [spec.fixed.get("harmonics", FRF_HARMONICS)]))
     seconds = POINT_SECONDS["frf"] * max(1.0, nh / 7) if "frf" in spec.quantities else 0.0
