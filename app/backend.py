@@ -88,6 +88,7 @@ class Library:
     cylinder_on_flat = staticmethod(_lazy("fretwear", "cylinder_on_flat"))
     paper_interface = staticmethod(_lazy("fretwear", "paper_interface"))
     read_interface_model = staticmethod(_lazy("fretwear.interface", "read_interface_model"))
+    open_study = staticmethod(_lazy("fretwear.studies.store", "open_study"))
 
     def __init__(self, **replacements: Callable) -> None:
         unknown = sorted(set(replacements) - set(_LIBRARY_NAMES))
@@ -543,6 +544,18 @@ class Backend:
             "dof": index,
             "dof_name": next((k for k, v in full.names.items() if v == index), str(index)),
         }
+
+    # -- a study written by ``fretwear study`` (the Study tab) ------------------------------
+
+    def study(self, path: str, stamp: float):
+        """The study stored at ``path`` (an ``xarray.Dataset`` in memory,
+        :func:`fretwear.studies.store.open_study`): nothing is recomputed.
+
+        ``stamp``, the store's modification time, makes a changed store another call (cache key).
+        Raises ``ValueError`` (one line) for a missing path or a store that is not a study.
+        """
+        self._tally("open_study")
+        return self.library.open_study(path)
 
 
 _shared: dict[str, Any] = {}

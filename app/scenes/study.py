@@ -1,8 +1,8 @@
 """The Study scene: browse a parameter study written by ``fretwear study`` (nothing is recomputed).
 
 ``panel serve app/app.py --args --study RESULT.zarr`` opens the store once
-per server process while it is unchanged (:func:`read_study`, a task in the
-server's shared cache) and every session slices it: over grid axes, a quantity along one
+per server process while it is unchanged (:meth:`~app.backend.Backend.study`,
+a task in the server's shared cache) and every session slices it: over grid axes, a quantity along one
 axis with the others fixed (sliders); over random samples, the histogram of
 the cycles to a fraction of ``u0`` with its median and 5 / 95 % quantiles
 and the scatter of a quantity against each input; with the ``wear``
@@ -26,7 +26,6 @@ import param
 from fretwear import figures
 from fretwear.figures.plots import ensure_backend, holoviews, marker_line, overlay_options, styled
 from fretwear.studies.compute import STATUS
-from fretwear.studies.store import open_study
 from fretwear.studies.summary import wear_life_summary
 
 from ..backend import Failure, shared_backend, shared_cache
@@ -35,7 +34,7 @@ from ..session import Runner
 from ..state import Tasks, file_stamp
 from .base import Exports
 
-__all__ = ["StudyScene", "read_study", "study_tab", "QUANTITIES"]
+__all__ = ["StudyScene", "study_tab", "QUANTITIES"]
 
 #: the per-point quantities a study may hold: variable -> (label, unit, logarithmic axis)
 QUANTITIES = {
@@ -56,15 +55,6 @@ HOW_TO = """**No study is open.** Run a study (see the README's "Parameter studi
 then start the dashboard on it: `panel serve app/app.py --args --study wear_life.zarr`."""
 
 
-def read_study(path: str, stamp: float):
-    """The study at ``path`` (an ``xarray.Dataset`` in memory, :func:`~fretwear.studies.store.open_study`).
-
-    ``stamp``, the store's modification time, makes a changed store another call (cache key). Raises
-    ``ValueError`` (one line) for a missing path or a store that is not a study.
-    """
-    return open_study(path)
-
-
 def _number(value: Any) -> str:
     return f"{value:.4g}" if isinstance(value, (float, np.floating)) else str(value)
 
@@ -76,7 +66,7 @@ def _points(n: int) -> str:
 class StudyScene(Exports, Runner):
     """The Study tab's state: the open study, how it is sliced, and what the slice shows.
 
-    The store is read by a task (:func:`read_study`) on the session's machinery
+    The store is read by a task (:meth:`~app.backend.Backend.study`) on the session's machinery
     (:class:`~app.session.Runner`, :class:`~app.state.Tasks`), in the calling thread.
 
     Parameters
@@ -105,7 +95,8 @@ class StudyScene(Exports, Runner):
         self.path, self.ds = path, None
         if path is not None:
             stamp = file_stamp(path)
-            task = self.tasks.call("study", "the study", 1.0, read_study, str(Path(path).resolve()), stamp)
+            backend = self.tasks.backend
+            task = self.tasks.call("study", "the study", 1.0, backend.study, str(Path(path).resolve()), stamp)
             self.run(self.new_request(), [task], self._opened)
         if self.ds is not None:
             self._setup()

@@ -204,18 +204,17 @@ def test_bad_paths_are_one_message_not_a_crash(tmp_path, stores):
         scene.select("mu", 2)
 
 
-def test_the_store_is_read_once_per_cache_while_unchanged(stores, monkeypatch):
+def test_the_store_is_read_once_per_cache_while_unchanged(stores):
     """The store is read by a task on the session's machinery: sessions sharing a cache share the
     dataset, keyed by the call (path and modification time); a changed store is read again."""
-    import app.scenes.study as study
-
     reads = []
-    monkeypatch.setattr(study, "open_study", lambda path: reads.append(path) or open_study(path))
-    tasks = Tasks(Backend(), ResultCache())
+    tasks = Tasks(Backend(open_study=lambda path: reads.append(path) or open_study(path)), ResultCache())
     first, second = StudyScene(stores["grid"], tasks=tasks), StudyScene(stores["grid"], tasks=tasks)
     assert len(reads) == 1 and second.ds is first.ds and not second.busy
     path = stores["grid"].resolve()
-    assert tasks.cache.get(call_key(study.read_study, str(path), path.stat().st_mtime)) is first.ds
+    # the same task path as every tab: a backend call, keyed by that call
+    assert tasks.cache.get(call_key(tasks.backend.study, str(path), path.stat().st_mtime)) is first.ds
+    assert tasks.backend.calls["open_study"] == 1
     os.utime(path, (path.stat().st_atime, path.stat().st_mtime + 10))
     assert StudyScene(stores["grid"], tasks=tasks).error == "" and len(reads) == 2
 
