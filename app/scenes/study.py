@@ -93,6 +93,7 @@ class StudyScene(Exports, Runner):
         self.tasks = tasks or Tasks(shared_backend(), shared_cache())
         super().__init__(self.tasks.cache, **params)
         self.path, self.ds = path, None
+        self.level = "fraction"  # the dimension of the life's levels (_setup)
         if path is not None:
             stamp = file_stamp(path)
             backend = self.tasks.backend
@@ -124,12 +125,15 @@ class StudyScene(Exports, Runner):
         self.param.axis.objects = list(self.grid_dims)
         self.param.quantity.objects = quantities
         self.param.input.objects = list(self.inputs)
-        fractions = [float(f) for f in ds["fraction"].values] if "fraction" in ds.coords else []
+        # the life's levels: fractions of u0, or worn depths (m) for a model with contact pairs
+        self.level = "depth" if "depth" in ds.coords else "fraction"
+        fractions = [float(f) for f in ds[self.level].values] if self.level in ds.coords else []
         self.param.fraction.objects = fractions
         with param.parameterized.discard_events(self):
             self.axis = "frequency" if "frequency" in self.grid_dims else (self.grid_dims or (None,))[0]
             self.quantity = quantities[0] if quantities else None
-            self.fraction = min(fractions, key=lambda f: abs(f - 0.5)) if fractions else None
+            middle = 0.5 if self.level == "fraction" else np.median(fractions) if fractions else None
+            self.fraction = min(fractions, key=lambda f: abs(f - middle)) if fractions else None
             self.input = self.inputs[0] if self.inputs else None
             self.point = {d: 0 for d in self.dims}
 
@@ -175,8 +179,8 @@ class StudyScene(Exports, Runner):
 
     def _component(self, da) -> dict[str, np.ndarray]:
         """The selected quantity's values by component (DOF, contact), after the fraction is chosen."""
-        if "fraction" in da.dims:
-            da = da.sel(fraction=self.fraction)
+        if self.level in da.dims:
+            da = da.sel({self.level: self.fraction})
         extra = [d for d in da.dims if d not in self.dims]
         if not extra:
             return {self.quantity: np.asarray(da.values, dtype=float)}
@@ -198,8 +202,14 @@ class StudyScene(Exports, Runner):
     def _label(self) -> str:
         label, unit, _log = QUANTITIES[self.quantity]
         if self.quantity == "cycles_to":
-            label = f"cycles to w = {self.fraction:g} u₀"
+            label = self._life_label()
         return f"{label} ({unit})"
+
+    def _life_label(self) -> str:
+        """The life at the selected level: to a fraction of u0, or to a worn depth (contact pairs)."""
+        if self.level == "depth":
+            return f"cycles to a worn depth of {self.fraction:g} m"
+        return f"cycles to w = {self.fraction:g} u₀"
 
     def _changed(self, *_events: Any) -> None:
         self.notes = self._notes() if self.ds is not None else []
@@ -286,9 +296,8 @@ class StudyScene(Exports, Runner):
 
     def _life(self) -> tuple[np.ndarray, dict[str, float]]:
         sl = self._samples()
-        return np.asarray(sl["cycles_to"].sel(fraction=self.fraction).values, dtype=float), wear_life_summary(
-            sl, self.fraction
-        )
+        level = {self.level: self.fraction}
+        return np.asarray(sl["cycles_to"].sel(level).values, dtype=float), wear_life_summary(sl, **level)
 
     def _figure_histogram(self):
         hv = holoviews()
@@ -301,7 +310,7 @@ class StudyScene(Exports, Runner):
             counts, edges = np.histogram(finite, bins=edges)
         else:
             counts, edges = np.zeros(1), np.array([1.0, 10.0])
-        xlabel = f"cycles to w = {self.fraction:g} u₀"
+        xlabel = self._life_label()
         hist = hv.Histogram((edges, counts), kdims=[hv.Dimension("x", label=xlabel)],
                             vdims=[hv.Dimension("y", label="samples")])  # fmt: skip
         hist = styled(hist, {"alpha": 0.8, "framewise": True}, {"color": "#4c72b0", "tools": ["hover"]},
@@ -423,7 +432,8 @@ def _selectors(scene: StudyScene) -> list:
         slider = pn.widgets.DiscreteSlider(label=d, options=options, value=scene.point[d], width=260)
         slider.param.watch(lambda e, d=d: scene.select(d, e.new), "value_throttled")
         widgets.append(slider)
-    for name, label in (("quantity", "Quantity"), ("axis", "Along"), ("fraction", "Fraction of u₀"),
+    level = "Worn depth (m)" if scene.level == "depth" else "Fraction of u₀"
+    for name, label in (("quantity", "Quantity"), ("axis", "Along"), ("fraction", level),
                         ("input", "Against input")):  # fmt: skip
         objects = scene.param[name].objects
         if len(objects) > 1:

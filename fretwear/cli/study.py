@@ -23,7 +23,8 @@ quantities: ``fraction`` (``cycles_to``), ``cycles`` (the wear grid), ``dof``,
 ``cycles_to`` (``wear_life``)
     Cycles to ``w = fraction * u0``; ``inf`` where the contact sticks (no wear),
     NaN where the fraction is not reached within the horizon (status
-    ``horizon``) or the point failed.
+    ``horizon``) or the point failed. For a model with contact pairs: cycles to
+    the worn ``depth`` (m) at the deepest pair.
 ``wear_fraction``, ``wear_amplitude`` (``wear``)
     ``w / u0`` and first-harmonic amplitudes (m) at the cycle counts ``cycles``.
 ``amplitude``, ``relative_amplitude``, ``sliding_distance``, ``friction_energy`` (``frf``)
@@ -213,10 +214,12 @@ def run(args: argparse.Namespace) -> int:
         import xarray as xr
 
         ds = xr.open_zarr(args.out)
-        for f in spec.fractions:
-            s = wear_life_summary(ds, f)
+        levels = [(f"{d:g} m", {"depth": d}) for d in spec.depths] if spec.pairs else [
+            (f"{f:g} u0", {"fraction": f}) for f in spec.fractions]  # fmt: skip
+        for text, level in levels:
+            s = wear_life_summary(ds, **level)
             say(
-                f"cycles to {f:g} u0: median {s['median']:.4g}, 5 % {s['q05']:.4g}, 95 % {s['q95']:.4g} "
+                f"cycles to {text}: median {s['median']:.4g}, 5 % {s['q05']:.4g}, 95 % {s['q95']:.4g} "
                 f"({s['n']} samples, {s['stuck']} stuck, {s['beyond_horizon']} beyond the horizon)"
             )
         if args.figure is not None:

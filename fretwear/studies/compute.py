@@ -61,6 +61,7 @@ class Work:
     fractions: tuple[float, ...]
     cycle_grid: np.ndarray | None
     reduce_hz: float | None = None
+    depths: tuple[float, ...] = ()
 
     @classmethod
     def of(cls, spec: StudySpec) -> Work:
@@ -72,6 +73,7 @@ class Work:
             spec.fractions,
             spec.cycle_grid() if "wear" in spec.quantities else None,
             spec.reduce_hz,
+            spec.depths,
         )
 
     @property
@@ -130,6 +132,8 @@ def _pair_outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...
             mean_pressure=(("pair",), (nc,)),
             friction_energy=((), ()),
         )
+    if "wear_life" in work.quantities:
+        out["cycles_to"] = (("depth",), (len(work.depths),))
     if "wear" in work.quantities:
         nN = len(work.cycle_grid)
         out.update(
@@ -243,20 +247,30 @@ def _pair_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i:
         else:
             code = NOT_CONVERGED
             messages.append((i, f"not converged: {sol.message} (residual {sol.residual:.3g})"))
-    if "wear" in work.quantities:
+    if "wear" in work.quantities or "wear_life" in work.quantities:
         name, options = pair_method(p)
         h = wear_history(model, omega, name, kw=p["kw"], cycles=p["cycles"], **options)
+        stuck = not np.any(h.wear[-1] > 0)  # nothing slid under load: no wear, an infinite life
+        if "cycles_to" in out:  # the deepest pair reaches a depth first
+            life = np.array([[h.cycles_to_depth(d, k) for k in range(model.n_pairs)] for d in work.depths])
+            reached = np.isfinite(life).any(axis=1)
+            out["cycles_to"][i] = np.inf if stuck else np.where(reached, np.nanmin(np.where(
+                np.isfinite(life), life, np.inf), axis=1), np.nan)  # fmt: skip
+        if stuck:
+            code = max(code, STUCK)
+        elif "cycles_to" in out and np.isnan(out["cycles_to"][i]).any():
+            code = max(code, HORIZON)
         grid = work.cycle_grid
         # held past the last record when the history reached its end (a converged profile), NaN if it failed
-        at = np.clip(grid, h.cycles[0], h.cycles[-1])
-        if len(h.cycles) > 1:
+        at = None if grid is None else np.clip(grid, h.cycles[0], h.cycles[-1])
+        if at is not None and len(h.cycles) > 1:
             # the depth is monotone and smooth in N: cubic Hermite with the recorded rates (WearHistory.at)
             out["wear_depth"][i] = CubicHermiteSpline(h.cycles, h.wear, h.wear_rate, axis=0)(at)
             out["wear_pressure"][i] = np.stack([np.interp(at, h.cycles, v) for v in h.pressure.T], axis=-1)
             amplitude = np.array([_amplitudes(s, dofs) for s in h.solutions])
             out["wear_amplitude"][i] = np.stack([np.interp(at, h.cycles, v) for v in amplitude.T], axis=-1)
         if not h.converged:
-            for name in ("wear_depth", "wear_pressure", "wear_amplitude"):
+            for name in ("wear_depth", "wear_pressure", "wear_amplitude") if at is not None else ():
                 out[name][i][grid > h.cycles[-1]] = np.nan
             messages.append((i, f"wear history stopped early: {h.status}"))
             code = max(code, NOT_CONVERGED)

@@ -59,7 +59,7 @@ def _point_seconds(spec: StudySpec) -> float:
             spec.grid["method"].tolist() if "method" in spec.grid else [spec.fixed.get("method", "auto")]
         )
         seconds = PAIR_SECONDS["frf"] if "frf" in spec.quantities else 0.0
-        if "wear" in spec.quantities:
+        if spec.wear:
             seconds += np.mean([PAIR_SECONDS[pair_method({"method": m})[0]] for m in methods])
         return float(seconds * spec.model.n_pairs * max(1.0, nh))
     nh = np.max(spec.grid.get("harmonics", [spec.fixed.get("harmonics", FRF_HARMONICS)]))

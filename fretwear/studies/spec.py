@@ -31,6 +31,7 @@ Format
 
     [wear]
     fractions = [0.1, 0.5, 0.9]                     # "wear_life": cycles to w = fraction * u0
+    # depths = [1e-6, 5e-6]                         # contact pairs: cycles to a worn depth (m)
     ncycles = 60                                    # "wear": log-spaced cycle counts from 1 to the horizon
 
 Parameters (:data:`PARAMETERS`): ``frequency`` (Hz), ``fex`` (N, paper model),
@@ -60,8 +61,9 @@ parameters :data:`PAIR_PARAMETERS`: ``frequency`` (Hz, fixed or a grid),
 ``force_scale`` (every external force, the static load too), ``mu`` (every
 pair), ``kw`` (1/Pa, required with ``wear``), ``cycles``, ``harmonics``
 (default 7), ``method`` (``"auto"`` is ``"stepping"``, or ``"polynomial"``)
-and ``tol`` (the stepping's ``rtol``). Their quantities are ``frf`` and
-``wear`` (no ``u0``, so no ``wear_life``). The model is reduced once
+and ``tol`` (the stepping's ``rtol``). Their quantities are ``frf``, ``wear``
+(profiles on the cycle grid) and ``wear_life``: with no ``u0``, the cycles to
+the worn depths ``[wear] depths`` (m) at the deepest pair. The model is reduced once
 (Craig-Bampton, :func:`fretwear.reduce`) at ``f_max`` = the highest frequency
 times the highest ``Nh`` (:attr:`StudySpec.reduce_hz`); each point then calls
 :func:`fretwear.solve_periodic` or :func:`fretwear.wear_history` on that
@@ -223,6 +225,7 @@ PAIR_PARAMETERS: Mapping[str, Parameter] = {
 #: the quantities of a study over a model with contact pairs, and the parameters each one uses
 PAIR_QUANTITIES: Mapping[str, tuple[str, ...]] = {
     "frf": ("frequency", "force_scale", "mu", "harmonics"),
+    "wear_life": tuple(PAIR_PARAMETERS),
     "wear": tuple(PAIR_PARAMETERS),
 }
 #: ``Nh`` of a model with contact pairs when the spec gives none (the front functions' default)
@@ -294,7 +297,9 @@ class StudySpec:
     samples, seed : int
         Number of draws and seed (0 and ``None`` without random parameters).
     fractions : tuple of float
-        Wear fractions of ``u0`` (``wear_life``).
+        Wear fractions of ``u0`` (``wear_life``; 1-D contacts).
+    depths : tuple of float
+        Worn depths (m) of ``wear_life`` for a model with contact pairs.
     ncycles : int
         Cycle counts of the wear grid (``wear``).
     points_per_task : int or None
@@ -315,6 +320,7 @@ class StudySpec:
     samples: int = 0
     seed: int | None = None
     fractions: tuple[float, ...] = (0.1, 0.5, 0.9)
+    depths: tuple[float, ...] = ()
     ncycles: int = 60
     points_per_task: int | None = None
     text: str = ""
@@ -390,6 +396,7 @@ class StudySpec:
             "samples": self.samples,
             "seed": self.seed,
             "fractions": list(self.fractions),
+            "depths": list(self.depths),
             "ncycles": self.ncycles,
             "points_per_task": self.points_per_task,
             "fretwear_version": __version__,
@@ -462,10 +469,9 @@ def parse_spec(
     if isinstance(quantities, str):
         quantities = [quantities]
     if not isinstance(quantities, list) or not quantities or any(q not in uses for q in quantities):
-        why = " (a model with contact pairs has no u0: no 'wear_life')" if pairs else ""
         raise SpecError(
             "study.quantities",
-            f"must be a non-empty list of {', '.join(map(repr, uses))}{why}, got {study['quantities']!r}",
+            f"must be a non-empty list of {', '.join(map(repr, uses))}, got {study['quantities']!r}",
         )
     quantities = tuple(dict.fromkeys(quantities))
     title = study.get("title", "parameter study")
@@ -519,9 +525,12 @@ def parse_spec(
             if name not in params and not (name == "normal_load" and "u0" in params):
                 fixed[name] = value
 
-    wear = _table(data, "wear", ("fractions", "ncycles"))
+    wear = _table(data, "wear", ("fractions", "depths", "ncycles"))
     if wear and not any(q in quantities for q in ("wear_life", "wear")):
         raise SpecError("wear", "the [wear] table needs the quantity 'wear_life' or 'wear'")
+    depths = _depths(wear, pairs, "wear_life" in quantities)
+    if pairs and "fractions" in wear:
+        raise SpecError("wear.fractions", "a model with contact pairs has no u0: give depths (m), > 0")
     fractions = wear.get("fractions", [0.1, 0.5, 0.9])
     if (
         not isinstance(fractions, list)
@@ -563,6 +572,7 @@ def parse_spec(
         samples=n_samples,
         seed=seed,
         fractions=tuple(float(f) for f in fractions),
+        depths=depths,
         ncycles=ncycles,
         points_per_task=ppt,
         text=text,
@@ -654,6 +664,28 @@ def _read_model_file(path: Path, text: str):
 
         return read_interface_model(path)
     return read_model(path)
+
+
+def _depths(wear: Mapping[str, Any], pairs: bool, life: bool) -> tuple[float, ...]:
+    """The worn depths (m) of ``wear_life`` for a model with contact pairs: ``[wear] depths``."""
+    if not pairs:
+        if "depths" in wear:
+            raise SpecError("wear.depths", "only for a model with contact pairs; give fractions of u0")
+        return ()
+    depths = wear.get("depths")
+    if depths is None:
+        if life:
+            raise SpecError("wear.depths", "required for 'wear_life' of a model with contact pairs: the worn "
+                            "depths (m) to reach, e.g. [1e-6, 5e-6]")  # fmt: skip
+        return ()
+    if (
+        not isinstance(depths, list)
+        or not depths
+        or any(isinstance(d, bool) or not isinstance(d, (int, float)) or not 0 < d < math.inf for d in depths)
+        or len(set(depths)) != len(depths)
+    ):
+        raise SpecError("wear.depths", f"must be a non-empty list of distinct depths > 0 (m), got {depths!r}")
+    return tuple(float(d) for d in depths)
 
 
 def _number(key: str, value: Any, table: str) -> float:
@@ -764,13 +796,13 @@ def _wear_checks(quantities, params, fixed, grid) -> None:
 
 
 def _pair_checks(quantities, params, fixed, grid) -> None:
-    """Checks of a study over a model with contact pairs (its wear quantity)."""
-    if "wear" not in quantities:
+    """Checks of a study over a model with contact pairs (its wear quantities)."""
+    if not any(q in quantities for q in ("wear_life", "wear")):
         return
     for name, what in (("cycles", "the horizon (cycles), > 0"), ("kw", "the Archard coefficient K_w (1/Pa)")):
         if name not in params:
-            raise SpecError(f"parameters.{name}", f"required for the wear quantity: {what}")
-    if "cycles" not in fixed:
+            raise SpecError(f"parameters.{name}", f"required for the wear quantities: {what}")
+    if "wear" in quantities and "cycles" not in fixed:
         raise SpecError(
             "parameters.cycles",
             "must be one value with the quantity 'wear' (its cycle grid is log-spaced from 1 to the horizon)",

@@ -46,6 +46,7 @@ _LONG_NAMES = {
 _PAIR_NAMES = {
     "amplitude": "first-harmonic amplitude of each reported DOF (no wear)",
     "friction_energy": "energy dissipated per period by friction on the interface (no wear; J per m in 2-D)",
+    "cycles_to": "cycles to the worn depth at the deepest pair (inf: no wear; NaN: not reached, or failed)",
 }
 
 
@@ -84,6 +85,8 @@ def template(spec: StudySpec, lay: Layout):
         coords[name] = (name, values, {"units": p.unit, "long_name": p.long_name})
     variables = outputs(work)
     extra_dims = {d for d_, _ in variables.values() for d in d_}
+    if "depth" in extra_dims:
+        coords["depth"] = ("depth", np.array(spec.depths), {"units": "m", "long_name": "worn depth"})
     if "fraction" in extra_dims:
         coords["fraction"] = ("fraction", np.array(spec.fractions), {"units": "-", "long_name": "w / u0"})
     if "cycles" in extra_dims:
@@ -142,7 +145,7 @@ def template(spec: StudySpec, lay: Layout):
     if spec.pairs:
         attrs["model"] = spec.model_kind
         attrs["reduce_hz"] = spec.reduce_hz
-        if "wear" in spec.quantities and "method" not in spec.grid:
+        if spec.wear and "method" not in spec.grid:
             attrs["wear_method"] = pair_method(spec.fixed)[0]
     elif spec.wear and not {"method", "dynamics", "harmonics"} & set(spec.grid):
         attrs["wear_method"] = method_label(spec.model, spec.fixed)

@@ -53,6 +53,24 @@ frequency = [0.5, 0.7, 0.9]
 mu = [0.5, 1.0]
 harmonics = 5
 """
+#: the wear life of the one-pair interface over random friction coefficients, to worn depths (m)
+PAIRS_LIFE = """
+[study]
+title = "pairs life"
+quantities = ["wear_life"]
+seed = 4
+samples = 6
+[model]
+name = "paper_interface"
+[parameters]
+frequency = 0.7
+mu = { distribution = "uniform", low = 0.6, high = 1.0 }
+kw = 1e-11
+cycles = 2e4
+harmonics = 5
+[wear]
+depths = [1e-7, 3e-7]
+"""
 #: the browser tests' study (16 draws; the normal mu goes negative for some), under its own title
 RANDOM = STUDY_SPEC.replace('title = "browser study"', 'title = "random"')
 
@@ -66,7 +84,7 @@ def stores(tmp_path_factory):
     with Client(
         processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
     ) as client:
-        for name, text in (("grid", GRID), ("random", RANDOM), ("pairs", PAIRS)):
+        for name, text in (("grid", GRID), ("random", RANDOM), ("pairs", PAIRS), ("pairs_life", PAIRS_LIFE)):
             spec_path = root / f"{name}.toml"
             spec_path.write_text(text)
             out[name] = root / f"{name}.zarr"
@@ -146,6 +164,20 @@ def test_a_study_of_a_model_with_contact_pairs_shows_its_per_pair_values(stores,
     assert y[0] == 0 and np.all(y[1:] > 0)  # the paper's 10 N case: stuck at 0.5 Hz, slipping from 0.7 Hz
     table = scene.datasets()["slice"]
     np.testing.assert_array_equal(table["slip_distance pair1"], y)
+
+
+def test_the_life_of_a_pair_study_is_to_worn_depths(stores, no_solver):
+    figures.load_backend("bokeh")
+    ds = xr.open_zarr(stores["pairs_life"])
+    scene = StudyScene(stores["pairs_life"])
+    assert scene.error == "" and scene.level == "depth" and scene.param.fraction.objects == [1e-7, 3e-7]
+    assert "histogram" in scene.figure_names
+    scene.fraction = 1e-7
+    life, summary = scene._life()
+    np.testing.assert_array_equal(life, ds.cycles_to.sel(depth=1e-7).values)
+    assert summary == wear_life_summary(ds, depth=1e-7) and np.isfinite(life).all()
+    hist = scene.figure("histogram")
+    assert hist.get(0).kdims[0].label == "cycles to a worn depth of 1e-07 m"
 
 
 def test_random_samples_histogram_quantiles_and_invalid_draws(stores, no_solver):

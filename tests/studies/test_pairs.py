@@ -21,7 +21,8 @@ from fretwear import cli
 from fretwear.cli.shared import EXIT_OK, EXIT_USAGE
 from fretwear.studies import compute
 from fretwear.studies import spec as study_spec
-from fretwear.studies.summary import wear_depth_summary
+from fretwear.studies.layout import layout
+from fretwear.studies.summary import wear_depth_summary, wear_life_summary
 
 xr = pytest.importorskip("xarray")
 pytest.importorskip("distributed")
@@ -31,7 +32,7 @@ BENCHMARK = {"contact_nodes": 6, "window": 3.0, "arm_stiffness": 2e10, "drive_di
 SPEC = """
 [study]
 title = "coarse cylinder on flat"
-quantities = ["frf", "wear"]
+quantities = ["frf", "wear", "wear_life"]
 
 [model]
 name = "cylinder_on_flat"
@@ -49,6 +50,7 @@ harmonics = 3
 
 [wear]
 ncycles = 5
+depths = [1e-6, 1e-5]
 """
 
 
@@ -92,7 +94,7 @@ def test_the_spec_builds_the_benchmark_and_its_one_reduction(spec_path):
 
 def test_each_point_is_the_front_functions_on_the_reduced_model(block):
     spec, res = block
-    assert res["status"].tolist() == [compute.OK] * 4, res["messages"]
+    assert res["status"].tolist() == [compute.HORIZON] * 4, res["messages"]  # 10 um is not reached
     grid = spec.cycle_grid()
     for i, (mu, f) in enumerate([(m, f) for m in spec.grid["mu"] for f in spec.grid["frequency"]]):
         model, sol, h = _reference(spec, mu, f)
@@ -108,6 +110,10 @@ def test_each_point_is_the_front_functions_on_the_reduced_model(block):
         np.testing.assert_allclose(res["wear_depth"][i], spline(grid), rtol=1e-12, atol=1e-22)
         np.testing.assert_allclose(res["wear_pressure"][i, -1], h.pressure[-1], rtol=1e-12)
         np.testing.assert_allclose(res["wear_amplitude"][i, -1], h.solutions[-1].amplitude[dofs], rtol=1e-12)
+        # the life to a depth: the first pair to reach it (1 um within the horizon, 10 um beyond it)
+        first = np.nanmin([h.cycles_to_depth(1e-6, k) for k in range(6)])
+        np.testing.assert_allclose(res["cycles_to"][i, 0], first, rtol=1e-12)
+        assert 0 < first < 3e4 and np.isnan(res["cycles_to"][i, 1]) and h.wear[-1].max() < 1e-5
     # gross slip: the pairs that carry load slip, wear, and the interface dissipates
     assert np.all(res["friction_energy"] > 0) and np.all(res["wear_depth"][:, -1].max(axis=1) > 0)
     # Archard: wear grows with N at every pair
@@ -122,11 +128,12 @@ def test_the_cli_runs_the_study_into_a_store_of_the_same_numbers(spec_path, bloc
     ds = xr.open_zarr(out).load()
     assert ds.amplitude.dims == ("mu", "frequency", "dof") and ds.dof.values.tolist() == ["pad_x", "pad_y"]
     assert ds.wear_depth.dims == ("mu", "frequency", "cycles", "pair") and ds.wear_depth.attrs["units"] == "m"
+    assert ds.cycles_to.dims == ("mu", "frequency", "depth") and ds.depth.values.tolist() == [1e-6, 1e-5]
     np.testing.assert_array_equal(ds.position, spec.model.pairs.position)
     assert ds.attrs["reduce_hz"] == 150.0 and ds.attrs["wear_method"] == "stepping"
     assert ds.mu.attrs["units"] == "-" and "every pair" in ds.mu.attrs["long_name"]
     for name in ("amplitude", "slip_distance", "mean_pressure", "friction_energy", "wear_depth",
-                 "wear_pressure", "wear_amplitude"):  # fmt: skip
+                 "wear_pressure", "wear_amplitude", "cycles_to"):  # fmt: skip
         np.testing.assert_array_equal(ds[name].values.reshape(res[name].shape), res[name])
     s = wear_depth_summary(ds)
     deepest = res["wear_depth"][:, -1].max(axis=1)
@@ -170,8 +177,13 @@ BAD = [
      "[parameters]\nfrequency = 50.0\n", "model.radius", "radius must be"),
     ('[study]\nquantities = ["frf"]\n' + _PAIRS + "[parameters]\nfrequency = 50.0\nfex = 5.0\n",
      "parameters.fex", "frequency, force_scale, mu, kw, cycles, harmonics, method, tol"),
-    ('[study]\nquantities = ["wear_life"]\n' + _PAIRS + "[parameters]\nfrequency = 50.0\ncycles = 1e4\n",
-     "study.quantities", "'frf', 'wear'"),
+    ('[study]\nquantities = ["wear_life"]\n' + _PAIRS + _WEAR, "wear.depths", "worn depths (m)"),
+    ('[study]\nquantities = ["wear_life"]\n' + _PAIRS + _WEAR + "[wear]\nfractions = [0.5]\n"
+     "depths = [1e-6]\n", "wear.fractions", "depths (m)"),
+    ('[study]\nquantities = ["wear_life"]\n' + _PAIRS + _WEAR + "[wear]\ndepths = [1e-6, -1e-6]\n",
+     "wear.depths", "distinct depths > 0 (m)"),
+    ('[study]\nquantities = ["wear_life"]\n[parameters]\nfrequency = 0.7\ncycles = 1e4\n'
+     "[wear]\ndepths = [1e-6]\n", "wear.depths", "fractions of u0"),
     ('[study]\nquantities = ["wear"]\n' + _PAIRS + "[parameters]\nfrequency = 50.0\ncycles = 1e4\n",
      "parameters.kw", "1/Pa"),
     ('[study]\nquantities = ["wear"]\n' + _PAIRS + _WEAR + 'method = "exact"\n',
@@ -225,3 +237,40 @@ def test_random_draws_of_a_pair_model_and_an_invalid_draw_is_a_status(tmp_path):
         sol = fw.solve_periodic(replace(reduced, pairs=replace(reduced.pairs, mu=mu[i])), 2 * np.pi * 0.7, 5)
         np.testing.assert_allclose(res["amplitude"][i], sol.amplitude, rtol=1e-12)
         assert res["status"][i] == compute.OK
+
+
+def test_the_wear_life_summary_of_a_pair_study_is_over_depths():
+    """The quantiles of the cycles to a worn depth (m) over the samples, as for the fractions of u0."""
+    life = np.array([[1e3, np.nan], [2e3, 5e4], [np.inf, np.inf], [4e3, np.nan]])
+    ds = xr.Dataset(
+        {"cycles_to": (("sample", "depth"), life),
+         "status": ("sample", [compute.HORIZON, compute.OK, compute.STUCK, compute.ERROR])},
+        coords={"sample": np.arange(4), "depth": [1e-6, 5e-6]},
+    )  # fmt: skip
+    s = wear_life_summary(ds, depth=5e-6)
+    assert (s["n"], s["stuck"], s["beyond_horizon"], s["left_out"]) == (3, 1, 1, 1)
+    assert s["median"] == np.inf and s["q05"] == 5e4  # ranked: 5e4, inf (stuck), inf (beyond the horizon)
+    assert wear_life_summary(ds, depth=1e-6)["median"] == 2e3
+    with pytest.raises(
+        ValueError, match=r"depth must be one of the study's depths \[1e-06, 5e-06\], got None"
+    ):
+        wear_life_summary(ds)
+
+
+def test_a_pair_that_sticks_has_an_infinite_life(tmp_path):
+    """The paper's one-pair interface sticks at 0.3 Hz (no wear: life inf, status stuck) and wears at
+    0.7 Hz (the front function's history: its pair reaches 0.1 u0 = 1e-7 m within 2e4 cycles)."""
+    path = tmp_path / "life.toml"
+    path.write_text(
+        '[study]\nquantities = ["wear_life"]\n[model]\nname = "paper_interface"\n[parameters]\n'
+        "frequency = [0.3, 0.7]\nkw = 1e-11\ncycles = 2e4\nharmonics = 5\n[wear]\ndepths = [1e-7, 2e-6]\n"
+    )
+    spec = study_spec.read_spec(path)
+    assert layout(spec).n_tasks == 2  # the wear life alone is costed too: a task a point (MIN_TASKS)
+    res = compute.compute_block(compute.Work.of(spec), {"frequency": spec.grid["frequency"]})
+    assert res["status"].tolist() == [compute.STUCK, compute.HORIZON]  # 2e-6 m > u0 = 1e-6 m: never
+    assert np.isinf(res["cycles_to"][0]).all() and np.isnan(res["cycles_to"][1, 1])
+    model = fw.reduce(fw.paper_interface(), spec.reduce_hz)
+    h = fw.wear_history(model, 2 * np.pi * 0.7, "stepping", kw=1e-11, cycles=2e4, harmonics=5)
+    np.testing.assert_allclose(res["cycles_to"][1, 0], h.cycles_to_depth(1e-7, 0), rtol=1e-12)
+    assert 0 < res["cycles_to"][1, 0] < 2e4
