@@ -1,7 +1,9 @@
 """The library calls of the dashboard, their shared cache and the worker threads.
 
 Every number the dashboard shows comes from one :class:`Backend` method, a
-thin wrapper of one :mod:`fretwear` front function held by its :class:`Library`;
+thin wrapper of one :mod:`fretwear` front function held by its :class:`Library`
+(the Interface tab's too: a model with contact pairs goes through the same
+:func:`fretwear.wear_history` and :func:`fretwear.sweep`);
 ``Backend.calls`` counts the library calls by name (the tests use it to prove
 what is recomputed, and a backend built with other functions replaces the
 library in tests).
@@ -42,6 +44,7 @@ __all__ = [
     "Cancelled",
     "Failure",
     "Grid",
+    "InterfaceModel",
     "ModelSpec",
     "ResultCache",
     "shared_backend",
@@ -53,6 +56,16 @@ log = logging.getLogger(__name__)
 
 Progress = Callable[[float], None]
 Check = Callable[[], bool]
+
+
+def _lazy(module: str, name: str) -> Callable:
+    """``module.name``, imported on its first call (the interface builders load scikit-fem)."""
+
+    def call(*args: Any, **kwargs: Any) -> Any:
+        return getattr(importlib.import_module(module), name)(*args, **kwargs)
+
+    call.__name__ = call.__qualname__ = name
+    return call
 
 
 class Library:
@@ -71,6 +84,11 @@ class Library:
     solve_periodic = staticmethod(fretwear.solve_periodic)
     shooting = staticmethod(fretwear.shooting)
     cost_ladder = staticmethod(fretwear.cost_ladder)
+    reduce = staticmethod(fretwear.reduce)
+    cylinder_on_flat = staticmethod(_lazy("fretwear", "cylinder_on_flat"))
+    paper_interface = staticmethod(_lazy("fretwear", "paper_interface"))
+    read_interface_model = staticmethod(_lazy("fretwear.interface", "read_interface_model"))
+    open_study = staticmethod(_lazy("fretwear.studies.store", "open_study"))
 
     def __init__(self, **replacements: Callable) -> None:
         unknown = sorted(set(replacements) - set(_LIBRARY_NAMES))
@@ -140,6 +158,21 @@ class ModelSpec:
         return ModelSpec(self.fex, 1.0, 1.0, self.kn)
 
 
+@dataclass(frozen=True)
+class InterfaceModel:
+    """A model with contact pairs as a hashable cache key: its builder and the builder's arguments.
+
+    ``builder`` is ``"cylinder_on_flat"`` or ``"paper_interface"`` (``parameters``: their keyword
+    arguments as ``(name, value)`` pairs), or ``"file"`` (an interface model file at ``path``, whose
+    modification time ``stamp`` makes a changed file another key).
+    """
+
+    builder: str
+    parameters: tuple[tuple[str, Any], ...] = ()
+    path: str | None = None
+    stamp: float | None = None
+
+
 class ResultCache:
     """Bounded least-recently-used cache of results, shared by threads and sessions.
 
@@ -157,7 +190,9 @@ class ResultCache:
 
     def __init__(self, max_entries: int = 48, per_kind: dict[str, int] | None = None) -> None:
         self.max_entries = max_entries
-        self.per_kind = {"history": 2048, "point": 256} if per_kind is None else dict(per_kind)
+        # a reduced interface model holds its full model (MBs): a few only
+        bounds = {"history": 2048, "point": 256, "interface_model": 4}
+        self.per_kind = bounds if per_kind is None else dict(per_kind)
         self._lock = threading.Lock()
         self._done: dict[Hashable, OrderedDict[Hashable, Any]] = {}
         self._running: dict[Hashable, Future] = {}
@@ -462,6 +497,65 @@ class Backend:
         model = self.model(spec)
         self._tally("cost_ladder")
         return self.library.cost_ladder(model, f_hz, kw=kw, cycles=cycles, progress=step, **dict(ladder))
+
+    # -- a model with contact pairs (the Interface tab) ------------------------------------
+
+    def interface_model(self, spec: InterfaceModel, f_max: float) -> Model:
+        """The model of ``spec`` reduced by :func:`fretwear.reduce` for frequencies up to ``f_max`` (Hz):
+        what :meth:`interface_history` and :meth:`interface_frf` take (reduced once, used as it is)."""
+        lib = self.library
+        if spec.builder == "file":
+            self._tally("read_interface_model")
+            model = lib.read_interface_model(spec.path)
+        elif spec.builder in ("cylinder_on_flat", "paper_interface"):
+            self._tally(spec.builder)
+            model = getattr(lib, spec.builder)(**dict(spec.parameters))
+        else:
+            raise ValueError(
+                f"builder must be 'cylinder_on_flat', 'paper_interface' or 'file', got {spec.builder!r}"
+            )
+        self._tally("reduce")
+        return lib.reduce(model, f_max)
+
+    def interface_history(
+        self, model: Model, f_hz: float, harmonics: int, kw: float, cycles: float, rtol: float
+    ):
+        """Nodal wear history of the reduced interface ``model`` at ``f_hz`` by slow-time stepping
+        (:func:`fretwear.wear_history`: ``kw`` in 1/Pa, to ``cycles``; ``rtol`` its step tolerance)."""
+        self._tally("wear_history")
+        return self.library.wear_history(
+            model, 2 * np.pi * f_hz, "stepping", kw=kw, cycles=cycles, harmonics=harmonics, rtol=rtol
+        )
+
+    def interface_frf(
+        self, model: Model, grid: Grid, harmonics: int, dof: str, wear: np.ndarray | None
+    ) -> dict[str, Any]:
+        """First-harmonic amplitude (m) of DOF ``dof`` of the full model (its first DOF when it has no DOF
+        of that name) over the frequency ``grid`` (Hz), at the worn depth per pair ``wear`` (m; ``None``:
+        unworn): a sweep (:func:`fretwear.sweep`) of the reduced interface ``model``."""
+        full = model.reduction.full if model.reduction is not None else model
+        index = full.dof(dof) if dof in full.names else 0
+        self._tally("sweep")
+        sols = self.library.sweep(model, 2 * np.pi * grid.values, harmonics, wear=wear).solutions
+        return {
+            "f_hz": grid.values,
+            "amplitude": np.array([np.hypot(*s.dof_harmonics[index, 1:3]) for s in sols]),
+            "converged": np.array([s.converged for s in sols], dtype=bool),
+            "dof": index,
+            "dof_name": next((k for k, v in full.names.items() if v == index), str(index)),
+        }
+
+    # -- a study written by ``fretwear study`` (the Study tab) ------------------------------
+
+    def study(self, path: str, stamp: float):
+        """The study stored at ``path`` (an ``xarray.Dataset`` in memory,
+        :func:`fretwear.studies.store.open_study`): nothing is recomputed.
+
+        ``stamp``, the store's modification time, makes a changed store another call (cache key).
+        Raises ``ValueError`` (one line) for a missing path or a store that is not a study.
+        """
+        self._tally("open_study")
+        return self.library.open_study(path)
 
 
 _shared: dict[str, Any] = {}

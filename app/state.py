@@ -52,6 +52,7 @@ __all__ = [
     "Tasks",
     "Job",
     "WearAfter",
+    "ResultOf",
     "call_key",
     "file_stamp",
     "CONVERGENCE_HARMONICS",
@@ -522,11 +523,35 @@ class WearAfter:
         return None if history is None else cls(history.key, float(cycles), history.name, history.label)
 
     def resolve(self, job: Job) -> np.ndarray | Failure:
-        """The worn depths (m) from the history's result in ``job`` (a :class:`Failure` if it failed)."""
+        """The worn depths (m) from the history's result in ``job`` (a :class:`Failure` if it failed):
+        per contact, or per pair for the nodal history of an interface (its profile at ``cycles``,
+        linear between records and held past the last)."""
         h = job.results[self.name]
         if isinstance(h, Failure):
             return Failure(f"no {self.label}: {h}", h.reason)
+        if not hasattr(h, "at"):  # an interface's history: the profile of its records
+            return np.array([np.interp(self.cycles, h.cycles, w) for w in h.wear.T])
         return h.at([self.cycles])["wear"][0]
+
+
+@dataclass(frozen=True)
+class ResultOf:
+    """An argument of a task: the result of an earlier task of the same run (e.g. a reduced model that
+    later calls take), resolved when the task runs; its key is that task's key."""
+
+    key: tuple
+    name: str = field(compare=False)
+    label: str = field(compare=False)
+
+    @classmethod
+    def of(cls, task: Task) -> ResultOf:
+        """The result of ``task``."""
+        return cls(task.key, task.name, task.label)
+
+    def resolve(self, job: Job) -> Any:
+        """The earlier task's result in ``job`` (a :class:`Failure` naming it if it failed)."""
+        value = job.results[self.name]
+        return Failure(f"no {self.label}: {value}", value.reason) if isinstance(value, Failure) else value
 
 
 class Tasks:
@@ -541,13 +566,13 @@ class Tasks:
         """The task ``name`` that computes ``function(*args, **kwargs)``, keyed by that call.
 
         ``function`` (a :class:`~app.backend.Backend` method, or a pipeline of library calls) gets the
-        run's ``progress`` and ``cancelled`` when it takes them; a :class:`WearAfter` argument is
-        resolved from the run's earlier results; a library error gives a :class:`Failure`.
+        run's ``progress`` and ``cancelled`` when it takes them; a :class:`WearAfter` or :class:`ResultOf`
+        argument is resolved from the run's earlier results; a library error gives a :class:`Failure`.
         """
         hooks = [h for h in ("progress", "cancelled") if h in inspect.signature(function).parameters]
 
         def run(job: Job) -> Any:
-            values = [a.resolve(job) if isinstance(a, WearAfter) else a for a in args]
+            values = [a.resolve(job) if isinstance(a, (WearAfter, ResultOf)) else a for a in args]
             failed = next((v for v in values if isinstance(v, Failure)), None)
             if failed is not None:
                 return failed

@@ -5,10 +5,14 @@ control, ``Q0 / (mu P) = 0.5``) or in gross slip (displacement control), the
 paper's 2-DOF example as a one-pair interface (its single node drawn as a
 short segment in the profiles), or a
 model file given to the server (``panel serve app/app.py --args
---interface-model FILE.toml``). One run computes, in the session's executor
-and with progress by stage: the Craig-Bampton reduction, the nodal wear
-history (:func:`fretwear.interface.wear_interface`) and the FRF of the chosen
-DOF before and after wear (:func:`fretwear.interface.frf`). The figures show
+--interface-model FILE.toml``). One run is four tasks of the session's
+machinery (:class:`~app.session.Runner`, :class:`~app.state.Tasks`), each
+keyed by the backend call it caches: the model reduced once
+(:meth:`~app.backend.Backend.interface_model`, :func:`fretwear.reduce`), the
+nodal wear history (:meth:`~app.backend.Backend.interface_history`,
+:func:`fretwear.wear_history`) and the FRF of the chosen DOF before and after
+wear (:meth:`~app.backend.Backend.interface_frf`, :func:`fretwear.sweep`, the
+worn profile of the history at the horizon). The figures show
 ``w(x)`` and ``p(x)`` at several ``N`` (with the Hertz pressure for the
 benchmark), the stick/slip state over ``(x, phase of the cycle)`` at the last
 record, and the FRFs. Nothing computes until the tab is first shown; results
@@ -33,13 +37,13 @@ from fretwear.figures.plots import ensure_backend, holoviews, overlay_options, s
 from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
 
-from ..backend import Cancelled, Failure, shared_backend, shared_cache
+from ..backend import Failure, Grid, InterfaceModel, shared_backend, shared_cache
 from ..live import live_pane, message_list, run_status
 from ..session import Runner
-from ..state import Tasks, file_stamp
+from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp
 from .base import Exports
 
-__all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "compute_interface", "MODELS", "PAPER"]
+__all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "MODELS", "PAPER", "RTOL"]
 
 PARTIAL, GROSS, FILE = "benchmark, partial slip", "benchmark, gross slip", "model file"
 PAPER = "paper's 2-DOF (one pair)"
@@ -56,8 +60,8 @@ MODELS = {
 }
 #: records of the history drawn as profiles (the first, the last, and log-spaced ones between)
 PROFILES = 4
-#: fraction of a run's progress spent in each stage
-STAGES = {"reduce": 0.1, "wear": 0.6, "frf": 0.3}
+#: slow-time step tolerance of the wear history (``rtol`` of :func:`fretwear.wear_history`)
+RTOL = 3e-2
 
 
 @dataclass(frozen=True)
@@ -106,76 +110,54 @@ class InterfaceSettings:
             )
         return out
 
+    def model_spec(self) -> InterfaceModel:
+        """The model of the settings, as the backend builds it (its cache key)."""
+        if self.model == FILE:
+            return InterfaceModel("file", path=self.path, stamp=self.stamp)
+        if self.model == PAPER:
+            return InterfaceModel("paper_interface")
+        return InterfaceModel(
+            "cylinder_on_flat", (("contact_nodes", self.contact_nodes), *MODELS[self.model].items())
+        )
 
-def _model(s: InterfaceSettings):
-    from fretwear.interface import cylinder_on_flat, paper_interface, read_interface_model
+    @property
+    def f_max(self) -> float:
+        """Highest frequency the harmonic balance sees (Hz), ``Nh`` times the highest excitation
+        frequency: the reduction keeps the modes up to twice it (:func:`fretwear.reduce`)."""
+        return self.harmonics * max(self.frequency, self.fmax)
 
-    if s.model == FILE:
-        return read_interface_model(s.path)
-    if s.model == PAPER:
-        return paper_interface()
-    return cylinder_on_flat(contact_nodes=s.contact_nodes, **MODELS[s.model])
-
-
-def compute_interface(
-    s: InterfaceSettings, progress: Callable[[float, str], None], cancelled: Callable[[], bool]
-) -> dict[str, Any]:
-    """Reduce the model, run the nodal wear history and the FRFs before/after wear: the scene's results.
-
-    ``progress(fraction, stage)`` is called between stages; ``cancelled()`` is
-    checked between stages (raises :class:`~app.backend.Cancelled`).
-    """
-    from fretwear.interface import ContactCondensation, InterfaceProblem, frf, wear_interface
-    from fretwear.model import craig_bampton
-
-    def stage(done: float, label: str) -> None:
-        if cancelled():
-            raise Cancelled
-        progress(done, label)
-
-    stage(0.0, "the reduced model (Craig-Bampton)")
-    model = _model(s)
-    dof = model.dof(s.dof if s.dof in model.names else 0)
-    cond = ContactCondensation(craig_bampton(model, s.harmonics * max(s.frequency, s.fmax)))
-    problem = InterfaceProblem(cond, 2 * np.pi * s.frequency, harmonics=s.harmonics)
-    stage(STAGES["reduce"], f"the wear history to N = {s.cycles:g}")
-    h = wear_interface(problem, s.kw, s.cycles, rtol=3e-2)
-    stage(STAGES["reduce"] + STAGES["wear"], "the FRFs before and after wear")
-    freqs = np.linspace(s.fmin, s.fmax, s.n_frequencies)
-
-    def make(omega):
-        return InterfaceProblem(cond, omega, harmonics=s.harmonics)
-
-    names = {v: k for k, v in model.names.items()}
-    before, ok_before = frf(make, freqs, dof)
-    after, ok_after = frf(make, freqs, dof, wear=h.wear[-1])
-    progress(1.0, "done")
-    return {
-        "position": h.position,
-        "cycles": h.cycles,
-        "wear": h.wear,
-        "pressure": h.pressure,
-        "state": h.state,
-        "stick_fraction": h.stick_fraction,
-        "converged": h.converged,
-        "message": h.message,
-        "solves": h.solves,
-        "normal_force_sum": h.normal_force_sum,
-        "info": dict(model.info),
-        "dof": dof,
-        "dof_name": names.get(dof, str(dof)),
-        "frf_hz": freqs,
-        "frf_before": before,
-        "frf_after": after,
-        "frf_ok": ok_before & ok_after,
-    }
+    def tasks(self, tasks: Tasks) -> list[Task]:
+        """The run's tasks: the reduced model, the wear history, the FRFs before and after wear."""
+        b = tasks.backend
+        model = tasks.call("interface_model", "the reduced model (Craig-Bampton)", 1.0, b.interface_model,
+                           self.model_spec(), self.f_max)  # fmt: skip
+        reduced = ResultOf.of(model)
+        history = tasks.call("interface_history", f"the wear history to N = {self.cycles:g}", 2.5,
+                             b.interface_history, reduced, self.frequency, self.harmonics, self.kw,
+                             self.cycles, RTOL)  # fmt: skip
+        grid = Grid(self.fmin, self.fmax, self.n_frequencies)
+        frfs = [
+            tasks.call(
+                f"frf_{when}",
+                f"the FRF {when} wear",
+                1.0,
+                b.interface_frf,
+                reduced,
+                grid,
+                self.harmonics,
+                self.dof,
+                wear,
+            )  # fmt: skip
+            for when, wear in (("before", None), ("after", WearAfter.of(history, self.cycles)))
+        ]
+        return [model, history, *frfs]
 
 
 class InterfaceScene(Exports, Runner):
     """The Interface tab's state: its settings, the run in progress and the published results.
 
-    Its run is one task (:func:`compute_interface`, keyed by its settings) on
-    the session's machinery (:class:`~app.session.Runner`, :class:`~app.state.Tasks`).
+    Its run is the tasks of :meth:`InterfaceSettings.tasks` on the session's machinery
+    (:class:`~app.session.Runner`, :class:`~app.state.Tasks`), each keyed by the backend call it caches.
 
     Parameters
     ----------
@@ -257,15 +239,36 @@ class InterfaceScene(Exports, Runner):
         if problems:
             self.invalid(problems)
             return
-        task = self.tasks.call("interface", "the reduced model", 1.0, compute_interface, s)
-        self.run(generation, [task], self._publish_results)
+        self.run(generation, s.tasks(self.tasks), self._publish_results)
 
-    def _publish_results(self, results: dict[str, Any], _final: bool) -> None:
-        results = results["interface"]
-        if isinstance(results, Failure):  # a bad model file, a solver that failed: one line in the page
-            self.error = f"The interface run failed: {results.reason}"
+    def _publish_results(self, results: dict[str, Any], final: bool) -> None:
+        if not final:
             return
-        self.results = results
+        failed = next((r for r in results.values() if isinstance(r, Failure)), None)
+        if failed is not None:  # a bad model file, a solver that failed: one line in the page
+            self.error = f"The interface run failed: {failed.reason}"
+            return
+        model, h, before, after = (results[k] for k in ("interface_model", "interface_history", "frf_before",
+                                                         "frf_after"))  # fmt: skip
+        self.results = results = {
+            "position": h.position,
+            "cycles": h.cycles,
+            "wear": h.wear,
+            "pressure": h.pressure,
+            "state": h.state,
+            "stick_fraction": h.stick_fraction,
+            "converged": h.converged,
+            "message": h.message,
+            "solves": h.solves,
+            "normal_force_sum": h.normal_force_sum,
+            "info": dict(model.info),
+            "dof": before["dof"],
+            "dof_name": before["dof_name"],
+            "frf_hz": before["f_hz"],
+            "frf_before": before["amplitude"],
+            "frf_after": after["amplitude"],
+            "frf_ok": before["converged"] & after["converged"],
+        }
         notes = []
         if not results["converged"]:
             notes.append(f"The wear history stopped early: {results['message']}")

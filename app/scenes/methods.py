@@ -67,42 +67,31 @@ drift."""
             out[name] = EMPTY if h is None else figures.wear_curve(h, self.settings.dense_cycles)
         return out
 
+    def _wear_figure(self, names, title: str, **options):
+        """w / u0 over N (log) of the histories ``names``, the exact reference dashed when among them."""
+        dashed = (EXACT,) if EXACT in names else ()
+        return figures.line_figure(self._curves(names), xlabel=CYCLES, ylabel=WEAR, logx=True, padding=0.05,
+                                   dashed=dashed, title=title, **options)  # fmt: skip
+
     def _figure_methods(self):
-        sel = self.selection
-        return figures.line_figure(
-            self._curves((*METHODS, EXACT)),
-            xlabel=CYCLES,
-            ylabel=WEAR,
-            logx=True,
-            dashed=(EXACT,),
-            padding=0.05,
+        return self._wear_figure(
+            (*METHODS, EXACT),
+            f"Slow-time methods at {self.selection.frequency:.4g} Hz",
             legend_labels={m: self.settings.label(m) for m in METHODS},
-            title=f"Slow-time methods at {sel.frequency:.4g} Hz",
         )
 
     def _figure_harmonics(self):
         names = [f"Nh = {nh}" for nh in CONVERGENCE_HARMONICS]
-        return figures.line_figure(
-            self._curves(names),
-            xlabel=CYCLES,
-            ylabel=WEAR,
-            logx=True,
-            padding=0.05,
+        return self._wear_figure(
+            names,
+            f"Harmonic convergence (exact slow time on DLFT) at {self.selection.frequency:.4g} Hz",
             legend_labels={n: n.replace("Nh", "Nₕ") for n in names},
-            title=f"Harmonic convergence (exact slow time on DLFT) at {self.selection.frequency:.4g} Hz",
         )
 
     def _figure_bases(self):
-        names = [_basis_name(b) for b in BASES]
         where = f"degree {self.settings.degree}, at {self.selection.frequency:.4g} Hz"
-        return figures.line_figure(
-            self._curves((*names, EXACT)),
-            xlabel=CYCLES,
-            ylabel=WEAR,
-            logx=True,
-            dashed=(EXACT,),
-            padding=0.05,
-            title=f"Polynomial method by basis, {where}",
+        return self._wear_figure(
+            (*(_basis_name(b) for b in BASES), EXACT), f"Polynomial method by basis, {where}"
         )
 
     def _long(self, names, column: str) -> dict[str, np.ndarray]:

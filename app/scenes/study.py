@@ -1,8 +1,8 @@
 """The Study scene: browse a parameter study written by ``fretwear study`` (nothing is recomputed).
 
 ``panel serve app/app.py --args --study RESULT.zarr`` opens the store once
-per server process while it is unchanged (:func:`read_study`, a task in the
-server's shared cache) and every session slices it: over grid axes, a quantity along one
+per server process while it is unchanged (:meth:`~app.backend.Backend.study`,
+a task in the server's shared cache) and every session slices it: over grid axes, a quantity along one
 axis with the others fixed (sliders); over random samples, the histogram of
 the cycles to a fraction of ``u0`` with its median and 5 / 95 % quantiles
 and the scatter of a quantity against each input; with the ``wear``
@@ -26,7 +26,6 @@ import param
 from fretwear import figures
 from fretwear.figures.plots import ensure_backend, holoviews, marker_line, overlay_options, styled
 from fretwear.studies.compute import STATUS
-from fretwear.studies.store import open_study
 from fretwear.studies.summary import wear_life_summary
 
 from ..backend import Failure, shared_backend, shared_cache
@@ -35,7 +34,7 @@ from ..session import Runner
 from ..state import Tasks, file_stamp
 from .base import Exports
 
-__all__ = ["StudyScene", "read_study", "study_tab", "QUANTITIES"]
+__all__ = ["StudyScene", "study_tab", "QUANTITIES"]
 
 #: the per-point quantities a study may hold: variable -> (label, unit, logarithmic axis)
 QUANTITIES = {
@@ -44,6 +43,8 @@ QUANTITIES = {
     "relative_amplitude": ("relative displacement amplitude, no wear", "m", True),
     "sliding_distance": ("distance slid per period, no wear", "m", False),
     "friction_energy": ("friction energy per period, no wear", "J", False),
+    "slip_distance": ("distance slid per period by each pair, no wear", "m", False),  # contact pairs
+    "mean_pressure": ("pressure of each pair, mean over the period, no wear", "Pa", False),
 }
 #: statuses drawn as markers of their own (their value is NaN or inf)
 FAILED = tuple(s for s in STATUS if s in ("not_computed", "not_converged", "invalid", "error"))
@@ -52,15 +53,6 @@ HOW_TO = """**No study is open.** Run a study (see the README's "Parameter studi
     fretwear study fretwear/data/wear_life.toml --out wear_life.zarr --samples 200
 
 then start the dashboard on it: `panel serve app/app.py --args --study wear_life.zarr`."""
-
-
-def read_study(path: str, stamp: float):
-    """The study at ``path`` (an ``xarray.Dataset`` in memory, :func:`~fretwear.studies.store.open_study`).
-
-    ``stamp``, the store's modification time, makes a changed store another call (cache key). Raises
-    ``ValueError`` (one line) for a missing path or a store that is not a study.
-    """
-    return open_study(path)
 
 
 def _number(value: Any) -> str:
@@ -74,7 +66,7 @@ def _points(n: int) -> str:
 class StudyScene(Exports, Runner):
     """The Study tab's state: the open study, how it is sliced, and what the slice shows.
 
-    The store is read by a task (:func:`read_study`) on the session's machinery
+    The store is read by a task (:meth:`~app.backend.Backend.study`) on the session's machinery
     (:class:`~app.session.Runner`, :class:`~app.state.Tasks`), in the calling thread.
 
     Parameters
@@ -101,9 +93,11 @@ class StudyScene(Exports, Runner):
         self.tasks = tasks or Tasks(shared_backend(), shared_cache())
         super().__init__(self.tasks.cache, **params)
         self.path, self.ds = path, None
+        self.level = "fraction"  # the dimension of the life's levels (_setup)
         if path is not None:
             stamp = file_stamp(path)
-            task = self.tasks.call("study", "the study", 1.0, read_study, str(Path(path).resolve()), stamp)
+            backend = self.tasks.backend
+            task = self.tasks.call("study", "the study", 1.0, backend.study, str(Path(path).resolve()), stamp)
             self.run(self.new_request(), [task], self._opened)
         if self.ds is not None:
             self._setup()
@@ -131,12 +125,15 @@ class StudyScene(Exports, Runner):
         self.param.axis.objects = list(self.grid_dims)
         self.param.quantity.objects = quantities
         self.param.input.objects = list(self.inputs)
-        fractions = [float(f) for f in ds["fraction"].values] if "fraction" in ds.coords else []
+        # the life's levels: fractions of u0, or worn depths (m) for a model with contact pairs
+        self.level = "depth" if "depth" in ds.coords else "fraction"
+        fractions = [float(f) for f in ds[self.level].values] if self.level in ds.coords else []
         self.param.fraction.objects = fractions
         with param.parameterized.discard_events(self):
             self.axis = "frequency" if "frequency" in self.grid_dims else (self.grid_dims or (None,))[0]
             self.quantity = quantities[0] if quantities else None
-            self.fraction = min(fractions, key=lambda f: abs(f - 0.5)) if fractions else None
+            middle = 0.5 if self.level == "fraction" else np.median(fractions) if fractions else None
+            self.fraction = min(fractions, key=lambda f: abs(f - middle)) if fractions else None
             self.input = self.inputs[0] if self.inputs else None
             self.point = {d: 0 for d in self.dims}
 
@@ -182,8 +179,8 @@ class StudyScene(Exports, Runner):
 
     def _component(self, da) -> dict[str, np.ndarray]:
         """The selected quantity's values by component (DOF, contact), after the fraction is chosen."""
-        if "fraction" in da.dims:
-            da = da.sel(fraction=self.fraction)
+        if self.level in da.dims:
+            da = da.sel({self.level: self.fraction})
         extra = [d for d in da.dims if d not in self.dims]
         if not extra:
             return {self.quantity: np.asarray(da.values, dtype=float)}
@@ -205,8 +202,14 @@ class StudyScene(Exports, Runner):
     def _label(self) -> str:
         label, unit, _log = QUANTITIES[self.quantity]
         if self.quantity == "cycles_to":
-            label = f"cycles to w = {self.fraction:g} u₀"
+            label = self._life_label()
         return f"{label} ({unit})"
+
+    def _life_label(self) -> str:
+        """The life at the selected level: to a fraction of u0, or to a worn depth (contact pairs)."""
+        if self.level == "depth":
+            return f"cycles to a worn depth of {self.fraction:g} m"
+        return f"cycles to w = {self.fraction:g} u₀"
 
     def _changed(self, *_events: Any) -> None:
         self.notes = self._notes() if self.ds is not None else []
@@ -293,9 +296,8 @@ class StudyScene(Exports, Runner):
 
     def _life(self) -> tuple[np.ndarray, dict[str, float]]:
         sl = self._samples()
-        return np.asarray(sl["cycles_to"].sel(fraction=self.fraction).values, dtype=float), wear_life_summary(
-            sl, self.fraction
-        )
+        level = {self.level: self.fraction}
+        return np.asarray(sl["cycles_to"].sel(level).values, dtype=float), wear_life_summary(sl, **level)
 
     def _figure_histogram(self):
         hv = holoviews()
@@ -308,7 +310,7 @@ class StudyScene(Exports, Runner):
             counts, edges = np.histogram(finite, bins=edges)
         else:
             counts, edges = np.zeros(1), np.array([1.0, 10.0])
-        xlabel = f"cycles to w = {self.fraction:g} u₀"
+        xlabel = self._life_label()
         hist = hv.Histogram((edges, counts), kdims=[hv.Dimension("x", label=xlabel)],
                             vdims=[hv.Dimension("y", label="samples")])  # fmt: skip
         hist = styled(hist, {"alpha": 0.8, "framewise": True}, {"color": "#4c72b0", "tools": ["hover"]},
@@ -430,7 +432,8 @@ def _selectors(scene: StudyScene) -> list:
         slider = pn.widgets.DiscreteSlider(label=d, options=options, value=scene.point[d], width=260)
         slider.param.watch(lambda e, d=d: scene.select(d, e.new), "value_throttled")
         widgets.append(slider)
-    for name, label in (("quantity", "Quantity"), ("axis", "Along"), ("fraction", "Fraction of u₀"),
+    level = "Worn depth (m)" if scene.level == "depth" else "Fraction of u₀"
+    for name, label in (("quantity", "Quantity"), ("axis", "Along"), ("fraction", level),
                         ("input", "Against input")):  # fmt: skip
         objects = scene.param[name].objects
         if len(objects) > 1:

@@ -23,13 +23,23 @@ quantities: ``fraction`` (``cycles_to``), ``cycles`` (the wear grid), ``dof``,
 ``cycles_to`` (``wear_life``)
     Cycles to ``w = fraction * u0``; ``inf`` where the contact sticks (no wear),
     NaN where the fraction is not reached within the horizon (status
-    ``horizon``) or the point failed.
+    ``horizon``) or the point failed. For a model with contact pairs: cycles to
+    the worn ``depth`` (m) at the deepest pair.
 ``wear_fraction``, ``wear_amplitude`` (``wear``)
     ``w / u0`` and first-harmonic amplitudes (m) at the cycle counts ``cycles``.
 ``amplitude``, ``relative_amplitude``, ``sliding_distance``, ``friction_energy`` (``frf``)
     Periodic response without wear: first-harmonic amplitude of each DOF and of
     each contact's relative displacement (m), distance slid (m) and energy
     dissipated (J) per period by each friction contact.
+``amplitude``, ``slip_distance``, ``mean_pressure``, ``friction_energy`` (``frf``, contact pairs)
+    Periodic response of a model with contact pairs without wear: first-harmonic
+    amplitude of each reported DOF (``dof``: the model's named DOFs, else its
+    loaded DOFs; m), distance slid (m) and mean pressure (Pa) of each pair
+    (``pair``, with its ``position`` along the interface), energy dissipated by
+    the interface per period (J, J/m in 2-D).
+``wear_depth``, ``wear_pressure``, ``wear_amplitude`` (``wear``, contact pairs)
+    Worn depth (m) and mean pressure (Pa) of each pair, amplitude of each
+    reported DOF (m), at the cycle counts ``cycles``.
 ``status``
     Per point, the worst of its quantities' codes (:data:`STATUS`, also in the
     variable's ``flag_values`` and ``flag_meanings``): 0 not computed yet, 1 ok,
@@ -69,7 +79,7 @@ from ..arguments import atomic, check_output
 from ..studies.layout import layout
 from ..studies.run import run_study
 from ..studies.spec import SpecError, read_spec
-from ..studies.summary import wear_life_summary
+from ..studies.summary import wear_depth_summary, wear_life_summary
 from .shared import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_USAGE, option
 
 __all__ = ["HELP", "DESCRIPTION", "add_arguments", "check_args", "run"]
@@ -189,14 +199,27 @@ def run(args: argparse.Namespace) -> int:
     say(f"points: {counts}; wrote {args.out}")
     for task, reason in result.failed_tasks.items():
         say(f"task {task} failed: {reason} (rerun the same command to retry it)")
+    if spec.pairs and "wear" in spec.quantities:
+        import xarray as xr
+
+        s = wear_depth_summary(xr.open_zarr(args.out))
+        if s["n"]:
+            where = ", ".join(f"{k} = {v:g}" for k, v in s["point"].items())
+            say(
+                f"deepest wear at N = {spec.fixed['cycles']:g}: {s['max']:.4g} m at x = {s['position']:.4g} m"
+                f"{f' ({where})' if where else ''}; over the {s['n']} points: min {s['min']:.4g} m, "
+                f"median {s['median']:.4g} m"
+            )
     if "wear_life" in spec.quantities and set(spec.dims) == {"sample"}:
         import xarray as xr
 
         ds = xr.open_zarr(args.out)
-        for f in spec.fractions:
-            s = wear_life_summary(ds, f)
+        levels = [(f"{d:g} m", {"depth": d}) for d in spec.depths] if spec.pairs else [
+            (f"{f:g} u0", {"fraction": f}) for f in spec.fractions]  # fmt: skip
+        for text, level in levels:
+            s = wear_life_summary(ds, **level)
             say(
-                f"cycles to {f:g} u0: median {s['median']:.4g}, 5 % {s['q05']:.4g}, 95 % {s['q95']:.4g} "
+                f"cycles to {text}: median {s['median']:.4g}, 5 % {s['q05']:.4g}, 95 % {s['q95']:.4g} "
                 f"({s['n']} samples, {s['stuck']} stuck, {s['beyond_horizon']} beyond the horizon)"
             )
         if args.figure is not None:

@@ -1,7 +1,15 @@
 """What one task of a study computes: the points of a block, each a model, a sweep or a wear history.
 
+Every point goes through the front functions (:func:`fretwear.sweep`, :func:`fretwear.solve_periodic`,
+:func:`fretwear.wear_history`), whatever the model's contacts.
+
 :func:`compute_block` is the Dask task; every failure of a point is recorded as a status code
 (:data:`STATUS`) and a message, never raised, so that a study goes on past it.
+
+A model with contact pairs is reduced once (:func:`prepared`, at
+:attr:`~fretwear.studies.spec.StudySpec.reduce_hz`); each of its points is one
+:func:`fretwear.solve_periodic` (``frf``) and one :func:`fretwear.wear_history`
+(``wear``) on that reduced model, with the point's ``mu`` and ``force_scale``.
 """
 
 from __future__ import annotations
@@ -14,14 +22,26 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
+from scipy.interpolate import CubicHermiteSpline
 
-from ..hbm import sweep
-from ..model import paper_model
-from ..wear import METHODS, describe, resolve_dynamics, resolve_method, wear_history
+from ..front import solve_periodic, sweep, wear_history
+from ..model import craig_bampton, paper_model
+from ..wear import METHODS, describe, resolve_dynamics, resolve_method
 from ..wear.polynomial import DEFAULT_HARMONICS as POLYNOMIAL_HARMONICS
 from .spec import FRF_HARMONICS, StudySpec
 
-__all__ = ["FAILED", "STATUS", "Work", "compute_block", "method_label", "outputs", "point_method"]
+__all__ = [
+    "FAILED",
+    "STATUS",
+    "Work",
+    "compute_block",
+    "method_label",
+    "outputs",
+    "pair_method",
+    "point_method",
+    "prepared",
+    "reported_dofs",
+]
 
 #: status codes of a point, in increasing severity (a point's status is the worst of its quantities')
 STATUS = ("not_computed", "ok", "stuck", "horizon", "not_converged", "invalid", "error")
@@ -31,7 +51,8 @@ FAILED = (NOT_CONVERGED, INVALID, ERROR)
 
 @dataclass(frozen=True)
 class Work:
-    """What every task needs: the quantities, the base model and the fixed settings."""
+    """What every task needs: the quantities, the base model and the fixed settings (and, for a model
+    with contact pairs, ``reduce_hz``: the ``f_max`` of its reduction, Hz)."""
 
     quantities: tuple[str, ...]
     model_kind: str
@@ -39,6 +60,8 @@ class Work:
     fixed: dict[str, Any]
     fractions: tuple[float, ...]
     cycle_grid: np.ndarray | None
+    reduce_hz: float | None = None
+    depths: tuple[float, ...] = ()
 
     @classmethod
     def of(cls, spec: StudySpec) -> Work:
@@ -49,12 +72,38 @@ class Work:
             spec.fixed,
             spec.fractions,
             spec.cycle_grid() if "wear" in spec.quantities else None,
+            spec.reduce_hz,
+            spec.depths,
         )
+
+    @property
+    def pairs(self) -> bool:
+        """Whether the model has contact pairs."""
+        return self.model.pairs is not None
+
+
+def prepared(work: Work) -> Work:
+    """``work`` with its model with contact pairs reduced once, by :func:`fretwear.reduce` at
+    ``work.reduce_hz`` (the tasks' model; unchanged for 1-D contacts or a model reduced already)."""
+    if not work.pairs or work.model.reduction is not None:
+        return work
+    return replace(work, model=craig_bampton(work.model, work.reduce_hz))
+
+
+def reported_dofs(model) -> dict[str, int]:
+    """The DOFs of the full model a study of a model with contact pairs reports, by name: its named DOFs
+    (e.g. the benchmark's holder ``pad_x``, ``pad_y``), or else its loaded DOFs (``x<k>``, from 1)."""
+    full = model.reduction.full if model.reduction is not None else model
+    if full.names:
+        return dict(sorted(full.names.items(), key=lambda item: item[1]))
+    return {f"x{d + 1}": int(d) for d in full.loaded_dofs}
 
 
 def outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...]]]:
     """Variables of the quantities: name -> (extra dimensions, extra shape)."""
     model = work.model
+    if work.pairs:
+        return _pair_outputs(work)
     n, nc, nf = model.n_dofs, len(model.contacts), len(model.friction)
     out: dict[str, tuple[tuple[str, ...], tuple[int, ...]]] = {}
     if "frf" in work.quantities:
@@ -72,8 +121,36 @@ def outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...]]]:
     return out
 
 
+def _pair_outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...]]]:
+    """Variables of a model with contact pairs: per reported DOF (:func:`reported_dofs`) and per pair."""
+    nd, nc = len(reported_dofs(work.model)), work.model.n_pairs
+    out: dict[str, tuple[tuple[str, ...], tuple[int, ...]]] = {}
+    if "frf" in work.quantities:
+        out.update(
+            amplitude=(("dof",), (nd,)),
+            slip_distance=(("pair",), (nc,)),
+            mean_pressure=(("pair",), (nc,)),
+            friction_energy=((), ()),
+        )
+    if "wear_life" in work.quantities:
+        out["cycles_to"] = (("depth",), (len(work.depths),))
+    if "wear" in work.quantities:
+        nN = len(work.cycle_grid)
+        out.update(
+            wear_depth=(("cycles", "pair"), (nN, nc)),
+            wear_pressure=(("cycles", "pair"), (nN, nc)),
+            wear_amplitude=(("cycles", "dof"), (nN, nd)),
+        )
+    return out
+
+
 def _model(work: Work, p: Mapping[str, Any]):
     """The model at one point (raises ``ValueError`` for invalid parameters)."""
+    if work.pairs:  # the reduced model: a friction coefficient and a force scale change no mode
+        model = work.model
+        if "mu" in p:
+            model = replace(model, pairs=replace(model.pairs, mu=float(p["mu"])))
+        return model.scaled(p["force_scale"]) if "force_scale" in p else model
     if work.model_kind == "paper":
         kn = p["kn"]
         fn = p["normal_load"] if "normal_load" in p else kn * p["u0"]
@@ -102,6 +179,16 @@ def point_method(model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
         options["dynamics"] = resolve_dynamics(
             model, options.get("dynamics", "auto"), options.get("harmonics")
         )
+    return name, options
+
+
+def pair_method(p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
+    """The slow-time method that runs at a point of a model with contact pairs and its options
+    (``auto`` is ``stepping``; the spec's ``tol`` is the stepping's ``rtol``)."""
+    name = "stepping" if p["method"] == "auto" else p["method"]
+    options = {"harmonics": int(p["harmonics"])} if "harmonics" in p else {}
+    if name == "stepping" and p.get("tol") is not None:
+        options["rtol"] = float(p["tol"])
     return name, options
 
 
@@ -137,6 +224,57 @@ def _wear_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i:
     if stuck:
         return STUCK
     return HORIZON if "cycles_to" in out and np.isnan(out["cycles_to"][i]).any() else OK
+
+
+def _amplitudes(sol, dofs: np.ndarray) -> np.ndarray:
+    """First-harmonic amplitudes (m) of the full model's DOFs ``dofs`` in the periodic solution ``sol``."""
+    h = sol.dof_harmonics[dofs]
+    return np.hypot(h[:, 1], h[:, 2])
+
+
+def _pair_point(work: Work, p: Mapping[str, Any], out: dict[str, np.ndarray], i: int, messages) -> int:
+    """Quantities of a model with contact pairs at point ``i``: fills ``out``, returns the status code."""
+    model = _model(work, p)
+    dofs = np.array(list(reported_dofs(model).values()), dtype=int)
+    omega, code = 2 * np.pi * p["frequency"], OK
+    if "frf" in work.quantities:
+        sol = solve_periodic(model, omega, int(p["harmonics"]))
+        if sol.converged:
+            out["amplitude"][i] = _amplitudes(sol, dofs)
+            out["slip_distance"][i] = sol.slip_distance
+            out["mean_pressure"][i] = sol.mean_pressure
+            out["friction_energy"][i] = sol.friction_energy
+        else:
+            code = NOT_CONVERGED
+            messages.append((i, f"not converged: {sol.message} (residual {sol.residual:.3g})"))
+    if "wear" in work.quantities or "wear_life" in work.quantities:
+        name, options = pair_method(p)
+        h = wear_history(model, omega, name, kw=p["kw"], cycles=p["cycles"], **options)
+        stuck = not np.any(h.wear[-1] > 0)  # nothing slid under load: no wear, an infinite life
+        if "cycles_to" in out:  # the deepest pair reaches a depth first
+            life = np.array([[h.cycles_to_depth(d, k) for k in range(model.n_pairs)] for d in work.depths])
+            reached = np.isfinite(life).any(axis=1)
+            out["cycles_to"][i] = np.inf if stuck else np.where(reached, np.nanmin(np.where(
+                np.isfinite(life), life, np.inf), axis=1), np.nan)  # fmt: skip
+        if stuck:
+            code = max(code, STUCK)
+        elif "cycles_to" in out and np.isnan(out["cycles_to"][i]).any():
+            code = max(code, HORIZON)
+        grid = work.cycle_grid
+        # held past the last record when the history reached its end (a converged profile), NaN if it failed
+        at = None if grid is None else np.clip(grid, h.cycles[0], h.cycles[-1])
+        if at is not None and len(h.cycles) > 1:
+            # the depth is monotone and smooth in N: cubic Hermite with the recorded rates (WearHistory.at)
+            out["wear_depth"][i] = CubicHermiteSpline(h.cycles, h.wear, h.wear_rate, axis=0)(at)
+            out["wear_pressure"][i] = np.stack([np.interp(at, h.cycles, v) for v in h.pressure.T], axis=-1)
+            amplitude = np.array([_amplitudes(s, dofs) for s in h.solutions])
+            out["wear_amplitude"][i] = np.stack([np.interp(at, h.cycles, v) for v in amplitude.T], axis=-1)
+        if not h.converged:
+            for name in ("wear_depth", "wear_pressure", "wear_amplitude") if at is not None else ():
+                out[name][i][grid > h.cycles[-1]] = np.nan
+            messages.append((i, f"wear history stopped early: {h.status}"))
+            code = max(code, NOT_CONVERGED)
+    return code
 
 
 def _frf_points(work: Work, params: Mapping[str, np.ndarray], idx: np.ndarray, out, status, messages) -> None:
@@ -187,7 +325,15 @@ def compute_block(work: Work, params: Mapping[str, np.ndarray]) -> dict[str, Any
     out = {name: np.full((n, *shape), np.nan) for name, (_, shape) in outputs(work).items()}
     status = np.zeros(n, dtype=np.int8)
     messages: list[tuple[int, str]] = []
-    if "frf" in work.quantities:
+    work = prepared(work)  # reduced once by the client already (run_study); here for a direct call
+    if work.pairs:
+        for i in range(n):
+            try:
+                status[i] = _pair_point(work, {k: v[i] for k, v in points.items()}, out, i, messages)
+            except Exception as exc:  # noqa: BLE001 - a failed point is recorded, never an aborted study
+                status[i] = INVALID if isinstance(exc, ValueError) else ERROR
+                messages.append((i, f"{type(exc).__name__}: {' '.join(str(exc).split())}"))
+    if "frf" in work.quantities and not work.pairs:
         others = [k for k in points if k != "frequency"]
         keys = [tuple(points[k][i] for k in others) for i in range(n)]
         groups: dict[tuple, list[int]] = {}
@@ -195,7 +341,7 @@ def compute_block(work: Work, params: Mapping[str, np.ndarray]) -> dict[str, Any
             groups.setdefault(key, []).append(i)
         for idx in groups.values():
             _frf_points(work, points, np.array(idx), out, status, messages)
-    if work.quantities != ("frf",):
+    if work.quantities != ("frf",) and not work.pairs:
         for i in range(n):
             p = {k: v[i] for k, v in points.items()}
             try:

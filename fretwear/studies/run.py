@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .compute import FAILED, STATUS, Work, compute_block
+from .compute import FAILED, STATUS, Work, compute_block, prepared
 from .layout import block_params, layout
 from .spec import SpecError, StudySpec
 from .store import open_store
@@ -251,7 +251,9 @@ def _compute(spec, lay, group, pending, result, client, scheduler, workers, retr
         client.run(_ready)  # the workers import this module (and fretwear) before the clock starts
         result.startup_seconds = time.perf_counter() - ready
         result.workers = sum(w["nthreads"] for w in client.scheduler_info()["workers"].values())
-        work = Work.of(spec)
+        work = prepared(Work.of(spec))  # a model with contact pairs is reduced here, once
+        if work.pairs:  # its reduction holds the full model (MBs): sent to each worker once, not per task
+            work = client.scatter(work, broadcast=True, hash=False)
         draws = spec.draws()
         bar = Progress(spec.n_points, len(pending), enabled=progress)
         start = time.perf_counter()

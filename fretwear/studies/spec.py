@@ -17,7 +17,9 @@ Format
 
     [model]
     name = "paper"                                  # the paper's 2-DOF example (section 2.1), or
-    # file = "my_structure.toml"                    # a model file (relative to the spec)
+    # file = "my_structure.toml"                    # a model file (relative to the spec), or
+    # name = "cylinder_on_flat"                     # a model with contact pairs, its builder's
+    # contact_nodes = 16                            # parameters in the same table
 
     [parameters]                                    # each value: fixed, grid or random
     frequency = 0.7                                                 # Hz, fixed
@@ -29,6 +31,7 @@ Format
 
     [wear]
     fractions = [0.1, 0.5, 0.9]                     # "wear_life": cycles to w = fraction * u0
+    # depths = [1e-6, 5e-6]                         # contact pairs: cycles to a worn depth (m)
     ncycles = 60                                    # "wear": log-spaced cycle counts from 1 to the horizon
 
 Parameters (:data:`PARAMETERS`): ``frequency`` (Hz), ``fex`` (N, paper model),
@@ -50,7 +53,24 @@ relative amplitude, sliding distance and friction energy per period),
 ``wear_life`` (cycles to the wear fractions of ``u0``) and ``wear`` (``w / u0``
 and amplitudes on the cycle grid; with a frequency axis, a wear map).
 
-Random draws: parameter ``k`` (in the order of :data:`PARAMETERS`) uses the
+Models with contact pairs (:data:`MODELS`: ``name = "cylinder_on_flat"`` with
+the parameters of :class:`fretwear.interface.fe.CylinderOnFlat`, ``name =
+"paper_interface"`` with ``fex``, ``mu``, ``normal_load``, ``kn``, or ``file =``
+an interface model file, :mod:`fretwear.interface.modelfile`) take the
+parameters :data:`PAIR_PARAMETERS`: ``frequency`` (Hz, fixed or a grid),
+``force_scale`` (every external force, the static load too), ``mu`` (every
+pair), ``kw`` (1/Pa, required with ``wear``), ``cycles``, ``harmonics``
+(default 7), ``method`` (``"auto"`` is ``"stepping"``, or ``"polynomial"``)
+and ``tol`` (the stepping's ``rtol``). Their quantities are ``frf``, ``wear``
+(profiles on the cycle grid) and ``wear_life``: with no ``u0``, the cycles to
+the worn depths ``[wear] depths`` (m) at the deepest pair. The model is reduced once
+(Craig-Bampton, :func:`fretwear.reduce`) at ``f_max`` = the highest frequency
+times the highest ``Nh`` (:attr:`StudySpec.reduce_hz`); each point then calls
+:func:`fretwear.solve_periodic` or :func:`fretwear.wear_history` on that
+reduced model.
+
+Random draws: parameter ``k`` (in the order of :data:`PARAMETERS`, or of
+:data:`PAIR_PARAMETERS` for a model with contact pairs) uses the
 stream ``numpy.random.default_rng([seed, k])``, so sample ``i`` is the same
 whatever the number of samples (``--samples`` only adds or removes draws at the end).
 """
@@ -62,7 +82,7 @@ import json
 import math
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -75,6 +95,9 @@ from ..wear import DYNAMICS, METHODS
 
 __all__ = [
     "FRF_HARMONICS",
+    "MODELS",
+    "PAIR_PARAMETERS",
+    "PAIR_QUANTITIES",
     "PARAMETERS",
     "QUANTITIES",
     "Distribution",
@@ -104,6 +127,7 @@ class Parameter:
     choices: tuple[str, ...] = ()
     random: bool = True
     note: str = ""  # what the spec adds to the table's description
+    fixed_why: str = ""  # why it cannot be random, when that is not its type
 
     @property
     def kind(self) -> type:
@@ -175,9 +199,48 @@ PAPER_DEFAULTS: Mapping[str, float] = {
     name: describe(PARAMETERS[name].table).default for name in ("fex", "mu", "normal_load", "kn")
 }
 
-#: model names that a spec may give and that studies do not run yet: models with contact pairs
-#: (``fretwear.cylinder_on_flat``, ``fretwear.paper_interface``) go through the front functions only
-UNAVAILABLE_MODELS = ("interface_benchmark", "benchmark", "cylinder_on_flat", "paper_interface")
+#: slow-time methods of a model with contact pairs (:func:`fretwear.interface.jobs.wear_history`)
+PAIR_METHODS = ("auto", "stepping", "polynomial")
+#: the parameters of a study over a model with contact pairs (module docstring): the interface rows of
+#: the table where the unit differs (``kw`` in 1/Pa, ``mu`` may be 0, ``tol`` is the stepping's ``rtol``)
+PAIR_PARAMETERS: Mapping[str, Parameter] = {
+    p.name: p
+    for p in (
+        Parameter(
+            "frequency",
+            "f",
+            random=False,
+            fixed_why="a model with contact pairs is reduced once at the highest frequency: "
+            "give a value or a grid",
+        ),
+        Parameter("force_scale", "force_scale", note="(every external force, the static load too)"),
+        Parameter("mu", "interface_mu", note="(every pair)"),
+        Parameter("kw", "interface_kw"),
+        Parameter("cycles", "cycles"),
+        Parameter("harmonics", "harmonics", random=False),
+        Parameter("method", choices=PAIR_METHODS, random=False, note="slow-time method"),
+        Parameter("tol", "rtol", random=False),
+    )
+}
+#: the quantities of a study over a model with contact pairs, and the parameters each one uses
+PAIR_QUANTITIES: Mapping[str, tuple[str, ...]] = {
+    "frf": ("frequency", "force_scale", "mu", "harmonics"),
+    "wear_life": tuple(PAIR_PARAMETERS),
+    "wear": tuple(PAIR_PARAMETERS),
+}
+#: ``Nh`` of a model with contact pairs when the spec gives none (the front functions' default)
+PAIR_HARMONICS = describe("harmonics").default
+#: the ``CylinderOnFlat`` fields checked against a row of the table (the others by the builder itself)
+_CYLINDER_ROWS = {"contact_nodes": "contact_nodes", "q_ratio": "q_ratio", "window": "window",
+                  "normal_load": "line_load", "mu": "interface_mu", "drive_displacement": "drive",
+                  "arm_stiffness": "arm_stiffness"}  # fmt: skip
+#: the named models of ``[model] name``: the keys of the ``[model]`` table each takes, by its table row
+#: (None: checked by the builder), with ``paper`` the 1-D model and the others models with contact pairs
+MODELS: Mapping[str, Mapping[str, str | None]] = {
+    "paper": {},
+    "cylinder_on_flat": {},  # CylinderOnFlat's fields, by _model_keys (scikit-fem loads on first use)
+    "paper_interface": {"fex": "fex", "mu": "mu", "normal_load": "fn", "kn": "kn"},
+}
 
 _DISTRIBUTIONS = {
     "uniform": ("low", "high"),
@@ -220,9 +283,11 @@ class StudySpec:
     quantities : tuple of str
         Keys of :data:`QUANTITIES`.
     model_kind : str
-        ``"paper"`` or ``"file"``.
+        ``"file"``, or the name of :data:`MODELS` (``"paper"``, ``"cylinder_on_flat"``, ...).
     model : Model
-        The base model (the paper model with its defaults, or the model file's).
+        The base model (the paper model with its defaults, the model file's, or the named builder's).
+    model_parameters : dict
+        The builder's parameters given in ``[model]`` (named models with contact pairs).
     fixed : dict
         Fixed parameters (with the defaults filled in).
     grid : dict of ndarray
@@ -232,7 +297,9 @@ class StudySpec:
     samples, seed : int
         Number of draws and seed (0 and ``None`` without random parameters).
     fractions : tuple of float
-        Wear fractions of ``u0`` (``wear_life``).
+        Wear fractions of ``u0`` (``wear_life``; 1-D contacts).
+    depths : tuple of float
+        Worn depths (m) of ``wear_life`` for a model with contact pairs.
     ncycles : int
         Cycle counts of the wear grid (``wear``).
     points_per_task : int or None
@@ -253,11 +320,34 @@ class StudySpec:
     samples: int = 0
     seed: int | None = None
     fractions: tuple[float, ...] = (0.1, 0.5, 0.9)
+    depths: tuple[float, ...] = ()
     ncycles: int = 60
     points_per_task: int | None = None
     text: str = ""
     model_file: str | None = None
     model_text: str = field(default="", repr=False)
+    model_parameters: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def pairs(self) -> bool:
+        """Whether the model has contact pairs (the parameters :data:`PAIR_PARAMETERS`)."""
+        return self.model.pairs is not None
+
+    @property
+    def parameters(self) -> Mapping[str, Parameter]:
+        """The parameters this spec's model takes: :data:`PAIR_PARAMETERS` or :data:`PARAMETERS`."""
+        return PAIR_PARAMETERS if self.pairs else PARAMETERS
+
+    @property
+    def reduce_hz(self) -> float | None:
+        """``f_max`` (Hz) of the one reduction of a model with contact pairs: the highest frequency times
+        the highest ``Nh`` (None for a model with 1-D contacts)."""
+        if not self.pairs:
+            return None
+        top = {
+            k: np.max(self.grid[k]) if k in self.grid else self.fixed[k] for k in ("frequency", "harmonics")
+        }
+        return float(top["frequency"] * top["harmonics"])
 
     @property
     def dims(self) -> tuple[str, ...]:
@@ -279,7 +369,7 @@ class StudySpec:
 
     def draws(self) -> dict[str, np.ndarray]:
         """The random parameters' values, shape (samples,) each (see the module docstring)."""
-        keys = list(PARAMETERS)
+        keys = list(self.parameters)
         return {
             name: dist.draw(self.samples, np.random.default_rng([self.seed, keys.index(name)]))
             for name, dist in self.random.items()
@@ -294,13 +384,19 @@ class StudySpec:
         return {
             "title": self.title,
             "quantities": list(self.quantities),
-            "model": {"kind": self.model_kind, "file": self.model_file, "file_sha256": _sha(self.model_text)},
+            "model": {
+                "kind": self.model_kind,
+                "file": self.model_file,
+                "file_sha256": _sha(self.model_text),
+                "parameters": self.model_parameters,
+            },
             "fixed": self.fixed,
             "grid": {k: v.tolist() for k, v in self.grid.items()},
             "random": {k: v.describe() for k, v in self.random.items()},
             "samples": self.samples,
             "seed": self.seed,
             "fractions": list(self.fractions),
+            "depths": list(self.depths),
             "ncycles": self.ncycles,
             "points_per_task": self.points_per_task,
             "fretwear_version": __version__,
@@ -364,15 +460,18 @@ def parse_spec(
         if name not in ("study", "model", "parameters", "wear"):
             raise SpecError(name, "unknown table (valid: study, model, parameters, wear)")
     study = _table(data, "study", ("title", "quantities", "seed", "samples", "points_per_task"))
+    model_kind, model, model_file, model_text, model_params = _model(_model_table(data), Path(base))
+    pairs = model.pairs is not None
+    table, uses = (PAIR_PARAMETERS, PAIR_QUANTITIES) if pairs else (PARAMETERS, QUANTITIES)
     quantities = study.get("quantities")
     if quantities is None:
-        raise SpecError("study.quantities", f"required: a list of {', '.join(map(repr, QUANTITIES))}")
+        raise SpecError("study.quantities", f"required: a list of {', '.join(map(repr, uses))}")
     if isinstance(quantities, str):
         quantities = [quantities]
-    if not isinstance(quantities, list) or not quantities or any(q not in QUANTITIES for q in quantities):
+    if not isinstance(quantities, list) or not quantities or any(q not in uses for q in quantities):
         raise SpecError(
             "study.quantities",
-            f"must be a non-empty list of {', '.join(map(repr, QUANTITIES))}, got {study['quantities']!r}",
+            f"must be a non-empty list of {', '.join(map(repr, uses))}, got {study['quantities']!r}",
         )
     quantities = tuple(dict.fromkeys(quantities))
     title = study.get("title", "parameter study")
@@ -383,10 +482,15 @@ def parse_spec(
     if points_per_task is not None:
         ppt = _integer("--points-per-task", points_per_task, "points_per_task")
 
-    model_kind, model, model_file, model_text = _model(_table(data, "model", ("name", "file")), Path(base))
-
-    params = _table(data, "parameters", tuple(PARAMETERS))
-    used = set().union(*(QUANTITIES[q] for q in quantities))
+    raw = data.get("parameters", {})
+    for name in raw if pairs and isinstance(raw, dict) else ():
+        if name in PARAMETERS and name not in table:
+            raise SpecError(
+                f"parameters.{name}",
+                f"not a parameter of a model with contact pairs (valid: {', '.join(table)})",
+            )
+    params = _table(data, "parameters", tuple(table))
+    used = set().union(*(uses[q] for q in quantities))
     fixed: dict[str, Any] = {}
     grid: dict[str, np.ndarray] = {}
     random: dict[str, Distribution] = {}
@@ -398,7 +502,7 @@ def parse_spec(
             raise SpecError(key, "only for a model file; the paper model's excitation is fex (N)")
         if model_kind == "file" and name == "fex":
             raise SpecError(key, "only for the paper model; scale a model file's forces with force_scale")
-        kind, parsed = _value(key, PARAMETERS[name], value)
+        kind, parsed = _value(key, table[name], value)
         {"fixed": fixed, "grid": grid, "random": random}[kind][name] = parsed
     if "normal_load" in params and "u0" in params:
         raise SpecError("parameters.u0", "give normal_load (N) or u0 (m), not both")
@@ -406,8 +510,14 @@ def parse_spec(
         raise SpecError("parameters.frequency", "required: the excitation frequency (Hz), > 0")
     if "frequency" in grid:  # frequency last: an FRF is computed along it with warm starts
         grid["frequency"] = grid.pop("frequency")
-    _wear_checks(quantities, params, fixed, grid)
-    for name, value in DEFAULTS.items():
+    if pairs:
+        _pair_checks(quantities, params, fixed, grid)
+        for name, value in (("method", "auto"), ("harmonics", PAIR_HARMONICS)):
+            if name in used and name not in params:
+                fixed[name] = value
+    else:
+        _wear_checks(quantities, params, fixed, grid)
+    for name, value in DEFAULTS.items() if not pairs else ():
         if name in used and name not in params and not (name == "dynamics" and not _stepping(fixed, grid)):
             fixed[name] = value
     if model_kind == "paper":
@@ -415,9 +525,12 @@ def parse_spec(
             if name not in params and not (name == "normal_load" and "u0" in params):
                 fixed[name] = value
 
-    wear = _table(data, "wear", ("fractions", "ncycles"))
+    wear = _table(data, "wear", ("fractions", "depths", "ncycles"))
     if wear and not any(q in quantities for q in ("wear_life", "wear")):
         raise SpecError("wear", "the [wear] table needs the quantity 'wear_life' or 'wear'")
+    depths = _depths(wear, pairs, "wear_life" in quantities)
+    if pairs and "fractions" in wear:
+        raise SpecError("wear.fractions", "a model with contact pairs has no u0: give depths (m), > 0")
     fractions = wear.get("fractions", [0.1, 0.5, 0.9])
     if (
         not isinstance(fractions, list)
@@ -459,16 +572,41 @@ def parse_spec(
         samples=n_samples,
         seed=seed,
         fractions=tuple(float(f) for f in fractions),
+        depths=depths,
         ncycles=ncycles,
         points_per_task=ppt,
         text=text,
         model_file=model_file,
         model_text=model_text,
+        model_parameters=model_params,
     )
 
 
+def _model_table(data: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``[model]`` table, its keys checked against those of its named model (:data:`MODELS`)."""
+    table = data.get("model", {})
+    if not isinstance(table, dict):
+        raise SpecError("model", f"must be a table ([model]), got {table!r}")
+    name = table.get("name", "paper")
+    if "file" in table and "name" not in table:
+        return _table(data, "model", ("file",))
+    if not isinstance(name, str) or name not in MODELS:
+        raise SpecError("model.name", f"must be one of {', '.join(map(repr, MODELS))} (or use file = "
+                        f"'model.toml'), got {name!r}")  # fmt: skip
+    return _table(data, "model", ("name", "file", *_model_keys(name)))
+
+
+def _model_keys(name: str) -> Mapping[str, str | None]:
+    """The parameters of the named model ``name`` and their table rows (:data:`MODELS`)."""
+    if name == "cylinder_on_flat":
+        from ..interface.fe import CylinderOnFlat  # the mesher loads scikit-fem: only for this model
+
+        return {f.name: _CYLINDER_ROWS.get(f.name) for f in fields(CylinderOnFlat)}
+    return MODELS[name]
+
+
 def _model(table: Mapping[str, Any], base: Path):
-    """``(kind, model, file, file text)`` of the ``[model]`` table."""
+    """``(kind, model, file, file text, builder parameters)`` of the ``[model]`` table."""
     if "name" in table and "file" in table:
         raise SpecError("model.file", "give name or file, not both")
     if "file" in table:
@@ -477,22 +615,85 @@ def _model(table: Mapping[str, Any], base: Path):
             raise SpecError("model.file", f"must be the path of a model file, got {file!r}")
         path = Path(file) if Path(file).is_absolute() else base / file
         try:
-            return "file", read_model(path), file, path.read_text(encoding="utf-8")
+            text = path.read_text(encoding="utf-8")
+            return "file", _read_model_file(path, text), file, text, {}
         except OSError as exc:
             raise SpecError("model.file", f"cannot read {str(path)!r}: {exc.strerror or exc}") from None
         except ValueError as exc:
             raise SpecError("model.file", " ".join(str(exc).split())) from None
     name = table.get("name", "paper")
-    if name in UNAVAILABLE_MODELS:
-        raise SpecError(
-            "model.name",
-            f"{name!r}: studies of models with contact pairs are not available in fretwear {__version__} "
-            "(fretwear.cylinder_on_flat runs through fretwear.solve_periodic, sweep and wear_history); "
-            "use name = 'paper' or file = 'model.toml'",
-        )
-    if name != "paper":
-        raise SpecError("model.name", f"must be 'paper' (or use file = 'model.toml'), got {name!r}")
-    return "paper", paper_model(), None, ""
+    if name == "paper":
+        return "paper", paper_model(), None, "", {}
+    keys = _model_keys(name)
+    params = {}
+    for key, value in table.items():
+        if key == "name":
+            continue
+        row = keys[key]
+        if row is not None:
+            params[key] = _integer(f"model.{key}", value, row) if describe(row).integer else _number(
+                f"model.{key}", value, row)  # fmt: skip
+        elif isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SpecError(f"model.{key}", f"must be a number, got {value!r}")
+        else:
+            params[key] = float(value)
+    try:
+        if name == "cylinder_on_flat":
+            from ..interface.fe import cylinder_on_flat
+
+            model = cylinder_on_flat(**params)
+        else:
+            from ..interface.paper import paper_interface
+
+            model = paper_interface(**params)
+    except ValueError as exc:  # the builder's own checks name the parameter first
+        first = str(exc).split()[0]
+        raise SpecError(f"model.{first}" if first in keys else "model", " ".join(str(exc).split())) from None
+    return name, model, None, "", params
+
+
+def _read_model_file(path: Path, text: str):
+    """The model of a model file: an interface model file (``[matrices]`` and ``[contact]``:
+    :func:`fretwear.interface.read_interface_model`) or a 1-D model file (:func:`fretwear.read_model`)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError:
+        data = {}  # read_model says what is wrong with it
+    if "contact" in data or "matrices" in data:
+        from ..interface.modelfile import read_interface_model
+
+        return read_interface_model(path)
+    return read_model(path)
+
+
+def _depths(wear: Mapping[str, Any], pairs: bool, life: bool) -> tuple[float, ...]:
+    """The worn depths (m) of ``wear_life`` for a model with contact pairs: ``[wear] depths``."""
+    if not pairs:
+        if "depths" in wear:
+            raise SpecError("wear.depths", "only for a model with contact pairs; give fractions of u0")
+        return ()
+    depths = wear.get("depths")
+    if depths is None:
+        if life:
+            raise SpecError("wear.depths", "required for 'wear_life' of a model with contact pairs: the worn "
+                            "depths (m) to reach, e.g. [1e-6, 5e-6]")  # fmt: skip
+        return ()
+    if (
+        not isinstance(depths, list)
+        or not depths
+        or any(isinstance(d, bool) or not isinstance(d, (int, float)) or not 0 < d < math.inf for d in depths)
+        or len(set(depths)) != len(depths)
+    ):
+        raise SpecError("wear.depths", f"must be a non-empty list of distinct depths > 0 (m), got {depths!r}")
+    return tuple(float(d) for d in depths)
+
+
+def _number(key: str, value: Any, table: str) -> float:
+    """``value``, a number in the range of :data:`fretwear.parameters.PARAMETERS` ``[table]``."""
+    bounds = describe(table)
+    if not bounds.valid(value):
+        raise SpecError(key, f"must be {bounds.range_text()}, got {value!r}")
+    return float(value)
 
 
 def _value(key: str, param: Parameter, value: Any) -> tuple[str, Any]:
@@ -509,7 +710,8 @@ def _value(key: str, param: Parameter, value: Any) -> tuple[str, Any]:
         return "fixed", param.check(key, value)
     if "distribution" in value:
         if not param.random:
-            raise SpecError(key, f"cannot be random (a {param.kind.__name__}): give a value or a list")
+            raise SpecError(key, f"cannot be random ({param.fixed_why or f'a {param.kind.__name__}'}): "
+                            "give a value or a list")  # fmt: skip
         kind = value["distribution"]
         if kind not in _DISTRIBUTIONS:
             raise SpecError(
@@ -591,3 +793,21 @@ def _wear_checks(quantities, params, fixed, grid) -> None:
         methods = grid["method"].tolist() if "method" in grid else [fixed.get("method", "auto")]
         if not any(m in ("auto", "stepping", "time") for m in methods):
             raise SpecError("parameters.tol", "only the methods 'stepping' and 'time' take a tolerance")
+
+
+def _pair_checks(quantities, params, fixed, grid) -> None:
+    """Checks of a study over a model with contact pairs (its wear quantities)."""
+    if not any(q in quantities for q in ("wear_life", "wear")):
+        return
+    for name, what in (("cycles", "the horizon (cycles), > 0"), ("kw", "the Archard coefficient K_w (1/Pa)")):
+        if name not in params:
+            raise SpecError(f"parameters.{name}", f"required for the wear quantities: {what}")
+    if "wear" in quantities and "cycles" not in fixed:
+        raise SpecError(
+            "parameters.cycles",
+            "must be one value with the quantity 'wear' (its cycle grid is log-spaced from 1 to the horizon)",
+        )
+    if "tol" in params:
+        methods = grid["method"].tolist() if "method" in grid else [fixed.get("method", "auto")]
+        if not any(m in ("auto", "stepping") for m in methods):
+            raise SpecError("parameters.tol", "only the method 'stepping' (or 'auto') takes a tolerance")

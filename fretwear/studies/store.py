@@ -10,9 +10,9 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
-from .compute import STATUS, Work, method_label, outputs
+from .compute import STATUS, Work, method_label, outputs, pair_method, reported_dofs
 from .layout import Layout, layout
-from .spec import PARAMETERS, SpecError, StudySpec
+from .spec import SpecError, StudySpec
 
 __all__ = ["create_store", "open_store", "open_study", "template"]
 
@@ -24,6 +24,10 @@ _UNITS = {
     "relative_amplitude": "m",
     "sliding_distance": "m",
     "friction_energy": "J",
+    "slip_distance": "m",
+    "mean_pressure": "Pa",
+    "wear_depth": "m",
+    "wear_pressure": "Pa",
 }
 _LONG_NAMES = {
     "cycles_to": "cycles to w = fraction * u0 (inf: the contact sticks; NaN: beyond the horizon or failed)",
@@ -33,11 +37,23 @@ _LONG_NAMES = {
     "relative_amplitude": "first-harmonic amplitude of each contact's relative displacement (no wear)",
     "sliding_distance": "distance slid per period by each friction contact (no wear)",
     "friction_energy": "energy dissipated per period by each friction contact (no wear)",
+    "slip_distance": "distance slid per period by each contact pair (no wear)",
+    "mean_pressure": "contact pressure of each pair, mean over the period (no wear)",
+    "wear_depth": "worn depth of each contact pair along the wear history",
+    "wear_pressure": "contact pressure of each pair, mean over the period, along the wear history",
+}
+#: what the variables of a model with contact pairs mean where it differs from 1-D contacts
+_PAIR_NAMES = {
+    "amplitude": "first-harmonic amplitude of each reported DOF (no wear)",
+    "friction_energy": "energy dissipated per period by friction on the interface (no wear; J per m in 2-D)",
+    "cycles_to": "cycles to the worn depth at the deepest pair (inf: no wear; NaN: not reached, or failed)",
 }
 
 
 def _names(spec: StudySpec) -> dict[str, list[str]]:
     model = spec.model
+    if spec.pairs:
+        return {"dof": list(reported_dofs(model)), "pair": [f"pair{j + 1}" for j in range(model.n_pairs)]}
     if spec.model_kind == "paper":
         return {"dof": ["x1", "x2"], "contact": ["xr"], "friction_contact": ["xr"]}
     return {
@@ -58,17 +74,19 @@ def template(spec: StudySpec, lay: Layout):
     if spec.random:
         coords["sample"] = ("sample", np.arange(spec.samples), {"long_name": "random draw"})
         for name, values in spec.draws().items():
-            p = PARAMETERS[name]
+            p = spec.parameters[name]
             coords[name] = (
                 "sample",
                 values,
                 {"units": p.unit, "long_name": p.long_name, **spec.random[name].describe()},
             )
     for name, values in spec.grid.items():
-        p = PARAMETERS[name]
+        p = spec.parameters[name]
         coords[name] = (name, values, {"units": p.unit, "long_name": p.long_name})
     variables = outputs(work)
     extra_dims = {d for d_, _ in variables.values() for d in d_}
+    if "depth" in extra_dims:
+        coords["depth"] = ("depth", np.array(spec.depths), {"units": "m", "long_name": "worn depth"})
     if "fraction" in extra_dims:
         coords["fraction"] = ("fraction", np.array(spec.fractions), {"units": "-", "long_name": "w / u0"})
     if "cycles" in extra_dims:
@@ -80,6 +98,9 @@ def template(spec: StudySpec, lay: Layout):
     for d, names in _names(spec).items():
         if d in extra_dims:
             coords[d] = (d, np.array(names))
+    if "pair" in extra_dims:
+        position = spec.model.pairs.position
+        coords["position"] = ("pair", position, {"units": "m", "long_name": "coordinate along the interface"})
     data_vars: dict[str, Any] = {}
     encoding: dict[str, Any] = {}
     for name, (extra, shape) in variables.items():
@@ -87,7 +108,10 @@ def template(spec: StudySpec, lay: Layout):
         data_vars[name] = (
             dims + extra,
             da.full(lay.shape + shape, np.nan, chunks=chunks),
-            {"units": _UNITS[name], "long_name": _LONG_NAMES[name]},
+            {
+                "units": _UNITS[name],
+                "long_name": (_PAIR_NAMES if spec.pairs else {}).get(name, _LONG_NAMES[name]),
+            },
         )
         encoding[name] = {"chunks": chunks}
     data_vars["status"] = (
@@ -118,7 +142,12 @@ def template(spec: StudySpec, lay: Layout):
         "fixed_parameters": json.dumps(spec.fixed, sort_keys=True),
         "created_by": "fretwear study",
     }
-    if spec.wear and not {"method", "dynamics", "harmonics"} & set(spec.grid):
+    if spec.pairs:
+        attrs["model"] = spec.model_kind
+        attrs["reduce_hz"] = spec.reduce_hz
+        if spec.wear and "method" not in spec.grid:
+            attrs["wear_method"] = pair_method(spec.fixed)[0]
+    elif spec.wear and not {"method", "dynamics", "harmonics"} & set(spec.grid):
         attrs["wear_method"] = method_label(spec.model, spec.fixed)
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
     return ds, encoding

@@ -1,4 +1,4 @@
-"""Summaries of a study's result: the wear life over the random samples."""
+"""Summaries of a study's result: the wear life over the random samples, the deepest wear of an interface."""
 
 from __future__ import annotations
 
@@ -6,11 +6,12 @@ import numpy as np
 
 from .compute import HORIZON, OK, STUCK
 
-__all__ = ["wear_life_summary"]
+__all__ = ["wear_depth_summary", "wear_life_summary"]
 
 
-def wear_life_summary(ds, fraction: float = 0.5) -> dict[str, float]:
-    """Median and 5 / 95 % quantiles of the cycles to ``fraction * u0`` over the samples of a study.
+def wear_life_summary(ds, fraction: float = 0.5, *, depth: float | None = None) -> dict[str, float]:
+    """Median and 5 / 95 % quantiles of the cycles to ``fraction * u0`` over the samples of a study
+    (for a model with contact pairs: to the worn ``depth``, m, at the deepest pair).
 
     Points that stick count as an infinite life, points whose wear stays below
     ``fraction * u0`` at the horizon as a life beyond the horizon (``inf`` in
@@ -31,12 +32,14 @@ def wear_life_summary(ds, fraction: float = 0.5) -> dict[str, float]:
     """
     if "cycles_to" not in ds:
         raise ValueError("the study has no 'wear_life' quantity (no variable cycles_to)")
-    fractions = ds["fraction"].values
-    if not np.any(np.isclose(fractions, fraction)):
-        raise ValueError(
-            f"fraction must be one of the study's fractions {fractions.tolist()}, got {fraction!r}"
-        )
-    life = ds["cycles_to"].sel(fraction=fractions[np.isclose(fractions, fraction)][0])
+    level, value = ("depth", depth) if "depth" in ds.coords else ("fraction", fraction)
+    levels = ds[level].values
+    close = (
+        np.isclose(levels, value, atol=0.0 if level == "depth" else 1e-8) if value is not None else [False]
+    )
+    if not np.any(close):  # a depth (m) is tiny: relative closeness only
+        raise ValueError(f"{level} must be one of the study's {level}s {levels.tolist()}, got {value!r}")
+    life = ds["cycles_to"].sel({level: levels[close][0]})
     if set(life.dims) - {"sample"}:
         raise ValueError(f"select one point of the grid axes {sorted(set(life.dims) - {'sample'})} first")
     values = np.asarray(life.values, dtype=float).ravel()
@@ -52,4 +55,46 @@ def wear_life_summary(ds, fraction: float = 0.5) -> dict[str, float]:
         "stuck": int((status == STUCK).sum()),
         "beyond_horizon": int((usable & (status != STUCK) & np.isnan(values)).sum()),
         "left_out": int((~usable).sum()),
+    }
+
+
+def wear_depth_summary(ds) -> dict[str, float]:
+    """The deepest wear at the horizon over the points of a study of a model with contact pairs.
+
+    Per point, the largest worn depth over the pairs at the last cycle count
+    (the horizon); then its smallest, median and largest value over the points
+    that did not fail (status ``ok``, ``stuck`` or ``horizon``), and where the deepest of all is.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study with the ``wear`` quantity over a model with contact pairs (variable ``wear_depth``).
+
+    Returns
+    -------
+    dict
+        ``min``, ``median``, ``max`` (m), ``position`` (m, the pair of the deepest wear along the
+        interface), ``point`` (the point's coordinates, by dimension), counts ``n`` and ``left_out``.
+    """
+    if "wear_depth" not in ds:
+        raise ValueError("the study has no per-pair wear (variable wear_depth): a 'wear' study of a model "
+                         "with contact pairs")  # fmt: skip
+    last = ds["wear_depth"].isel(cycles=-1)
+    usable = np.isin(np.asarray(ds["status"].values), (OK, STUCK, HORIZON))  # stuck: no wear, depth 0
+    deepest = last.max("pair").values
+    n = int(usable.sum())
+    out: dict[str, float] = {"n": n, "left_out": int((~usable).sum())}
+    if n == 0:
+        return out | {"min": np.nan, "median": np.nan, "max": np.nan, "position": np.nan, "point": {}}
+    values = deepest[usable]
+    where = np.unravel_index(int(np.argmax(np.where(usable, deepest, -np.inf))), deepest.shape)
+    point = dict(zip(ds["status"].dims, where, strict=True))
+    pair = int(last.isel(point).argmax("pair"))
+    coords = {d: ds[d].values[i].item() for d, i in point.items() if d in ds.coords}
+    return out | {
+        "min": float(values.min()),
+        "median": float(np.median(values)),
+        "max": float(values.max()),
+        "position": float(ds["position"].values[pair]),
+        "point": coords,
     }

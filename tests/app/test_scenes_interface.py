@@ -1,7 +1,9 @@
 """The Interface scene: one run of the cylinder-on-flat benchmark (16 pairs, Nh = 5), drawn and exported.
 
 The run goes through the scene as the page drives it (settings, progress by
-stage, the shared-cache protocol), in the calling thread. The checks compare
+task, the shared-cache protocol), in the calling thread: four tasks keyed by the
+backend calls they cache, which call the front functions (``fretwear.reduce``,
+``fretwear.wear_history``, ``fretwear.sweep``). The checks compare
 what the figures draw with the library's results and with the invariants of
 the benchmark: the pressure integral equals the normal load at every record,
 the Hertz reference peaks at the benchmark's ``p0`` over its half-width ``a``,
@@ -18,8 +20,8 @@ import numpy as np
 import pytest
 
 from app.backend import Backend, ResultCache
-from app.scenes.interface import FILE, GROSS, PROFILES, InterfaceScene, compute_interface
-from app.state import Tasks, call_key
+from app.scenes.interface import FILE, GROSS, MODELS, PROFILES, RTOL, InterfaceScene
+from app.state import Tasks
 from fretwear import figures
 from fretwear.model import OPEN, SLIP, STICK
 
@@ -46,8 +48,58 @@ def test_nothing_computes_until_shown_then_one_run_with_progress(run):
     assert done == sorted(done) and done[-1] == 100 and len(done) >= 3
     assert any("wear history" in s for _p, s in reports) and any("FRF" in s for _p, s in reports)
     assert scene.model == GROSS and scene.results["converged"], scene.results["message"]
-    # the run is one task of the session's machinery, cached under the call it makes
-    assert scene.cache.get(call_key(compute_interface, scene.settings())) is scene.results
+    # the run is four tasks of the session's machinery, each cached under the backend call it makes
+    tasks = scene.settings().tasks(scene.tasks)
+    assert [t.key[0] for t in tasks] == [
+        "interface_model",
+        "interface_history",
+        "interface_frf",
+        "interface_frf",
+    ]
+    assert all(t.key in scene.cache for t in tasks)
+    assert scene.tasks.backend.calls == {"cylinder_on_flat": 1, "reduce": 1, "wear_history": 1, "sweep": 2}
+
+
+def test_the_numbers_are_those_of_the_interface_solvers_the_scene_called_before(run):
+    """The same reduction, history and FRFs as the scene's former direct calls of ``fretwear.interface``."""
+    from fretwear.interface import (
+        ContactCondensation,
+        InterfaceProblem,
+        cylinder_on_flat,
+        frf,
+        wear_interface,
+    )
+    from fretwear.model import craig_bampton
+
+    scene, _ = run
+    s, r = scene.settings(), scene.results
+    model = cylinder_on_flat(contact_nodes=s.contact_nodes, **MODELS[GROSS])
+    cond = ContactCondensation(craig_bampton(model, s.harmonics * max(s.frequency, s.fmax)))
+
+    def make(omega):
+        return InterfaceProblem(cond, omega, harmonics=s.harmonics)
+
+    h = wear_interface(make(2 * np.pi * s.frequency), s.kw, s.cycles, rtol=RTOL)
+    np.testing.assert_array_equal(r["cycles"], h.cycles)
+    np.testing.assert_allclose(r["wear"], h.wear, rtol=1e-12, atol=1e-20)
+    np.testing.assert_allclose(r["pressure"], h.pressure, rtol=1e-12)
+    freqs = np.linspace(s.fmin, s.fmax, s.n_frequencies)
+    np.testing.assert_allclose(r["frf_before"], frf(make, freqs, "pad_x")[0], rtol=1e-12)
+    np.testing.assert_allclose(r["frf_after"], frf(make, freqs, "pad_x", wear=h.wear[-1])[0], rtol=1e-12)
+    assert r["dof_name"] == "pad_x" and r["dof"] == model.dof("pad_x")
+
+
+def test_a_change_recomputes_only_the_tasks_whose_call_it_changes(run):
+    """``K_w`` is an argument of the history (and so of the FRF after wear), not of the reduced model or
+    of the FRF before wear: those come from the cache."""
+    scene, _ = run
+    calls = scene.tasks.backend.calls
+    before = dict(calls)
+    scene.kw = 2e-14
+    assert scene.error == "" and calls["reduce"] == before["reduce"]
+    assert calls["wear_history"] == before["wear_history"] + 1 and calls["sweep"] == before["sweep"] + 1
+    scene.kw = 1e-14  # back: everything from the cache
+    assert dict(calls) == {**before, "wear_history": before["wear_history"] + 1, "sweep": before["sweep"] + 1}
 
 
 def test_profiles_are_the_histories_and_the_load_is_carried(run):
@@ -140,11 +192,13 @@ def test_the_papers_two_dof_model_is_a_choice_and_wears_like_the_single_contact(
 WARMED_RUN = """
 import json, fretwear.compile as c
 from numba.core import event
-from app.scenes.interface import InterfaceSettings, compute_interface
+from app.backend import Backend, ResultCache
+from app.scenes.interface import InterfaceScene
+from app.state import Tasks
 c.warm("interface")
 compiled = event.RecordingListener()
 event.register("numba:compile", compiled)
-compute_interface(InterfaceSettings(), lambda done, stage: None, lambda: False)
+InterfaceScene(tasks=Tasks(Backend(), ResultCache())).activate()
 print(json.dumps(sorted({e.data["dispatcher"].py_func.__qualname__ for _, e in compiled.buffer})))
 """
 

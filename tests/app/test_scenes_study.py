@@ -41,6 +41,36 @@ harmonics = 5
 [wear]
 ncycles = 12
 """
+#: a study of the paper's 2-DOF model as a one-pair interface (a model with contact pairs)
+PAIRS = """
+[study]
+title = "pairs"
+quantities = ["frf"]
+[model]
+name = "paper_interface"
+[parameters]
+frequency = [0.5, 0.7, 0.9]
+mu = [0.5, 1.0]
+harmonics = 5
+"""
+#: the wear life of the one-pair interface over random friction coefficients, to worn depths (m)
+PAIRS_LIFE = """
+[study]
+title = "pairs life"
+quantities = ["wear_life"]
+seed = 4
+samples = 6
+[model]
+name = "paper_interface"
+[parameters]
+frequency = 0.7
+mu = { distribution = "uniform", low = 0.6, high = 1.0 }
+kw = 1e-11
+cycles = 2e4
+harmonics = 5
+[wear]
+depths = [1e-7, 3e-7]
+"""
 #: the browser tests' study (16 draws; the normal mu goes negative for some), under its own title
 RANDOM = STUDY_SPEC.replace('title = "browser study"', 'title = "random"')
 
@@ -54,7 +84,7 @@ def stores(tmp_path_factory):
     with Client(
         processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
     ) as client:
-        for name, text in (("grid", GRID), ("random", RANDOM)):
+        for name, text in (("grid", GRID), ("random", RANDOM), ("pairs", PAIRS), ("pairs_life", PAIRS_LIFE)):
             spec_path = root / f"{name}.toml"
             spec_path.write_text(text)
             out[name] = root / f"{name}.zarr"
@@ -72,6 +102,7 @@ def no_solver(monkeypatch):
     entries = [("fretwear.hbm.periodic", "solve_periodic"), ("fretwear.hbm.continuation", "sweep"),
                ("fretwear.wear.history", "wear_history"), ("fretwear.studies.run", "compute_block"),
                ("fretwear.studies.compute", "sweep"), ("fretwear.studies.compute", "wear_history"),
+               ("fretwear.studies.compute", "solve_periodic"),
                ("fretwear.studies.run", "run_study")]  # fmt: skip
     for module, name in entries:
         module = import_module(module)  # the module, not a function of the package named like it
@@ -115,6 +146,38 @@ def test_grid_slices_show_the_stored_values_without_a_solver(stores, no_solver):
     image = scene.figure("wear_map").get(0)
     stored = ds.wear_fraction.isel(mu=0).transpose("cycles", "frequency").values
     np.testing.assert_array_equal(image.dimension_values(2, flat=False), stored)
+
+
+def test_a_study_of_a_model_with_contact_pairs_shows_its_per_pair_values(stores, no_solver):
+    figures.load_backend("bokeh")
+    ds = xr.open_zarr(stores["pairs"])
+    scene = StudyScene(stores["pairs"])
+    assert scene.error == "" and scene.grid_dims == ("mu", "frequency")
+    assert {"amplitude", "slip_distance", "mean_pressure", "friction_energy"} <= set(
+        scene.param.quantity.objects
+    )
+    scene.param.update(quantity="slip_distance", axis="frequency")
+    scene.select("mu", 1)
+    x, y = curve_data(scene.figure("slice"), "slip_distance pair1")
+    np.testing.assert_array_equal(x, ds.frequency.values)
+    np.testing.assert_array_equal(y, ds.slip_distance.isel(mu=1, pair=0).values)
+    assert y[0] == 0 and np.all(y[1:] > 0)  # the paper's 10 N case: stuck at 0.5 Hz, slipping from 0.7 Hz
+    table = scene.datasets()["slice"]
+    np.testing.assert_array_equal(table["slip_distance pair1"], y)
+
+
+def test_the_life_of_a_pair_study_is_to_worn_depths(stores, no_solver):
+    figures.load_backend("bokeh")
+    ds = xr.open_zarr(stores["pairs_life"])
+    scene = StudyScene(stores["pairs_life"])
+    assert scene.error == "" and scene.level == "depth" and scene.param.fraction.objects == [1e-7, 3e-7]
+    assert "histogram" in scene.figure_names
+    scene.fraction = 1e-7
+    life, summary = scene._life()
+    np.testing.assert_array_equal(life, ds.cycles_to.sel(depth=1e-7).values)
+    assert summary == wear_life_summary(ds, depth=1e-7) and np.isfinite(life).all()
+    hist = scene.figure("histogram")
+    assert hist.get(0).kdims[0].label == "cycles to a worn depth of 1e-07 m"
 
 
 def test_random_samples_histogram_quantiles_and_invalid_draws(stores, no_solver):
@@ -173,18 +236,17 @@ def test_bad_paths_are_one_message_not_a_crash(tmp_path, stores):
         scene.select("mu", 2)
 
 
-def test_the_store_is_read_once_per_cache_while_unchanged(stores, monkeypatch):
+def test_the_store_is_read_once_per_cache_while_unchanged(stores):
     """The store is read by a task on the session's machinery: sessions sharing a cache share the
     dataset, keyed by the call (path and modification time); a changed store is read again."""
-    import app.scenes.study as study
-
     reads = []
-    monkeypatch.setattr(study, "open_study", lambda path: reads.append(path) or open_study(path))
-    tasks = Tasks(Backend(), ResultCache())
+    tasks = Tasks(Backend(open_study=lambda path: reads.append(path) or open_study(path)), ResultCache())
     first, second = StudyScene(stores["grid"], tasks=tasks), StudyScene(stores["grid"], tasks=tasks)
     assert len(reads) == 1 and second.ds is first.ds and not second.busy
     path = stores["grid"].resolve()
-    assert tasks.cache.get(call_key(study.read_study, str(path), path.stat().st_mtime)) is first.ds
+    # the same task path as every tab: a backend call, keyed by that call
+    assert tasks.cache.get(call_key(tasks.backend.study, str(path), path.stat().st_mtime)) is first.ds
+    assert tasks.backend.calls["open_study"] == 1
     os.utime(path, (path.stat().st_atime, path.stat().st_mtime + 10))
     assert StudyScene(stores["grid"], tasks=tasks).error == "" and len(reads) == 2
 
