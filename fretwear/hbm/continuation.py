@@ -39,6 +39,19 @@ def _x_scale(problem: Problem) -> float:
     return max(f / max(z1, 1e-300), 1e-300)
 
 
+#: the keywords of a sweep or a continuation that go to every :class:`Problem`
+SETTINGS = ("samples", "wear", "half_wave")
+
+
+def _settings(harmonics: int, settings: dict) -> dict:
+    """``harmonics`` and ``settings`` as the keywords of :class:`Problem`; other keywords raise ValueError."""
+    unknown = sorted(set(settings) - set(SETTINGS))
+    if unknown:
+        raise ValueError(f"{unknown[0]!r} is not an option of a sweep or a continuation: besides its own "
+                         f"(eps, tol, ...) it takes {', '.join(SETTINGS)}")  # fmt: skip
+    return dict(harmonics=harmonics, **settings)
+
+
 def _frequency_evaluate(model: Model, settings: dict, eps) -> Evaluate:
     """Residual, Jacobian and ``dR/d omega``.
 
@@ -88,13 +101,11 @@ def sweep(
     omegas,
     harmonics: int = 7,
     *,
-    samples: int | None = None,
-    wear=None,
-    half_wave: bool | None = None,
     eps=None,
     tol: float = 1e-10,
     max_iter: int = 50,
     compiled: bool = True,
+    **settings,
 ) -> Sweep:
     """Periodic responses at the frequencies ``omegas`` (rad/s), in the given order.
 
@@ -110,9 +121,10 @@ def sweep(
     with ``compiled=False`` each point goes through :func:`solve_problem` in
     Python instead: the reference the compiled sweep is checked and timed
     against, with the same answers (to round-off), several times slower.
+    ``settings``: ``samples``, ``wear``, ``half_wave`` as :func:`fretwear.solve_periodic`.
     """
     omegas = check_omegas(omegas)
-    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    settings = _settings(harmonics, settings)
     if compiled:
         out = compiled_sweep.solve(model, omegas, settings, eps, tol, max_iter)
         return Sweep(
@@ -163,21 +175,20 @@ def continuation(
     omega_end: float,
     harmonics: int = 7,
     *,
-    samples: int | None = None,
-    wear=None,
-    half_wave: bool | None = None,
     eps=None,
     tol: float = 1e-10,
     h_max: float = 0.02,
     max_steps: int = 5000,
+    **settings,
 ) -> Branch:
     """Follow the response branch from ``omega_start`` to ``omega_end`` (rad/s) through folds.
 
     Pseudo-arc-length continuation in frequency; every accepted point is
     returned, each the same solution :func:`solve_periodic` would give there
     (same penalty), and ``Branch.folds`` locates the turning points.
+    ``settings``: ``samples``, ``wear``, ``half_wave`` as :func:`fretwear.solve_periodic`.
     """
-    settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    settings = _settings(harmonics, settings)
     first = Problem(model, omega_start, eps=eps, **settings)
     sol0 = solve_problem(first, None, tol, 50)
     if not sol0.converged or first.n_active == 0:

@@ -37,6 +37,7 @@ __all__ = [
     "compute_block",
     "method_label",
     "outputs",
+    "VARIABLES",
     "pair_method",
     "point_method",
     "prepared",
@@ -99,49 +100,39 @@ def reported_dofs(model) -> dict[str, int]:
     return {f"x{d + 1}": int(d) for d in full.loaded_dofs}
 
 
+#: per model kind (pairs or not) and quantity, the variables and their extra dimensions
+VARIABLES: dict[bool, dict[str, dict[str, tuple[str, ...]]]] = {
+    False: {
+        "frf": {"amplitude": ("dof",), "relative_amplitude": ("contact",),
+                "sliding_distance": ("friction_contact",), "friction_energy": ("friction_contact",)},
+        "wear_life": {"cycles_to": ("fraction",)},
+        "wear": {"wear_fraction": ("cycles",), "wear_amplitude": ("cycles", "dof")},
+    },
+    True: {  # per reported DOF (:func:`reported_dofs`) and per pair
+        "frf": {"amplitude": ("dof",), "slip_distance": ("pair",), "mean_pressure": ("pair",),
+                "friction_energy": ()},
+        "wear_life": {"cycles_to": ("depth",)},
+        "wear": {"wear_depth": ("cycles", "pair"), "wear_pressure": ("cycles", "pair"),
+                 "wear_amplitude": ("cycles", "dof")},
+    },
+}  # fmt: skip
+
+
 def outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...]]]:
-    """Variables of the quantities: name -> (extra dimensions, extra shape)."""
+    """Variables of the quantities (:data:`VARIABLES`): name -> (extra dimensions, extra shape)."""
     model = work.model
     if work.pairs:
-        return _pair_outputs(work)
-    n, nc, nf = model.n_dofs, len(model.contacts), len(model.friction)
-    out: dict[str, tuple[tuple[str, ...], tuple[int, ...]]] = {}
-    if "frf" in work.quantities:
-        out.update(
-            amplitude=(("dof",), (n,)),
-            relative_amplitude=(("contact",), (nc,)),
-            sliding_distance=(("friction_contact",), (nf,)),
-            friction_energy=(("friction_contact",), (nf,)),
-        )
-    if "wear_life" in work.quantities:
-        out["cycles_to"] = (("fraction",), (len(work.fractions),))
-    if "wear" in work.quantities:
-        nN = len(work.cycle_grid)
-        out.update(wear_fraction=(("cycles",), (nN,)), wear_amplitude=(("cycles", "dof"), (nN, n)))
-    return out
-
-
-def _pair_outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...]]]:
-    """Variables of a model with contact pairs: per reported DOF (:func:`reported_dofs`) and per pair."""
-    nd, nc = len(reported_dofs(work.model)), work.model.n_pairs
-    out: dict[str, tuple[tuple[str, ...], tuple[int, ...]]] = {}
-    if "frf" in work.quantities:
-        out.update(
-            amplitude=(("dof",), (nd,)),
-            slip_distance=(("pair",), (nc,)),
-            mean_pressure=(("pair",), (nc,)),
-            friction_energy=((), ()),
-        )
-    if "wear_life" in work.quantities:
-        out["cycles_to"] = (("depth",), (len(work.depths),))
-    if "wear" in work.quantities:
-        nN = len(work.cycle_grid)
-        out.update(
-            wear_depth=(("cycles", "pair"), (nN, nc)),
-            wear_pressure=(("cycles", "pair"), (nN, nc)),
-            wear_amplitude=(("cycles", "dof"), (nN, nd)),
-        )
-    return out
+        sizes = dict(dof=len(reported_dofs(model)), pair=model.n_pairs, depth=len(work.depths))
+    else:
+        sizes = dict(dof=model.n_dofs, contact=len(model.contacts), friction_contact=len(model.friction),
+                     fraction=len(work.fractions))  # fmt: skip
+    sizes["cycles"] = len(work.cycle_grid) if "wear" in work.quantities else 0
+    return {
+        name: (dims, tuple(sizes[d] for d in dims))
+        for quantity, variables in VARIABLES[work.pairs].items()
+        if quantity in work.quantities
+        for name, dims in variables.items()
+    }
 
 
 def _model(work: Work, p: Mapping[str, Any]):

@@ -10,7 +10,6 @@ study's ``f_max`` (:func:`fretwear.reduce`), to 1e-12.
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -52,13 +51,6 @@ harmonics = 3
 ncycles = 5
 depths = [1e-6, 1e-5]
 """
-
-
-@pytest.fixture(scope="module")
-def spec_path(tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("pairs") / "pairs.toml"
-    path.write_text(SPEC)
-    return path
 
 
 @pytest.fixture(scope="module")

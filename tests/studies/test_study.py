@@ -58,13 +58,6 @@ def _data(ds):
 
 
 @pytest.fixture(scope="module")
-def spec_path(tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("spec") / "study.toml"
-    path.write_text(SPEC)
-    return path
-
-
-@pytest.fixture(scope="module")
 def local_run(spec_path, tmp_path_factory):
     """The study on a local cluster of two worker processes: (exit status, Dataset)."""
     out = tmp_path_factory.mktemp("local") / "result.zarr"
