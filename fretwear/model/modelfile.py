@@ -221,14 +221,8 @@ def model_file_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Mod
     source : str
         Name of the description used in error messages.
 
-    Returns
-    -------
-    ModelFile
-
-    Raises
-    ------
-    ModelFileError
-        If ``data`` does not follow the format of the module docstring.
+    Returns a :class:`ModelFile`; raises :class:`ModelFileError` if ``data``
+    does not follow the format of the module docstring.
     """
     r = _Reader(source)
     r.keys(data, None, _TOP_KEYS, required=("structure", "excitation"))

@@ -474,10 +474,8 @@ def shooting(
 
     Parameters
     ----------
-    model : Model
-        Structure with friction contacts only; ``M`` positive definite.
-    omega : float
-        Excitation angular frequency (rad/s), > 0.
+    model, omega
+        As :func:`~fretwear.time.integrator.integrate` (friction contacts only, rad/s).
     y_guess : array_like, shape (2 n,), optional
         Guess of the state at ``t = 0`` (e.g. the :attr:`~ShootingSolution.unknowns`
         of a neighbouring solution). Without one, or if Newton fails from it,

@@ -53,13 +53,8 @@ def wear_stepping(
 
     Parameters
     ----------
-    model : Model
-    omega : float
-        Excitation frequency (rad/s).
-    kw : float
-        Archard coefficient (1/N), >= 0.
-    cycles : float
-        Horizon (cycles), > 0.
+    model, omega, kw, cycles
+        As :func:`fretwear.wear.wear_history` (rad/s, 1/N, cycles).
     harmonics, samples : int, optional
         Harmonic balance settings of the DLFT periodic solves (``Nh`` default 21);
         giving either makes ``dynamics="auto"`` the DLFT dynamics.
