@@ -18,7 +18,7 @@ class MethodsScene(Scene):
     key = "methods"
     title = "Methods"
     figure_names = ("methods", "harmonics", "bases")
-    dataset_names = ("methods", "harmonics", "bases")
+    dataset_names = figure_names  # one data set per figure
     uses_selection = True
     explanation = f"""
 **What you see.** Left: the wear history at the selected frequency by the four

@@ -36,7 +36,7 @@ class WearMapScene(Scene):
     key = "wearmap"
     title = "Wear map"
     figure_names = ("wear_map", "history", "pseudo_frf")
-    dataset_names = ("wear_map", "history", "pseudo_frf")
+    dataset_names = figure_names  # one data set per figure
     uses_selection = True
     explanation = f"""
 **What you see.** The {term("wear map")}: the worn depth w / {term("u0")} over frequency and the number

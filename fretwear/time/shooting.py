@@ -560,13 +560,10 @@ def periodic_state(
 
     Parameters
     ----------
-    model : Model
-    omega : float
-        Excitation angular frequency (rad/s), > 0.
+    model, omega, wear
+        As :func:`shooting`.
     y_guess : array_like, shape (2 n,)
         Starting state ``(u, v)`` at ``t = 0`` (m, m/s).
-    wear : array_like, shape (n_friction,), optional
-        Wear depth of each friction contact (m).
     tol : float
         Target periodicity residual (see :attr:`ShootingSolution.residual`).
     max_iter : int
