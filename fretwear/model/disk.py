@@ -23,7 +23,7 @@ from one sector to the next; per ``nd`` the sector's three frequencies solve
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, fields
 
 import numpy as np
 import scipy.linalg as sl
@@ -126,24 +126,18 @@ class DiskSector:
 def bladed_disk(
     sectors: int = 24,
     *,
-    m0: float = 1.2,
-    mb1: float = 0.35,
-    mb2: float = 0.25,
-    kG: float = 6e5,
-    k0: float = 5e7,
-    kb1: float = 1e6,
-    kb2: float = 2e6,
     damping_ratio: float = 1e-3,
     mistuning=None,
     engine_order: int = 1,
     fex: float = 1.0,
+    **properties: float,
 ) -> Model:
     """The lumped bladed disk (module docstring) under a travelling wave on the blade tips, no contacts yet.
 
     Parameters
     ----------
-    sectors, m0, mb1, mb2, kG, k0, kb1, kb2
-        As :class:`DiskSector` (kg, N/m).
+    sectors : int
+        Number of sectors ``N >= 3``.
     damping_ratio : float
         Modal damping ratio of every mode (-), in [0, 1).
     mistuning : array_like, shape (sectors,), optional
@@ -153,6 +147,9 @@ def bladed_disk(
         Engine order ``EO`` of the excitation: tip ``i`` is forced by ``fex cos(omega t - 2 pi EO i / N)``.
     fex : float
         Force amplitude on each tip (N), finite.
+    **properties : float
+        The masses ``m0, mb1, mb2`` (kg) and springs ``kG, k0, kb1, kb2`` (N/m) of
+        :class:`DiskSector`, its defaults for those not given.
 
     Returns
     -------
@@ -160,7 +157,13 @@ def bladed_disk(
         ``3 N`` DOFs, sector ``i``'s at ``3 i`` (disk), ``3 i + 1`` (root), ``3 i + 2`` (tip), named
         ``disk{i}``, ``root{i}``, ``tip{i}``; ``info`` holds the parameters.
     """
-    sector = DiskSector(sectors, m0, mb1, mb2, kG, k0, kb1, kb2)
+    names = [f.name for f in fields(DiskSector)][1:]
+    unknown = sorted(set(properties) - set(names))
+    if unknown:
+        raise ValueError(
+            f"{unknown[0]!r} is not a parameter of bladed_disk; the sector's are {', '.join(names)}"
+        )
+    sector = DiskSector(sectors, **properties)
     n_sec = sector.sectors
     delta = np.zeros(n_sec) if mistuning is None else np.array(mistuning, dtype=float)
     if delta.shape != (n_sec,) or not np.all(np.isfinite(delta)) or np.any(delta <= -1):
@@ -172,8 +175,7 @@ def bladed_disk(
     w2, phi = sl.eigh(K, M)
     MPhi = M @ phi
     C = MPhi @ np.diag(2 * damping_ratio * np.sqrt(w2)) @ MPhi.T
-    names = {f"{part}{i}": 3 * i + k for i in range(n_sec) for k, part in enumerate(SECTOR_DOFS)}
-    info = dict(sectors=n_sec, m0=m0, mb1=mb1, mb2=mb2, kG=kG, k0=k0, kb1=kb1, kb2=kb2,
-                damping_ratio=damping_ratio, engine_order=engine_order, fex=fex)  # fmt: skip
-    model = Model(M=M, C=0.5 * (C + C.T), K=K, names=names, info=info)
+    dof_names = {f"{part}{i}": 3 * i + k for i in range(n_sec) for k, part in enumerate(SECTOR_DOFS)}
+    info = {**asdict(sector), "damping_ratio": damping_ratio, "engine_order": engine_order, "fex": fex}
+    model = Model(M=M, C=0.5 * (C + C.T), K=K, names=dof_names, info=info)
     return model.travelling_wave(np.arange(n_sec) * 3 + 2, engine_order, fex)
