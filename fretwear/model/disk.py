@@ -161,7 +161,7 @@ def bladed_disk(
     unknown = sorted(set(properties) - set(names))
     if unknown:
         raise ValueError(
-            f"{unknown[0]!r} is not a parameter of bladed_disk; the sector's are {', '.join(names)}"
+            f"{unknown[0]!r} is not a parameter of bladed_disk; the sector has {', '.join(names)}"
         )
     sector = DiskSector(sectors, **properties)
     n_sec = sector.sectors

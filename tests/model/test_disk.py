@@ -73,6 +73,8 @@ def test_bad_disk_parameters_are_named():
         fw.bladed_disk(kb1=-1.0)
     with pytest.raises(ValueError, match="mistuning"):
         fw.bladed_disk(4, mistuning=[0.0, 0.0, -1.0, 0.0])
+    with pytest.raises(ValueError, match="'m00' is not a parameter of bladed_disk; the sector has m0, mb1"):
+        fw.bladed_disk(m00=1.0)
     with pytest.raises(ValueError, match="damping_ratio"):
         fw.bladed_disk(damping_ratio=1.0)
     with pytest.raises(ValueError, match="nodal_diameter"):
