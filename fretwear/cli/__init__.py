@@ -1,5 +1,5 @@
 """Command line: ``fretwear frf``, ``linear``, ``point``, ``wear``, ``map``, ``cost``, ``figures``, ``study``,
-``interface``.
+``interface``, ``disk``.
 
 The commands are thin wrappers around the library's front functions, the same
 the dashboard and the benchmarks call (:func:`fretwear.sweep`,
@@ -48,7 +48,7 @@ resumes when rerun.
 Layout
 ------
 One module per command (:mod:`~fretwear.cli.frf`, ``linear``, ``point``,
-``wear``, ``map``, ``cost``, ``figures``, ``interface``, ``study``), each with
+``wear``, ``map``, ``cost``, ``figures``, ``interface``, ``study``, ``disk``), each with
 its ``HELP`` and ``DESCRIPTION``, ``add_arguments(parser)`` and ``run(args)``
 (and ``kernel_needs(args, model)`` where it runs compiled kernels); what
 several use is in :mod:`fretwear.cli.shared`.
@@ -62,7 +62,7 @@ import sys
 from collections.abc import Sequence
 
 from ..arguments import document
-from . import cost, figures, frf, interface, linear, point, study, wear
+from . import cost, disk, figures, frf, interface, linear, point, study, wear
 from . import map as wear_map_command
 from .shared import (
     EXIT_ERROR,
@@ -100,6 +100,7 @@ COMMANDS = {
     "figures": figures,
     "interface": interface,
     "study": study,
+    "disk": disk,
 }
 
 
