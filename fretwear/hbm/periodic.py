@@ -40,6 +40,7 @@ __all__ = [
     "NewtonResult",
     "solve_periodic",
     "solve_problem",
+    "steps",
     "newton",
     "load_homotopy",
     "newton_homotopy",
@@ -214,28 +215,29 @@ def solve_periodic(
     return out if isinstance(out, PeriodicSolution) else solve_problem(out, guess, tol, max_iter)
 
 
+def steps(problem: Problem) -> strategy.Steps:
+    """The steps of :func:`fretwear.hbm.strategy.solve` on ``problem``: Newton, the Newton homotopy, the
+    stuck solution (friction only) or the stuck guess as the start, the exact load continuation."""
+    friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
+    start = problem.stuck_solution if friction_only else problem.stuck_guess
+    return strategy.Steps(problem.size, partial(newton, problem), partial(newton_homotopy, problem), start,
+                          partial(load_homotopy, problem))  # fmt: skip
+
+
 def solve_problem(
     problem: Problem, guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 50
 ) -> PeriodicSolution:
     """Solve a prepared :class:`Problem`, computing only the effects present.
 
     Linear paths first (no active contact; exact stuck solution); then the
-    strategy of :mod:`fretwear.hbm.strategy` with this law's steps: Newton and
-    the Newton homotopy from the ``guess``, Newton from the stuck solution, the
-    exact load continuation.
+    strategy of :mod:`fretwear.hbm.strategy` with this law's :func:`steps`:
+    Newton and the Newton homotopy from the ``guess``, Newton from the stuck
+    solution, the exact load continuation.
     """
     if problem.n_active == 0:
         return PeriodicSolution.build(problem, None, NewtonResult(np.zeros(0), True, 0, 0.0), "linear-open")
-    friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
-    if friction_only and problem.stick_ratio() < 1.0:
+    if np.all(problem.kinds == dlft.FRICTION) and problem.stick_ratio() < 1.0:
         x = problem.stuck_solution()
         return PeriodicSolution.build(problem, x, NewtonResult(x, True, 0, 0.0), "linear-stuck")
-    steps = strategy.Steps(
-        problem.size,
-        partial(newton, problem),
-        partial(newton_homotopy, problem),
-        problem.stuck_solution if friction_only else problem.stuck_guess,
-        partial(load_homotopy, problem),
-    )
-    res, path = strategy.solve(steps, guess, tol, max_iter)
+    res, path = strategy.solve(steps(problem), guess, tol, max_iter)
     return PeriodicSolution.build(problem, res.x, res, path)

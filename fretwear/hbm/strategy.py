@@ -76,6 +76,9 @@ class Steps:
         Newton iterations at most from the guess and from the start (and at
         most ``max_iter``). Short budgets suit a law whose walk is cheap per
         piece; a law with costly pieces lets Newton run longer.
+    homotopy_path : str
+        The path of a solution the homotopy found (another homotopy than
+        Newton's names itself, e.g. the normal-load walk of a wear history).
     """
 
     size: int
@@ -85,13 +88,14 @@ class Steps:
     load_walk: Callable[[float, int], NewtonResult]
     guess_steps: int = GUESS_STEPS
     start_steps: int = START_STEPS
+    homotopy_path: str = "dlft-newton-homotopy"
 
 
 def solve(steps: Steps, guess: np.ndarray | None, tol: float, max_iter: int) -> tuple[NewtonResult, str]:
     """Solve by the strategy of the module docstring; returns the result and its path.
 
-    The path is ``"dlft"`` (Newton), ``"dlft-newton-homotopy"`` (from the
-    guess) or ``"dlft-homotopy"`` (the load walk). ``iterations`` counts every
+    The path is ``"dlft"`` (Newton), ``steps.homotopy_path`` (the homotopy from
+    the guess) or ``"dlft-homotopy"`` (the load walk). ``iterations`` counts every
     Newton iteration and walk piece spent.
     """
     spent = 0
@@ -106,7 +110,7 @@ def solve(steps: Steps, guess: np.ndarray | None, tol: float, max_iter: int) -> 
         res = steps.homotopy(res.x, tol)  # from Newton's best iterate
         res.iterations += spent
         if res.converged:
-            return res, "dlft-newton-homotopy"
+            return res, steps.homotopy_path
         spent = res.iterations
     res, path = steps.newton(steps.start(), tol, min(max_iter, steps.start_steps)), "dlft"
     if not res.converged:

@@ -9,11 +9,15 @@ response quantities a history records from DLFT contact forces.
 
 from __future__ import annotations
 
+from dataclasses import replace
+from functools import partial
+
 import numpy as np
 
+from ..hbm import strategy
 from ..hbm.condensation import recover
 from ..hbm.harmonics import amplitude, extrema, full_synthesis
-from ..hbm.periodic import Problem, follow_normal_load, newton, solve_problem
+from ..hbm.periodic import Problem, follow_normal_load, solve_problem, steps
 from ..hbm.solution import PeriodicSolution
 from ..model import Model
 from ..time.patterns import unsupported
@@ -66,16 +70,16 @@ class Dynamics:
             self.problem = Problem(model, omega, self.harmonics, samples)
 
     def _solve(self, problem: Problem) -> PeriodicSolution:
-        """Warm start: Newton from the last solution, then the exact normal-load walk, then cold."""
+        """Warm start from the last solution: the solve strategy with a short Newton and, for one
+        contact, the exact normal-load walk from the last wear state as its homotopy."""
         last = getattr(self, "last", None)
         if self.guess is None or last is None or self.guess.shape != (problem.size,):
             return solve_problem(problem)
-        res = newton(problem, self.guess, 1e-10, 8)
-        path = "dlft"
-        if not res.converged and problem.n_active == 1 and last.n_active == 1:
-            res, path = follow_normal_load(last, self.guess, problem), "dlft-load-walk"
-        if not res.converged:
-            return solve_problem(problem, self.guess)
+        how = replace(steps(problem), guess_steps=8)
+        if problem.n_active == 1 and last.n_active == 1:  # the walk starts on the last solution, exact
+            walk = partial(follow_normal_load, last, self.guess, problem)
+            how = replace(how, homotopy=lambda _x, tol: walk(tol), homotopy_path="dlft-load-walk")
+        res, path = strategy.solve(how, self.guess, 1e-10, 50)  # no linear check: the last state slipped
         return PeriodicSolution.build(problem, res.x, res, path)
 
     def __call__(self, wear: np.ndarray, keep: bool = True):
