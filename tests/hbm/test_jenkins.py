@@ -17,6 +17,7 @@ from scipy.optimize import fsolve
 
 import fretwear as fw
 from fretwear.hbm import dlft
+from fretwear.hbm.continuation import sweep_point_by_point
 from fretwear.hbm.periodic import Problem, load_homotopy, newton
 from fretwear.model import FrictionContact, Model, jenkins_oscillator
 from fretwear.model.modelfile import dumps_model, model_from_dict
@@ -234,13 +235,18 @@ def test_load_walk_reaches_the_newton_solution():
     assert np.abs(walked.x - direct.unknowns).max() <= 1e-9 * np.abs(direct.unknowns).max()
 
 
-def test_sweep_equals_single_solves():
+def test_sweep_and_single_solves_equal_the_point_by_point_solves():
+    """fw.sweep and fw.solve_periodic route Jenkins models to the solves in x (the compiled sweep's
+    augmented unknowns do not carry the law); the point-by-point sweep is that solve."""
     omegas = np.linspace(0.5, 2.5, 21)
     sweep = fw.sweep(oscillator(), omegas, 11)
-    assert sweep.converged.all()
-    for sol in sweep.solutions[::5]:
-        single = fw.solve_periodic(oscillator(), sol.omega, 11)
-        np.testing.assert_allclose(sol.dof_harmonics, single.dof_harmonics, rtol=0, atol=1e-10 * FORCE)
+    reference = sweep_point_by_point(oscillator(), omegas, 11)
+    assert sweep.converged.all() and reference.converged.all()
+    assert sum(s.slipping[0] for s in sweep.solutions) > 5
+    for sol, ref in zip(sweep.solutions, reference.solutions, strict=True):
+        np.testing.assert_allclose(sol.dof_harmonics, ref.dof_harmonics, rtol=0, atol=1e-10 * FORCE)
+    single = fw.solve_periodic(oscillator(), 1.4, 11)
+    np.testing.assert_allclose(single.dof_harmonics, reference.solutions[9].dof_harmonics, atol=1e-10 * FORCE)
 
 
 # -- input ------------------------------------------------------------------------------------------------
