@@ -214,7 +214,10 @@ class Problem:
         J = None
         if jacobian:
             J = np.empty((nc * H, nc * H))
-            dlft.jacobian_of_kinds(self.Z, self.eps, A, self.kinds, J)
+            if np.any(self.kinds == dlft.JENKINS):
+                dlft.jacobian_of_kinds(self.Z, self.eps, A, self.kinds, J)
+            else:  # the kernel fretwear.compile warms up and checks in the cache
+                dlft.jacobian_from_blocks(self.Z, self.eps, A, J)
         return R, J, A, lam, X, state
 
     def residual_scale(self) -> float:

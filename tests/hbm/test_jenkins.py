@@ -17,7 +17,7 @@ from scipy.optimize import fsolve
 
 import fretwear as fw
 from fretwear.hbm import dlft
-from fretwear.hbm.continuation import sweep_point_by_point
+from fretwear.hbm.continuation import _frequency_evaluate, sweep_point_by_point
 from fretwear.hbm.periodic import Problem, load_homotopy, newton
 from fretwear.model import FrictionContact, Model, jenkins_oscillator
 from fretwear.model.modelfile import dumps_model, model_from_dict
@@ -247,6 +247,15 @@ def test_sweep_and_single_solves_equal_the_point_by_point_solves():
         np.testing.assert_allclose(sol.dof_harmonics, ref.dof_harmonics, rtol=0, atol=1e-10 * FORCE)
     single = fw.solve_periodic(oscillator(), 1.4, 11)
     np.testing.assert_allclose(single.dof_harmonics, reference.solutions[9].dof_harmonics, atol=1e-10 * FORCE)
+
+
+def test_frequency_derivative_for_continuation():
+    """d R / d omega of the arc-length continuation: Jenkins rows ``dZ x - dF`` (their force has no omega)."""
+    evaluate = _frequency_evaluate(chain(), dict(harmonics=5, samples=128, wear=None, half_wave=None), None)
+    x = fw.solve_periodic(chain(), 0.8, 5, samples=128).unknowns
+    w, h = 0.8, 1e-7
+    fd = (evaluate(x, w + h)[0] - evaluate(x, w - h)[0]) / (2 * h)
+    np.testing.assert_allclose(evaluate(x, w)[2], fd, rtol=0, atol=1e-6 * np.abs(fd).max())
 
 
 # -- input ------------------------------------------------------------------------------------------------
