@@ -814,7 +814,10 @@ def solve(
     ``settings``: ``harmonics``, ``samples``, ``wear``, ``half_wave`` of
     :class:`~fretwear.hbm.problem.Problem`; ``guess``: unknowns to start the
     first frequency from. Where ``E - Z`` is nearly singular the entry is the
-    prepared :class:`Problem` instead, for the caller to solve in ``x``.
+    prepared :class:`Problem` instead, for the caller to solve in ``x``; so is
+    every entry for a model with Jenkins contacts, whose force is a function of
+    ``x``, not of the augmented unknowns ``v`` of :func:`sweep_kernel` (in ``v``
+    their Jacobian would couple every contact through ``(E - Z)^-1``).
     """
     batch: list[Condensed] = []
 
@@ -833,12 +836,11 @@ def solve(
         x_start = np.array(guess, dtype=float)  # a copy: contiguous and writable, one compiled version
         if x_start.shape != (first.size,):
             raise ValueError(f"guess must have shape ({first.size},), got {x_start.shape}")
-    if np.any(first.kinds == dlft.JENKINS):
-        problems = [
+    if np.any(first.kinds == dlft.JENKINS):  # left to the caller: module text of fretwear.hbm.dlft
+        return [
             Problem(model, w, eps=eps, condensed=Condensed(Zi, Fi), **settings)
             for w, Zi, Fi in zip(omegas.tolist(), batch[0].Z, batch[0].F, strict=True)
         ]
-        return _solve_in_x(problems, None if guess is None else x_start, tol, max_iter)
     b, (Zs, Fs) = first.basis, (batch[0].Z, batch[0].F)
     nw, n, nc, Ns = len(omegas), first.size, first.n_active, b.marched_samples
     x, R = np.empty((nw, n)), np.empty((nw, n))
@@ -880,33 +882,6 @@ def solve(
         message = "" if ok else _message(code, budget, pieces, load)
         result = NewtonResult(xi, ok == 1, its, res, message)
         out.append(PeriodicSolution.build(problem, xi, result, _PATHS[path], partial(batch.of, i)))
-    return out
-
-
-def _solve_in_x(problems: list[Problem], guess, tol: float, max_iter: int) -> list[PeriodicSolution]:
-    """The solutions of ``problems`` (a sweep's), each from the secant through its predecessors.
-
-    For a model with Jenkins contacts: their force is a function of the
-    unknowns ``x``, not of the augmented Lagrangian ``v`` of :func:`sweep_kernel`
-    (in ``v`` their Jacobian would couple every contact through
-    ``(E - Z)^-1``), so each frequency is solved by
-    :func:`~fretwear.hbm.periodic.solve_problem`, whose Newton's method and
-    walks are the compiled ones of :mod:`fretwear.hbm.newton`.
-    """
-    from .periodic import solve_problem  # periodic imports this module
-
-    out: list[PeriodicSolution] = []
-    previous: list[tuple[float, np.ndarray]] = []  # converged points
-    for problem in problems:
-        if len(previous) >= 2:
-            (w0, x0), (w1, x1) = previous[-2:]
-            guess = x1 + (problem.omega - w1) / (w1 - w0) * (x1 - x0)
-        elif previous:
-            guess = previous[-1][1]
-        sol = solve_problem(problem, guess, tol, max_iter)
-        out.append(sol)
-        if sol.converged:
-            previous.append((problem.omega, sol.unknowns))
     return out
 
 

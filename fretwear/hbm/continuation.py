@@ -126,7 +126,7 @@ def sweep(
     """
     omegas = check_omegas(omegas)
     settings = _settings(harmonics, settings)
-    if compiled:
+    if compiled and all(c.kt is None for c in model.friction):  # Jenkins contacts: solved in x, below
         out = compiled_sweep.solve(model, omegas, settings, eps, tol, max_iter)
         return Sweep(
             [s if isinstance(s, PeriodicSolution) else solve_problem(s, None, tol, max_iter) for s in out]

@@ -17,7 +17,7 @@ from scipy.optimize import fsolve
 
 import fretwear as fw
 from fretwear.hbm import dlft
-from fretwear.hbm.continuation import _frequency_evaluate, sweep_point_by_point
+from fretwear.hbm.continuation import _frequency_evaluate
 from fretwear.hbm.periodic import Problem, load_homotopy, newton
 from fretwear.model import FrictionContact, Model, jenkins_oscillator
 from fretwear.model.modelfile import dumps_model, model_from_dict
@@ -237,10 +237,10 @@ def test_load_walk_reaches_the_newton_solution():
 
 def test_sweep_and_single_solves_equal_the_point_by_point_solves():
     """fw.sweep and fw.solve_periodic route Jenkins models to the solves in x (the compiled sweep's
-    augmented unknowns do not carry the law); the point-by-point sweep is that solve."""
+    augmented unknowns do not carry the law): the point-by-point sweep (``compiled=False``)."""
     omegas = np.linspace(0.5, 2.5, 21)
     sweep = fw.sweep(oscillator(), omegas, 11)
-    reference = sweep_point_by_point(oscillator(), omegas, 11)
+    reference = fw.sweep(oscillator(), omegas, 11, compiled=False)
     assert sweep.converged.all() and reference.converged.all()
     assert sum(s.slipping[0] for s in sweep.solutions) > 5
     for sol, ref in zip(sweep.solutions, reference.solutions, strict=True):
