@@ -814,7 +814,10 @@ def solve(
     ``settings``: ``harmonics``, ``samples``, ``wear``, ``half_wave`` of
     :class:`~fretwear.hbm.problem.Problem`; ``guess``: unknowns to start the
     first frequency from. Where ``E - Z`` is nearly singular the entry is the
-    prepared :class:`Problem` instead, for the caller to solve in ``x``.
+    prepared :class:`Problem` instead, for the caller to solve in ``x``; so is
+    every entry for a model with Jenkins contacts, whose force is a function of
+    ``x``, not of the augmented unknowns ``v`` of :func:`sweep_kernel` (in ``v``
+    their Jacobian would couple every contact through ``(E - Z)^-1``).
     """
     batch: list[Condensed] = []
 
@@ -833,6 +836,11 @@ def solve(
         x_start = np.array(guess, dtype=float)  # a copy: contiguous and writable, one compiled version
         if x_start.shape != (first.size,):
             raise ValueError(f"guess must have shape ({first.size},), got {x_start.shape}")
+    if np.any(first.kinds == dlft.JENKINS):  # left to the caller: module text of fretwear.hbm.dlft
+        return [
+            Problem(model, w, eps=eps, condensed=Condensed(Zi, Fi), **settings)
+            for w, Zi, Fi in zip(omegas.tolist(), batch[0].Z, batch[0].F, strict=True)
+        ]
     b, (Zs, Fs) = first.basis, (batch[0].Z, batch[0].F)
     nw, n, nc, Ns = len(omegas), first.size, first.n_active, b.marched_samples
     x, R = np.empty((nw, n)), np.empty((nw, n))

@@ -63,6 +63,7 @@ def _frequency_evaluate(model: Model, settings: dict, eps) -> Evaluate:
     def evaluate(x, omega):
         p = Problem(model, omega, eps=eps, derivative=True, **settings)
         R, J, A, *_ = p.evaluate(x)
+        A[p.kinds == dlft.JENKINS] = 0.0  # a Jenkins force depends on x alone, not on Z(omega) or F
         nc, H = p.n_active, p.basis.size
         v = (p.dZ @ x - p.force_scale * p.dF0).reshape(nc, H)
         dR = v - np.einsum("cij,cj->ci", A, v - p.deps[:, None] * x.reshape(nc, H))
@@ -125,7 +126,7 @@ def sweep(
     """
     omegas = check_omegas(omegas)
     settings = _settings(harmonics, settings)
-    if compiled:
+    if compiled and all(c.kt is None for c in model.friction):  # Jenkins contacts: solved in x, below
         out = compiled_sweep.solve(model, omegas, settings, eps, tol, max_iter)
         return Sweep(
             [s if isinstance(s, PeriodicSolution) else solve_problem(s, None, tol, max_iter) for s in out]

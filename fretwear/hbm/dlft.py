@@ -29,6 +29,25 @@ choice keeps the Jacobian regular.
 The residual is piecewise linear in ``x`` (stick: ``lambda_n = lambda_u,n -
 lambda_u,m + lambda_m`` with ``m`` the last slip sample; slip: constant), and
 the Jacobian below is its exact derivative on each piece.
+
+**Jenkins contacts** (kind ``JENKINS``: a tangential stiffness ``k_t`` in series
+with Coulomb friction) are an alternating frequency-time law, not a DLFT one:
+the force follows from the relative displacement itself by the return map
+
+    f_{j+1} = clip(f_j + k_t (x_{j+1} - x_j), -mu F_N, +mu F_N),
+
+which is the friction march above with ``lambda_u = k_t x`` and ``eps = k_t``
+(the slip variable ``X`` is then the slider's position ``s``, ``f = k_t (x -
+s)``), so the same march, periodic start and derivative rows serve both. The
+contact's penalty slot holds ``k_t``. Its residual is still eq. 12, ``R = Z_r x
++ Lambda(x) - F_r``, but ``d lambda_u / d x = k_t I`` instead of ``E - Z_r``:
+the Jacobian rows are ``Z_r + k_t A_c`` (:func:`jacobian_of_kinds`), with
+``A_c = Psi (d lambda / d lambda_u) Phi``: in stick ``d f_n / d x = k_t (e_n -
+e_m)`` back to the last slip sample ``m`` (the start of the stick interval),
+in slip zero. Full stick: the slider is undetermined by a periodic march; the
+stick force is centred as above, ``f = k_t (x - mean(x))`` (zero mean force,
+the symmetric solution under a forcing without mean), or mid-range when that
+leaves the cone.
 """
 
 from __future__ import annotations
@@ -42,10 +61,11 @@ from .dense import FASTMATH
 __all__ = [
     "FRICTION", "UNILATERAL", "STICK", "SLIP", "OPEN", "evaluate", "jacobian_from_blocks", "augmented_march",
     "sampled_march", "augmented_residual", "assemble_augmented", "sampled_residual", "augmented_jacobian",
-    "augmented_boundary", "block_sums", "state_code", "forced_march",
+    "augmented_boundary", "block_sums", "state_code", "forced_march", "JENKINS", "jacobian_of_kinds",
+    "jenkins_lagrangian",
 ]  # fmt: skip
 
-FRICTION, UNILATERAL = 0, 1  # contact kinds
+FRICTION, UNILATERAL, JENKINS = 0, 1, 2  # contact kinds: rigid friction, unilateral, Jenkins (AFT)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -210,8 +230,8 @@ def evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A
     ----------
     x : (nc H,) harmonics of relative displacements (m), contact-major.
     Z, F : reduced dynamic stiffness (nc H, nc H) (N/m) and force (nc H,) (N).
-    eps : (nc,) penalty coefficients (N/m).
-    kinds : (nc,) FRICTION or UNILATERAL. limits : (nc,) ``mu F_N`` (N) or gap (m).
+    eps : (nc,) penalty coefficients (N/m); ``k_t`` for a Jenkins contact.
+    kinds : (nc,) FRICTION, UNILATERAL or JENKINS. limits : (nc,) ``mu F_N`` (N) or gap (m).
     Phi, Psi : iDFT (Ns, H) and DFT (H, Ns) matrices.
     half_wave : bool, antiperiodic march over half a period.
     want_blocks : bool, fill ``A`` (nc, H, H) with ``Psi dlam/dlambda_u Phi``.
@@ -223,12 +243,14 @@ def evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A
     lu = F - Z @ x
     dep = np.empty(Ns, dtype=np.int64)
     sgn = np.ones(Ns)
+    jenkins_lagrangian(x, eps, kinds, H, lu)
     for c in range(nc):
         lo_c = c * H
-        for j in range(H):
-            lu[lo_c + j] += eps[c] * x[lo_c + j]
+        if kinds[c] != JENKINS:
+            for j in range(H):
+                lu[lo_c + j] += eps[c] * x[lo_c + j]
         u = Phi @ lu[lo_c : lo_c + H]
-        if kinds[c] == FRICTION:
+        if kinds[c] != UNILATERAL:  # a Jenkins contact marches k_t x with eps = k_t (module text)
             _march_friction(u, limits[c], eps[c], half_wave, lam[c], X[c], state[c], dep, sgn)
         else:
             _march_unilateral(u, limits[c], eps[c], lam[c], X[c], state[c], dep)
@@ -260,6 +282,47 @@ def jacobian_from_blocks(Z, eps, A, J):
                 J[r0 + i, j] = Z[r0 + i, j] - AZ[i, j]
             for j in range(m):
                 J[r0 + i, r0 + j] += eps[(r0 + j) // H] * A[c, i, j]
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def jacobian_of_kinds(Z, eps, A, kinds, J):
+    """:func:`jacobian_from_blocks` with Jenkins contacts: their rows are ``Z + k_t A_c`` (N/m).
+
+    ``d lambda_u / d x`` is ``E - Z`` for a DLFT contact and ``k_t I`` for a
+    Jenkins contact (module text); ``kinds`` (nc,) the contact kinds of
+    :func:`evaluate`, or empty for every block a DLFT one (the coupled law).
+    """
+    nb, m = A.shape[0], A.shape[1]
+    n = Z.shape[0]
+    H = n // eps.shape[0]
+    for c in range(nb):
+        r0 = c * m
+        if c < kinds.shape[0] and kinds[c] == JENKINS:
+            for i in range(m):
+                for j in range(n):
+                    J[r0 + i, j] = Z[r0 + i, j]
+        else:
+            AZ = A[c] @ np.ascontiguousarray(Z[r0 : r0 + m, :])
+            for i in range(m):
+                for j in range(n):
+                    J[r0 + i, j] = Z[r0 + i, j] - AZ[i, j]
+        for i in range(m):
+            for j in range(m):
+                J[r0 + i, r0 + j] += eps[(r0 + j) // H] * A[c, i, j]
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def jenkins_lagrangian(x, eps, kinds, H, lu):
+    """Set the march input of every Jenkins contact, ``lu_c = k_t x_c`` (N), leaving the others.
+
+    ``x`` (nc H,) unknowns or a direction (m); ``eps`` holds ``k_t`` in a
+    Jenkins contact's slot. A DLFT contact's ``lu_c`` is its augmented
+    Lagrangian ``F_r - Z_r x + eps x`` (eq. 18), computed by the caller.
+    """
+    for c in range(kinds.shape[0]):
+        if kinds[c] == JENKINS:
+            for j in range(c * H, (c + 1) * H):
+                lu[j] = eps[c] * x[j]
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -306,7 +369,7 @@ def sampled_march(eps, kinds, limits, half_wave, lam, X, state, dep, sgn, hilo, 
             if u[s] < u[lo_i]:
                 lo_i = s
         hilo[c, 0], hilo[c, 1] = hi_i, lo_i
-        if kinds[c] == FRICTION:
+        if kinds[c] != UNILATERAL:
             _march_friction(u, limits[c], eps[c], half_wave, lam[c], X[c], state[c], dep[c], sgn[c])
         else:
             _march_unilateral(u, limits[c], eps[c], lam[c], X[c], state[c], dep[c])
@@ -496,7 +559,7 @@ def augmented_boundary(U, dv, eps, kinds, limits, PhiT, half_wave, tau_max, dU, 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _contact_boundary(kind, u, du, limit, eps, half_wave, tau):
     """First pattern change of one contact along ``u + t du`` before ``tau`` (its samples ``u``, ``du``)."""
-    if kind == FRICTION:
+    if kind != UNILATERAL:  # friction, or Jenkins with u = k_t x
         return _friction_boundary(u, du, limit, eps, half_wave, tau)
     for s in range(u.shape[0]):
         tau = _crossing(u[s] - eps * limit, du[s], 0.0, tau)
@@ -508,7 +571,7 @@ def state_code(kind, lam, state, code):
     """Signed state of every sample of one contact (int8): friction ``0`` stick, ``+-1`` slip in the
     direction of the force; unilateral ``1`` closed, ``0`` open. The pattern :func:`forced_march` imposes."""
     for s in range(lam.shape[0]):
-        if kind == FRICTION:
+        if kind != UNILATERAL:
             code[s] = 0 if state[s] != SLIP else (1 if lam[s] > 0 else -1)
         else:
             code[s] = 1 if state[s] == STICK else 0
@@ -526,7 +589,7 @@ def forced_march(u, code, kind, limit, eps, half_wave, lam, dep, sgn):
     friction pattern has no slip sample (full stick is not prescribed).
     """
     n = u.shape[0]
-    if kind != FRICTION:
+    if kind == UNILATERAL:
         for s in range(n):
             if code[s]:
                 lam[s], dep[s] = u[s] - eps * limit, -4

@@ -20,8 +20,10 @@ linear, which both solvers here use:
   ``F0 = F, F1 = 0, r0 = R(x0)``: the global Newton homotopy; ``F0`` static,
   ``F1`` the excitation: the continuation in the excitation amplitude.
 
-**The law** is handed as a tuple built by :func:`dlft_law` (1-D friction and
-unilateral contacts, :mod:`fretwear.hbm.dlft`) or :func:`coupled_law` (coupled
+**The law** is handed as a tuple built by :func:`dlft_law` (1-D friction,
+unilateral and Jenkins contacts, :mod:`fretwear.hbm.dlft`; a Jenkins contact
+is an alternating frequency-time law whose rows of ``J`` are ``Z + k_t A``,
+:func:`fretwear.hbm.dlft.jacobian_of_kinds`) or :func:`coupled_law` (coupled
 normal/tangential node pairs, :mod:`fretwear.hbm.coupled`), whose integer code
 chooses the law's functions inside the kernels. The other option, Numba
 first-class functions (``types.FunctionType`` arguments), was measured: the
@@ -115,7 +117,7 @@ def _residual(law, x, Z, F, eps, R, J, buffers):
     """Residual ``R`` and Jacobian ``J`` at ``x``; returns ``max |R|`` (N)."""
     A, lam, lamN, X, state = buffers
     _evaluate(law, x, Z, F, eps, np.bool_(True), R, A, lam, lamN, X, state)  # not a literal: one version
-    dlft.jacobian_from_blocks(Z, eps, A, J)
+    dlft.jacobian_of_kinds(Z, eps, A, law[1], J)
     return np.abs(R).max()
 
 
@@ -385,11 +387,12 @@ def walk(law, x0, p0, p_end, Z, F0, F1, r0, eps, max_pieces, rec_x, rec_p, rec_s
             rec_p[k] = p
             rec_s[k] = _slid(X[0], half_wave)
             k += 1
-        dlft.jacobian_from_blocks(Z, eps, A, J)
-        for c in range(nb):  # dR/dp = -(I - A) F1 + r0, block by block
+        dlft.jacobian_of_kinds(Z, eps, A, kinds, J)
+        for c in range(nb):  # dR/dp = -(I - A) F1 + r0, block by block; a Jenkins force ignores F
+            jenkins = c < kinds.shape[0] and kinds[c] == dlft.JENKINS
             AF = A[c] @ F1[c * m : (c + 1) * m]
             for j in range(m):
-                dR[c * m + j] = -(F1[c * m + j] - AF[j]) + r0[c * m + j]
+                dR[c * m + j] = -(F1[c * m + j] - (0.0 if jenkins else AF[j])) + r0[c * m + j]
         aug[:n, :n] = J
         aug[:n, n] = dR
         aug[n, :] = row
@@ -403,6 +406,8 @@ def walk(law, x0, p0, p_end, Z, F0, F1, r0, eps, max_pieces, rec_x, rec_p, rec_s
         reach = (p_end - p) / t[n] if t[n] > 0 else np.inf
         lu = Fp - Z @ x + E * x
         dlu = -(Z @ tx) + E * tx + t[n] * F1
+        dlft.jenkins_lagrangian(x, eps, kinds, H, lu)  # a Jenkins contact marches k_t x
+        dlft.jenkins_lagrangian(tx, eps, kinds, H, dlu)
         tau = _boundary(law, lu, dlu, eps, min(reach, 1e300))
         if reach <= tau:
             x = x + reach * tx

@@ -159,9 +159,9 @@ def follow_normal_load(problem: Problem, x: np.ndarray, target: Problem, tol: fl
     ``L1 / L2`` therefore follows the physical path between the two normal loads
     (as wear relaxes the load) crossing only the stick/slip changes on the way.
     """
-    if not (problem.n_active == target.n_active == 1 and problem.kinds[0] == dlft.FRICTION
+    if not (problem.n_active == target.n_active == 1 and problem.kinds[0] != dlft.UNILATERAL
             and problem.basis == target.basis):  # fmt: skip
-        raise ValueError("follow_normal_load needs one active friction contact and the same basis")
+        raise ValueError("follow_normal_load needs one active friction or Jenkins contact and the same basis")
     ratio = target.limits[0] / problem.limits[0]
     x_end, s, pieces, arrived = walk(problem, x, 1.0, 1.0 / ratio, LOAD, problem.F0 * problem.force_scale,
                                       np.zeros(0), 100_000)  # fmt: skip

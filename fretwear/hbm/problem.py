@@ -36,7 +36,8 @@ class Problem:
     model, omega, harmonics, samples, wear, eps, half_wave
         As :func:`fretwear.solve_periodic`; the default ``eps`` is ``EPS_FACTOR``
         times the largest diagonal entry of the condensed dynamic stiffness over
-        the retained harmonics, ``half_wave`` is used when the model allows it.
+        the retained harmonics (a Jenkins contact's entry is its stiffness ``k_t``:
+        it has no penalty), ``half_wave`` is used when the model allows it.
     force_scale : float
         Load factor applied to every external force (used by load continuation).
     condensed : Condensed or callable, optional
@@ -90,7 +91,9 @@ class Problem:
         self.active_index = active_f + [len(m.friction) + j for j in range(len(m.normal))]
         self.active = [m.contacts[i] for i in self.active_index]
         self.kinds = np.array(
-            [dlft.FRICTION] * len(active_f) + [dlft.UNILATERAL] * len(m.normal), dtype=np.int64
+            [dlft.FRICTION if m.friction[i].kt is None else dlft.JENKINS for i in active_f]
+            + [dlft.UNILATERAL] * len(m.normal),
+            dtype=np.int64,
         )
         self.limits = np.array(
             [m.friction[i].mu * self.normal_loads[i] for i in active_f] + [c.gap for c in m.normal],
@@ -169,7 +172,11 @@ class Problem:
         return self.force_scale * self.F0
 
     def _penalty(self, eps) -> np.ndarray:
-        """Penalty per contact (N/m); sets ``deps``, its derivative in omega (N s/m)."""
+        """Penalty per contact (N/m); sets ``deps``, its derivative in omega (N s/m).
+
+        A Jenkins contact has no penalty: its slot holds its stiffness ``k_t``
+        (:mod:`fretwear.hbm.dlft`), whatever ``eps`` says.
+        """
         H, nc = self.basis.size, self.n_active
         self.deps = np.zeros(nc)
         if eps is None:
@@ -178,10 +185,14 @@ class Problem:
             if self.dZ is not None:
                 dd = np.diag(self.dZ).reshape(nc, H)[np.arange(nc), j]
                 self.deps = EPS_FACTOR * np.sign(diag[np.arange(nc), j]) * dd
-            return EPS_FACTOR * np.abs(diag[np.arange(nc), j])
-        eps = np.broadcast_to(np.asarray(eps, dtype=float), (self.n_active,)).copy()
-        if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
-            raise ValueError(f"eps must be finite and > 0 N/m, got {eps}")
+            eps = EPS_FACTOR * np.abs(diag[np.arange(nc), j])
+        else:
+            eps = np.broadcast_to(np.asarray(eps, dtype=float), (self.n_active,)).copy()
+            if np.any(~np.isfinite(eps)) or np.any(eps <= 0):
+                raise ValueError(f"eps must be finite and > 0 N/m, got {eps}")
+        jenkins = self.kinds == dlft.JENKINS
+        eps[jenkins] = [self.active[c].kt for c in np.flatnonzero(jenkins)]
+        self.deps[jenkins] = 0.0
         return eps
 
     # -- DLFT -------------------------------------------------------------------
@@ -203,13 +214,16 @@ class Problem:
         J = None
         if jacobian:
             J = np.empty((nc * H, nc * H))
-            dlft.jacobian_from_blocks(self.Z, self.eps, A, J)
+            if np.any(self.kinds == dlft.JENKINS):
+                dlft.jacobian_of_kinds(self.Z, self.eps, A, self.kinds, J)
+            else:  # the kernel fretwear.compile warms up and checks in the cache
+                dlft.jacobian_from_blocks(self.Z, self.eps, A, J)
         return R, J, A, lam, X, state
 
     def residual_scale(self) -> float:
         """Force scale (N) against which residuals are judged."""
         scale = max(
-            np.abs(self.F).max(initial=0.0), np.abs(self.limits[self.kinds == dlft.FRICTION]).max(initial=0)
+            np.abs(self.F).max(initial=0.0), np.abs(self.limits[self.kinds != dlft.UNILATERAL]).max(initial=0)
         )
         return scale if scale > 0 else 1.0
 

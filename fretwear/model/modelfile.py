@@ -47,7 +47,8 @@ Sections and keys
 ``[[friction]]`` (any number)
     ``dof`` (required), ``other`` (optional), ``mu >= 0`` (-), ``kn > 0``
     (N/m), and exactly one of ``u0 >= 0`` (initial normal interference, m) and
-    ``normal_load >= 0`` (initial normal load ``kn u0``, N).
+    ``normal_load >= 0`` (initial normal load ``kn u0``, N); optionally
+    ``kt > 0`` (N/m), a tangential stiffness in series (a Jenkins contact).
 ``[[normal]]`` (any number)
     ``dof`` (required), ``other`` (optional), ``gap`` (m, default 0).
 
@@ -105,7 +106,7 @@ GROUND = "ground"
 _TOP_KEYS = ("title", "structure", "excitation", "friction", "normal")
 _STRUCTURE_KEYS = ("dofs", "mass", "damping", "damping_ratio", "stiffness")
 _EXCITATION_KEYS = ("cos", "sin", "static")
-_FRICTION_KEYS = ("dof", "other", "mu", "kn", "u0", "normal_load")
+_FRICTION_KEYS = ("dof", "other", "mu", "kn", "u0", "normal_load", "kt")
 _NORMAL_KEYS = ("dof", "other", "gap")
 
 # Model constructor errors start with the name of the offending attribute.
@@ -403,10 +404,11 @@ class _Reader:
         kn = self.number(table["kn"], f"{key}.kn", low=0.0, strict=True)
         if ("u0" in table) == ("normal_load" in table):
             raise self.error(key, "give exactly one of u0 (m) and normal_load (N)")
+        kt = self.number(table["kt"], f"{key}.kt", low=0.0, strict=True) if "kt" in table else None
         if "u0" in table:
-            return FrictionContact(dof, other, mu, kn, self.number(table["u0"], f"{key}.u0", low=0.0))
+            return FrictionContact(dof, other, mu, kn, self.number(table["u0"], f"{key}.u0", low=0.0), kt)
         normal_load = self.number(table["normal_load"], f"{key}.normal_load", low=0.0)
-        return FrictionContact.from_normal_load(dof, other, mu, normal_load, kn)
+        return FrictionContact.from_normal_load(dof, other, mu, normal_load, kn, kt)
 
     def normal(
         self, table: Mapping[str, Any], key: str, n: int, names: tuple[str, ...] | None
@@ -489,6 +491,7 @@ def dumps_model(model: Model, dofs: Sequence[str] | None = None, title: str | No
     for c in model.friction:
         lines += ["", "[[friction]]", *dof_lines(c)]
         lines += [f"mu = {float(c.mu)!r}", f"kn = {float(c.kn)!r}", f"u0 = {float(c.u0)!r}"]
+        lines += [] if c.kt is None else [f"kt = {float(c.kt)!r}"]
     for c in model.normal:
         lines += ["", "[[normal]]", *dof_lines(c), f"gap = {float(c.gap)!r}"]
     return "\n".join(lines) + "\n"

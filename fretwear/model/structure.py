@@ -12,7 +12,8 @@ relative contact coordinates ``u_r = B u`` (for a contact between DOFs ``i`` and
 Three contact kinds exist:
 
 * :class:`FrictionContact`: tangential Coulomb friction under a normal load
-  that relaxes with wear, ``F_N(w) = k_n (u0 - w)`` clipped at zero (eq. 30d).
+  that relaxes with wear, ``F_N(w) = k_n (u0 - w)`` clipped at zero (eq. 30d);
+  rigid, or with a tangential stiffness ``kt`` in series (a Jenkins contact).
 * :class:`NormalContact`: rigid unilateral (Signorini) contact across a gap
   (eq. 2, 21): ``u_r <= gap`` and ``lambda >= 0``, separation when the
   predicted force is not compressive. A negative gap is an interference
@@ -94,6 +95,11 @@ class FrictionContact:
     u0 : float
         Initial normal interference (m), ``u0 >= 0``. The initial normal load
         is ``kn * u0``.
+    kt : float or None
+        Tangential contact stiffness (N/m), ``kt > 0``, in series with the
+        Coulomb slider (a Jenkins contact): the force is ``kt (u_r - s)``,
+        ``|kt (u_r - s)| <= mu F_N``, the slider ``s`` moving only at the limit.
+        ``None`` (default): a rigid contact.
     """
 
     dof: int
@@ -101,20 +107,29 @@ class FrictionContact:
     mu: float
     kn: float
     u0: float
+    kt: float | None = None
 
     def __post_init__(self) -> None:
         _finite("mu", self.mu, 0.0)
         _finite("kn", self.kn, 0.0, strict=True)
         _finite("u0", self.u0, 0.0)
+        if self.kt is not None:
+            _finite("kt", self.kt, 0.0, strict=True)
 
     @classmethod
     def from_normal_load(
-        cls, dof: int, other: int | None, mu: float, normal_load: float, kn: float = 1e7
+        cls,
+        dof: int,
+        other: int | None,
+        mu: float,
+        normal_load: float,
+        kn: float = 1e7,
+        kt: float | None = None,
     ) -> FrictionContact:
         """Contact with initial normal load ``normal_load`` (N), ``u0 = F_N / kn``."""
         _finite("normal_load", normal_load, 0.0)
         _finite("kn", kn, 0.0, strict=True)
-        return cls(dof, other, mu, kn, normal_load / kn)
+        return cls(dof, other, mu, kn, normal_load / kn, kt)
 
     def normal_load(self, wear: float = 0.0) -> float:
         """Normal load ``F_N(w) = kn (u0 - w)`` clipped at 0 (N), eq. 30d."""
