@@ -36,6 +36,7 @@ BASE = {
     "figures": ["--out", "figs"],
     "study": [SPEC, "--out", "s.zarr"],
     "interface": [],
+    "disk": ["mistuning", "--out", "x.csv"],
 }
 
 #: (argv, what the one line must name); exit status 2, nothing written, before any work
