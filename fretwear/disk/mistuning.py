@@ -72,15 +72,20 @@ class ModalBasis:
         return float(abs(self.response(np.array([omega]))[0, dof]))
 
 
+def _eigen(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Natural frequencies (rad/s) and mass-normalised mode shapes of ``(M, K)``."""
+    w2, phi = sl.eigh(K, M)
+    if w2[0] <= 0:
+        raise ValueError(f"the stiffness must be positive definite, lowest eigenvalue {w2[0]:.3g}")
+    return np.sqrt(w2), phi
+
+
 def modes(M: np.ndarray, K: np.ndarray, force: np.ndarray, zeta, dofs) -> ModalBasis:
     """The modes of ``(M, K)`` with damping ratios ``zeta`` (one, or one per mode), observed at ``dofs``.
 
     ``force``: the complex harmonic force ``f_cos - i f_sin`` (N).
     """
-    w2, phi = sl.eigh(K, M)
-    if w2[0] <= 0:
-        raise ValueError(f"the stiffness must be positive definite, lowest eigenvalue {w2[0]:.3g}")
-    omega = np.sqrt(w2)
+    omega, phi = _eigen(M, K)
     zeta = np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape)
     return ModalBasis(omega, zeta, phi[np.asarray(dofs, dtype=int)], phi.T @ force)
 
@@ -97,14 +102,14 @@ def modal_basis(model: Model, dofs) -> ModalBasis:
     M, K, C = (
         a.toarray() if hasattr(a, "toarray") else np.asarray(a, float) for a in (model.M, model.K, model.C)
     )
-    basis = modes(M, K, model.force_cos - 1j * model.force_sin, 0.0, dofs)
-    phi = sl.eigh(K, M)[1]
+    omega, phi = _eigen(M, K)
     c = phi.T @ C @ phi
     diag = np.diag(c).copy()
     off = np.abs(c - np.diag(diag)).max()
     if off > 1e-8 * max(np.abs(diag).max(), 1e-300):
         raise ValueError(f"damping is not modal: off-diagonal term {off:.3g} against {diag.max():.3g}")
-    return ModalBasis(basis.omega, diag / (2 * basis.omega), basis.shapes, basis.force)
+    force = phi.T @ (model.force_cos - 1j * model.force_sin)
+    return ModalBasis(omega, diag / (2 * omega), phi[np.asarray(dofs, dtype=int)], force)
 
 
 def peak(basis: ModalBasis, band: tuple[float, float]) -> tuple[float, float, int]:
