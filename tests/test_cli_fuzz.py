@@ -214,15 +214,27 @@ def test_every_numeric_option_reads_the_table():
     assert len(OPTIONS) > 60
 
 
+def _beyond(bound: float, strict: bool, up: bool) -> tuple[float, bool]:
+    """The float at which the outside of an inclusive/strict bound starts, and whether to exclude it:
+    a bound beyond 2**53 (the seed's 2**63 - 1) has no float of its own."""
+    edge = float(bound)
+    if edge == bound:
+        return edge, not strict
+    inside = edge < bound if up else edge > bound
+    return (math.nextafter(edge, math.inf if up else -math.inf) if inside else edge), False
+
+
 def _outside(param) -> st.SearchStrategy[str]:
-    low, high = param.low, param.high
+    low, low_exclude = _beyond(param.low, param.low_strict, up=False)
+    high, high_exclude = _beyond(param.high, param.high_strict, up=True)
     values = [
-        st.floats(max_value=low, exclude_max=not param.low_strict, allow_nan=False, allow_infinity=False),
-        st.floats(min_value=high, exclude_min=not param.high_strict, allow_nan=False, allow_infinity=False),
+        st.floats(max_value=low, exclude_max=low_exclude, allow_nan=False, allow_infinity=False),
+        st.floats(min_value=high, exclude_min=high_exclude, allow_nan=False, allow_infinity=False),
         st.sampled_from(["nan", "inf", "-inf", "", "abc", "1,5", "0x10"]),
     ]
     if param.integer:
-        values.append(st.floats(min_value=low, max_value=high).filter(lambda v: not float(v).is_integer()))
+        inner = st.floats(min_value=float(param.low), max_value=float(min(param.high, 2**53)))
+        values.append(inner.filter(lambda v: not float(v).is_integer()))
     return st.one_of(values).map(lambda v: v if isinstance(v, str) else repr(v))
 
 
