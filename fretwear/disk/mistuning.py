@@ -207,7 +207,7 @@ def magnification(patterns, band: tuple[float, float], **disk) -> Magnification:
     patterns = np.atleast_2d(np.asarray(patterns, dtype=float))
     if not (len(band) == 2 and 0 < band[0] < band[1] and np.isfinite(band[1])):
         raise ValueError(f"band must be (f_low, f_high) with 0 < f_low < f_high (Hz), got {band!r}")
-    tuned_model = bladed_disk(**disk)
+    tuned_model = bladed_disk(**{"contacts": "none", **disk})  # linear mistuning: the disk alone
     info = tuned_model.info
     sector = DiskSector(**{f.name: info[f.name] for f in fields(DiskSector)})
     if patterns.shape[1] != sector.sectors:

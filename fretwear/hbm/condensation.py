@@ -7,7 +7,12 @@ the reduced equations of motion read ``Z_k U_r,k + Lambda_k = F_r,k`` with
 
     Z_k = G_k^{-1},   F_r,k = Z_k B D_k^{-1} F_k,
 
-exact for any number of DOFs (the paper's eq. 11). Real coefficients
+exact for any number of DOFs (the paper's eq. 11). When the relative
+coordinates are dependent (contacts in a closed ring: a shroud around a
+bladed disk, where they sum to zero) ``G_k`` is singular and ``Z_k`` does not
+exist; :func:`receptance` then keeps the receptance form ``U_r,k = u_lin,k -
+G_k Lambda_k`` with ``u_lin,k = B D_k^{-1} F_k`` (:mod:`fretwear.hbm.receptance`).
+Real coefficients
 ``(a, b)`` of ``a cos + b sin`` relate to the complex amplitude ``a - i b``,
 so a complex block ``Z = X + iY`` acts on ``(a, b)`` as ``[[X, Y], [-Y, X]]``.
 
@@ -29,7 +34,9 @@ from .harmonics import HarmonicBasis
 
 __all__ = [
     "Condensed",
+    "Receptance",
     "condense",
+    "receptance",
     "condense_sweep",
     "condense_loop",
     "dynamic_stiffness",
@@ -182,6 +189,39 @@ def condense(model: Model, B: np.ndarray, omega, basis: HarmonicBasis, derivativ
     return Condensed(
         _real_blocks(Z, basis), _real_vector(Fr, basis), _real_blocks(dZ, basis), _real_vector(dFr, basis)
     )
+
+
+@dataclass(frozen=True)
+class Receptance:
+    """Contact receptance and linear relative displacement at one frequency (the receptance form).
+
+    Attributes
+    ----------
+    G : ndarray, shape (nc H, nc H)
+        Real contact receptance ``G_r`` (m/N), contact-major; may be singular.
+    U : ndarray, shape (nc H,)
+        Linear relative displacement ``u_lin`` under the external force (m) for unit force scale.
+    """
+
+    G: np.ndarray
+    U: np.ndarray
+
+
+def receptance(model: Model, B: np.ndarray, omega: float, basis: HarmonicBasis) -> Receptance:
+    """The receptance form of the condensation on ``B u`` at ``omega`` (rad/s): ``G_k`` and ``u_lin,k``.
+
+    Unlike :func:`condense` it never inverts ``G_k``: it serves contacts whose
+    relative coordinates are dependent.
+    """
+    orders = _distinct_orders(basis)
+    D = dynamic_stiffness(model, float(omega), orders)  # (n_orders, n, n)
+    Bt = np.broadcast_to(B.T, (len(orders),) + B.T.shape)
+    rhs = np.concatenate([Bt, forcing(model, orders)[..., None]], axis=-1)
+    sol = _solve(D, rhs.astype(complex), omega)
+    nc = B.shape[0]
+    G = B @ sol[..., :nc]
+    u_lin = (B @ sol[..., nc:])[..., 0]
+    return Receptance(_real_blocks(G, basis), _real_vector(u_lin, basis))
 
 
 def recover(

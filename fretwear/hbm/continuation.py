@@ -134,7 +134,8 @@ def sweep(
     out = []
     previous: list[tuple[float, np.ndarray]] = []  # converged points (one active set: wear is fixed)
     first = Problem(model, omegas[0], eps=eps, **settings)
-    batch = condense(model, first.B, omegas, first.basis) if first.n_active else None
+    stiffness = first.n_active and first.form == "stiffness"  # the receptance form condenses per point
+    batch = condense(model, first.B, omegas, first.basis) if stiffness else None
     for i, omega in enumerate(omegas):
         cond = Condensed(batch.Z[i], batch.F[i]) if batch is not None else None
         problem = Problem(model, omega, eps=eps, condensed=cond, **settings)

@@ -29,7 +29,7 @@ from functools import partial
 import numpy as np
 
 from ..model import Model
-from . import compiled_sweep, dlft, strategy
+from . import compiled_sweep, dlft, receptance, strategy
 from .kernels import LOAD, NEWTON, newton_kernel, walk_kernel
 from .problem import Problem
 from .solution import PeriodicSolution
@@ -211,6 +211,8 @@ def solve_periodic(
     compiled: a one-frequency :func:`fretwear.hbm.compiled_sweep.solve`.
     """
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
+    if any(c.kt is not None for c in model.friction):  # solved in x: module text of fretwear.hbm.dlft
+        return solve_problem(Problem(model, omega, eps=eps, **settings), guess, tol, max_iter)
     (out,) = compiled_sweep.solve(model, np.array([omega], dtype=float), settings, eps, tol, max_iter, guess)
     return out if isinstance(out, PeriodicSolution) else solve_problem(out, guess, tol, max_iter)
 
@@ -218,6 +220,8 @@ def solve_periodic(
 def steps(problem: Problem) -> strategy.Steps:
     """The steps of :func:`fretwear.hbm.strategy.solve` on ``problem``: Newton, the Newton homotopy, the
     stuck solution (friction only) or the stuck guess as the start, the exact load continuation."""
+    if problem.form == "receptance":
+        return receptance.steps(problem)
     friction_only = bool(np.all(problem.kinds == dlft.FRICTION))
     start = problem.stuck_solution if friction_only else problem.stuck_guess
     return strategy.Steps(problem.size, partial(newton, problem), partial(newton_homotopy, problem), start,

@@ -18,7 +18,8 @@ import numpy as np
 
 from ..model import Model
 from . import dlft
-from .condensation import Condensed, condense, condense_sweep
+from . import receptance as receptance_form
+from .condensation import Condensed, Receptance, condense, condense_sweep, receptance
 from .harmonics import HarmonicBasis, default_samples
 
 __all__ = ["Problem", "EPS_FACTOR"]
@@ -40,10 +41,19 @@ class Problem:
         it has no penalty), ``half_wave`` is used when the model allows it.
     force_scale : float
         Load factor applied to every external force (used by load continuation).
-    condensed : Condensed or callable, optional
+    condensed : Condensed, Receptance or callable, optional
         The condensation at ``omega`` on the active contacts, when already known,
         or a function of ``(B, basis)`` that returns it (sweeps condense every
-        frequency at once).
+        frequency at once). A :class:`Receptance` sets the receptance form.
+
+    Notes
+    -----
+    ``form`` is ``"stiffness"`` (eq. 12, ``R = Z_r x + Lambda - F_r``) or, for
+    Jenkins contacts whose relative coordinates are dependent (a closed ring)
+    or a given :class:`Receptance`, ``"receptance"``
+    (:mod:`fretwear.hbm.receptance`): ``Z``/``F0`` are then replaced by the
+    receptance ``G`` and the linear relative displacement ``U0``, ``F0`` being
+    ``k_t U0`` (the force scale of the residual).
     march : tuple, optional
         ``(x, R, lam, X, state)``: the residual and the march of :meth:`evaluate`
         at unknowns ``x``, when a solver already has them (the compiled sweep);
@@ -100,17 +110,44 @@ class Problem:
             dtype=float,
         )
         self.B = m.relative_map(self.active)
+        self.form = "stiffness"
         if self.active:
             cond = self.condensed
+            if self._dependent():  # no stiffness form exists: a given one cannot be asked for
+                self._receptance(cond if isinstance(cond, Receptance) else None)
+                return
+            if callable(cond):
+                cond = cond(self.B, self.basis)
+            if isinstance(cond, Receptance):
+                self._receptance(cond)
+                return
             if cond is None and self.derivative:
                 cond = condense(m, self.B, self.omega, self.basis, True)
             elif cond is None:  # the compiled loop of sweeps, for one frequency
                 batch = condense_sweep(m, self.B, np.array([float(self.omega)]), self.basis)
                 cond = Condensed(batch.Z[0], batch.F[0])
-            elif callable(cond):
-                cond = cond(self.B, self.basis)
             self.Z, self.F0, self.dZ, self.dF0 = cond.Z, cond.F, cond.dZ, cond.dF
             self.eps = self._penalty(self.eps)
+
+    def _dependent(self) -> bool:
+        """Whether the active contact coordinates are dependent (``B`` rank-deficient: no ``Z_r``)."""
+        return bool(np.linalg.matrix_rank(self.B) < self.n_active)
+
+    def _receptance(self, cond: Receptance | None) -> None:
+        """Set up the receptance form (class notes); only Jenkins contacts are solved in it."""
+        if np.any(self.kinds != dlft.JENKINS):
+            raise ValueError(
+                "the contacts' relative coordinates are dependent (a closed ring of contacts), so the "
+                "condensed dynamic stiffness does not exist; such contacts must all be Jenkins contacts "
+                "(FrictionContact with kt) with a normal load > 0"
+            )
+        if cond is None:
+            cond = receptance(self.model, self.B, self.omega, self.basis)
+        self.form, self.G, self.U0 = "receptance", cond.G, cond.U
+        self.eps = self._penalty(self.eps if self.eps is not None else 1.0)
+        self.F0 = np.repeat(self.eps, self.basis.size) * self.U0
+        self.Z = self.dZ = self.dF0 = None
+        self.no_stiffness = np.zeros((self.size, self.size))
 
     def at_load(self, force_scale: float) -> Problem:
         """The same problem with the external forces scaled by ``force_scale`` (a copy, same condensation)."""
@@ -198,6 +235,8 @@ class Problem:
     # -- DLFT -------------------------------------------------------------------
     def evaluate(self, x: np.ndarray, jacobian: bool = True):
         """Residual (N), Jacobian (N/m) or None, and the time-domain fields of the march."""
+        if self.form == "receptance":
+            return receptance_form.evaluate(self, x, jacobian)
         nc, H = self.n_active, self.basis.size
         Ns = self.basis.marched_samples
         if not jacobian and self.march is not None and np.array_equal(x, self.march[0]):

@@ -173,9 +173,9 @@ class PeriodicSolution:
         For a contact left out of the solve (open), the relative displacement.
         """
         slip = self._march[1].copy()
-        active = set(self.problem.active_index)
-        inactive = [i for i in range(len(self.model.contacts)) if i not in active]
-        if inactive:
+        mu = np.array([c.mu for c in self.model.friction])
+        inactive = np.flatnonzero(mu * self.normal_loads == 0)  # left out of the solve: open
+        if inactive.size:
             slip[inactive] = self.relative_displacement[inactive]
         return slip
 

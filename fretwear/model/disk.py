@@ -14,6 +14,16 @@ With the default values (24 sectors) the natural frequencies start at
 ``kb2 (1 + delta_i)``. Damping is modal, one ratio for every mode of the tuned
 or mistuned disk.
 
+Contacts (``contacts="shroud"``, the default): a Jenkins contact (tangential
+stiffness ``kt`` in series with Coulomb friction) between the tips of
+neighbouring blades, ``i`` to ``i + 1`` round the ring, each under the normal
+load of an interference ``u0`` that relaxes with wear, ``F_N,i = kn (u0 -
+w_i)`` clipped at zero (eq. 30). They are not in ``M`` and ``K``, which keep the
+frequencies above. The ring's relative coordinates sum to zero, so the
+contacts are solved in the receptance form (:mod:`fretwear.hbm.receptance`).
+A rigid shroud would lock every tip to its neighbours: under an engine order
+``EO != 0`` the stuck disk would not move; ``kt`` is what lets it.
+
 Cyclic symmetry (:class:`DiskSector`): a tuned disk's modes have ``nd`` nodal
 diameters, the sector's motion repeated with the phase ``exp(i 2 pi nd / N)``
 from one sector to the next; per ``nd`` the sector's three frequencies solve
@@ -28,12 +38,15 @@ from dataclasses import asdict, dataclass, fields
 import numpy as np
 import scipy.linalg as sl
 
-from .structure import Model, _finite
+from .structure import FrictionContact, Model, _finite
 
 __all__ = ["DiskSector", "bladed_disk"]
 
 #: DOFs of one sector, in order
 SECTOR_DOFS = ("disk", "root", "tip")
+
+#: contact layouts of :func:`bladed_disk`
+LAYOUTS = ("shroud", "none")
 
 
 @dataclass(frozen=True)
@@ -130,9 +143,14 @@ def bladed_disk(
     mistuning=None,
     engine_order: int = 1,
     fex: float = 1.0,
+    contacts: str = "shroud",
+    mu: float = 0.3,
+    kn: float = 1e7,
+    u0: float = 1e-6,
+    kt: float = 5e5,
     **properties: float,
 ) -> Model:
-    """The lumped bladed disk (module docstring) under a travelling wave on the blade tips, no contacts yet.
+    """The lumped bladed disk (module docstring) under a travelling wave on the blade tips.
 
     Parameters
     ----------
@@ -147,6 +165,17 @@ def bladed_disk(
         Engine order ``EO`` of the excitation: tip ``i`` is forced by ``fex cos(omega t - 2 pi EO i / N)``.
     fex : float
         Force amplitude on each tip (N), finite.
+    contacts : {"shroud", "none"}
+        ``"shroud"``: a Jenkins contact between the tips of blades ``i`` and
+        ``i + 1`` (mod ``N``), friction contact ``i``; ``"none"``: the linear disk.
+    mu : float
+        Friction coefficient of the shroud contacts (-), >= 0.
+    kn : float
+        Normal stiffness of the shroud contacts (N/m), > 0.
+    u0 : float
+        Interference of the shroud contacts (m), >= 0: ``F_N = kn u0`` unworn.
+    kt : float
+        Tangential stiffness of the shroud contacts (N/m), > 0.
     **properties : float
         The masses ``m0, mb1, mb2`` (kg) and springs ``kG, k0, kb1, kb2`` (N/m) of
         :class:`DiskSector`, its defaults for those not given.
@@ -155,7 +184,8 @@ def bladed_disk(
     -------
     Model
         ``3 N`` DOFs, sector ``i``'s at ``3 i`` (disk), ``3 i + 1`` (root), ``3 i + 2`` (tip), named
-        ``disk{i}``, ``root{i}``, ``tip{i}``; ``info`` holds the parameters.
+        ``disk{i}``, ``root{i}``, ``tip{i}``; ``info`` holds the parameters (the cyclic solve of
+        :mod:`fretwear.disk.cyclic` reads them).
     """
     names = [f.name for f in fields(DiskSector)][1:]
     unknown = sorted(set(properties) - set(names))
@@ -175,7 +205,18 @@ def bladed_disk(
     w2, phi = sl.eigh(K, M)
     MPhi = M @ phi
     C = MPhi @ np.diag(2 * damping_ratio * np.sqrt(w2)) @ MPhi.T
+    if contacts not in LAYOUTS:
+        raise ValueError(f"contacts must be one of {', '.join(LAYOUTS)}, got {contacts!r}")
+    tips = np.arange(n_sec) * 3 + 2
+    shroud = []
+    if contacts == "shroud":
+        shroud = [
+            FrictionContact(int(tips[i]), int(tips[(i + 1) % n_sec]), mu, kn, u0, kt) for i in range(n_sec)
+        ]
     dof_names = {f"{part}{i}": 3 * i + k for i in range(n_sec) for k, part in enumerate(SECTOR_DOFS)}
-    info = {**asdict(sector), "damping_ratio": damping_ratio, "engine_order": engine_order, "fex": fex}
-    model = Model(M=M, C=0.5 * (C + C.T), K=K, names=dof_names, info=info)
-    return model.travelling_wave(np.arange(n_sec) * 3 + 2, engine_order, fex)
+    info = {**asdict(sector), "damping_ratio": damping_ratio, "engine_order": engine_order, "fex": fex,
+            "contacts": contacts, "mistuning": tuple(delta.tolist())}  # fmt: skip
+    if shroud:
+        info.update(mu=shroud[0].mu, kn=shroud[0].kn, u0=shroud[0].u0, kt=shroud[0].kt)
+    model = Model(M=M, C=0.5 * (C + C.T), K=K, friction=shroud, names=dof_names, info=info)
+    return model.travelling_wave(tips, engine_order, fex)

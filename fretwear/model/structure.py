@@ -244,7 +244,7 @@ class Model:
     normal: tuple[NormalContact, ...] = field(default_factory=tuple)
     pairs: ContactPairs | None = None
     names: dict[str, int] = field(default_factory=dict)
-    info: dict[str, float] = field(default_factory=dict)
+    info: dict[str, Any] = field(default_factory=dict)
     # a fretwear.model.reduction.Reduction: that module builds models, so it is not imported here
     reduction: Any = field(default=None, repr=False)
 
