@@ -31,7 +31,7 @@ they differ by the march's time sampling.
 from __future__ import annotations
 
 import math
-from dataclasses import fields, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 import scipy.linalg as sl
@@ -79,73 +79,107 @@ def samples_for(sectors: int, engine_order: int, harmonics: int) -> int:
     return step * -(-default_samples(harmonics) // step)
 
 
-def _sector_matrices(sector: DiskSector, info: dict, theta: np.ndarray, omega: float, orders: np.ndarray):
-    """Dynamic stiffness ``D_k`` (n_orders, 3, 3) of the sector per harmonic order (module text)."""
-    K0, K1 = sector.stiffness()
-    M0 = sector.mass
-    D = np.empty((len(orders), 3, 3), dtype=complex)
-    for i, (k, th) in enumerate(zip(orders, theta, strict=True)):  # Nh + 1 eigenproblems of size 3
-        K = K0 + K1 * np.exp(1j * th) + K1.T * np.exp(-1j * th)
-        w2, phi = sl.eigh(K, M0)
-        MP = M0 @ phi
-        C = MP @ np.diag(2 * info["damping_ratio"] * np.sqrt(np.maximum(w2, 0))) @ MP.conj().T
-        D[i] = K - (k * omega) ** 2 * M0 + 1j * k * omega * C
-    return D
+@dataclass(frozen=True)
+class _Sector:
+    """What every frequency of a sector solve shares: the disk, its parameters, the one-contact model and
+    the sector's nodal-diameter matrices per harmonic order ``0..Nh``."""
 
+    model: Model
+    info: dict
+    one: Model
+    samples: int
+    wear: float
+    theta: np.ndarray  # (Nh + 1,) phase from one sector to the next per order (rad)
+    K: np.ndarray  # (Nh + 1, 3, 3) K0 + K1 e^{i theta} + K1^T e^{-i theta} (N/m)
+    C: np.ndarray  # (Nh + 1, 3, 3) modal damping at theta (N s/m)
+    M0: np.ndarray
 
-def _phases(info: dict, orders: np.ndarray) -> np.ndarray:
-    return -2 * np.pi * orders * info["engine_order"] / info["sectors"]
+    @classmethod
+    def of(cls, model: Model, harmonics: int, samples: int | None, wear: float) -> _Sector:
+        sector, info = tuned_disk(model)
+        if samples is None:
+            samples = samples_for(info["sectors"], info["engine_order"], harmonics)
+        wear = float(wear)
+        if not np.isfinite(wear) or wear < 0:
+            raise ValueError(f"wear must be a finite depth >= 0 m (one for every contact), got {wear!r}")
+        theta = -2 * np.pi * np.arange(harmonics + 1) * info["engine_order"] / info["sectors"]
+        K0, K1 = sector.stiffness()
+        M0 = sector.mass
+        K = K0 + K1 * np.exp(1j * theta)[:, None, None] + K1.T * np.exp(-1j * theta)[:, None, None]
+        C = np.empty_like(K)
+        for i in range(len(theta)):  # Nh + 1 eigenproblems of size 3, once per sweep
+            w2, phi = sl.eigh(K[i], M0)
+            MP = M0 @ phi
+            C[i] = MP @ np.diag(2 * info["damping_ratio"] * np.sqrt(np.maximum(w2, 0))) @ MP.conj().T
+        one = replace(model, friction=model.friction[:1])  # contact 0 stands for all (module text)
+        return cls(model, info, one, samples, wear, theta, K, C, M0)
 
+    def dynamic_stiffness(self, omega: float, orders: np.ndarray) -> np.ndarray:
+        """``D_k`` (len(orders), 3, 3) of the module text at ``omega`` (rad/s)."""
+        w = (orders * omega)[:, None, None]
+        return self.K[orders] - w**2 * self.M0 + 1j * w * self.C[orders]
 
-def _receptance(sector: DiskSector, info: dict, omega: float, basis: HarmonicBasis) -> Receptance:
-    """``g_k`` and ``u_lin,k`` of the sector's contact in the real basis (module text)."""
-    orders = _distinct_orders(basis)
-    theta = _phases(info, orders)
-    h = np.linalg.inv(_sector_matrices(sector, info, theta, omega, orders))[:, _TIP, _TIP]
-    shift = 1 - np.exp(1j * theta)
-    g = (np.abs(shift) ** 2 * h)[:, None, None]
-    u = (shift * h * info["fex"] * (orders == 1))[:, None]
-    return Receptance(_real_blocks(g, basis), _real_vector(u, basis))
+    def receptance(self, omega: float, basis: HarmonicBasis) -> Receptance:
+        """``g_k`` and ``u_lin,k`` of the sector's contact in the real basis (module text)."""
+        orders = _distinct_orders(basis)
+        h = np.linalg.inv(self.dynamic_stiffness(omega, orders))[:, _TIP, _TIP]
+        shift = 1 - np.exp(1j * self.theta[orders])
+        g = (np.abs(shift) ** 2 * h)[:, None, None]
+        u = (shift * h * self.info["fex"] * (orders == 1))[:, None]
+        return Receptance(_real_blocks(g, basis), _real_vector(u, basis))
 
+    def fields(self, problem: Problem, x: np.ndarray):
+        """The full disk's march (force, slider, state of every contact) and DOF harmonics from the
+        sector's unknowns ``x``, as a provider of :meth:`PeriodicSolution.build`."""
 
-def _full_fields(model: Model, sector: DiskSector, info: dict, problem: Problem, x: np.ndarray):
-    """The full disk's march (force, slider, state of every contact) and DOF harmonics from the sector's."""
+        def fields_() -> tuple[tuple, np.ndarray]:
+            b, n_sec, H = problem.basis, self.info["sectors"], problem.basis.size
+            # (a, b) of order k rotated by j theta_k: the complex amplitude a - i b times e^{i j theta_k}
+            rot = self.theta[b.orders][None, :] * np.arange(n_sec)[:, None]  # (N, H)
+            pair = _partner(b)
+            x_all = np.cos(rot) * x + np.where(b.is_sine, -1, 1) * np.sin(rot) * x[pair] * (b.orders > 0)
+            Ns = b.marched_samples
+            lam, X = np.empty((n_sec, Ns)), np.empty((n_sec, Ns))
+            st = np.empty((n_sec, Ns), dtype=np.int8)
+            n = n_sec * H
+            evaluate(x_all.ravel(), np.zeros((n, n)), np.zeros(n), np.full(n_sec, problem.eps[0]),
+                     np.full(n_sec, JENKINS), np.full(n_sec, problem.limits[0]), b.synthesis, b.analysis,
+                     b.half_wave, False, np.empty(n), np.empty((n_sec, H, H)), lam, X, st)  # fmt: skip
+            lam_h = b.to_full(lam @ b.analysis.T)
+            if b.half_wave:
+                lam, X, st = np.hstack([lam, -lam]), np.hstack([X, -X]), np.hstack([st, st])
+            # sector 0's DOFs: U_0,k = D_k^{-1} (F_k - e_tip (1 - e^{-i theta_k}) Lambda_k), then rotated
+            orders = np.arange(problem.harmonics + 1)
+            L = np.concatenate([lam_h[0, :1], lam_h[0, 1::2] - 1j * lam_h[0, 2::2]])
+            rhs = np.zeros((len(orders), 3), dtype=complex)
+            rhs[1, _TIP] = self.info["fex"]
+            rhs[:, _TIP] -= (1 - np.exp(-1j * self.theta)) * L
+            U0 = np.linalg.solve(self.dynamic_stiffness(problem.omega, orders), rhs[..., None])[..., 0]
+            U = U0[None] * np.exp(
+                1j * np.arange(n_sec)[:, None, None] * self.theta[None, :, None]
+            )  # (N, k, 3)
+            U = np.swapaxes(U, 1, 2).reshape(3 * n_sec, len(orders))
+            dof = np.empty((3 * n_sec, 2 * problem.harmonics + 1))
+            dof[:, 0], dof[:, 1::2], dof[:, 2::2] = U[:, 0].real, U[:, 1:].real, -U[:, 1:].imag
+            return (lam, X, st, lam_h), dof
 
-    def fields_() -> tuple[tuple, np.ndarray]:
-        b, n_sec, H = problem.basis, info["sectors"], problem.basis.size
-        # real (a, b) of order k rotated by j theta_k: the complex amplitude a - i b times e^{i j theta_k}
-        rot = _phases(info, b.orders)[None, :] * np.arange(n_sec)[:, None]  # (N, H)
-        cos_, sin_ = np.cos(rot), np.sin(rot)
-        xs = x.reshape(H)
-        pair = _partner(b)
-        x_all = cos_ * xs + np.where(b.is_sine, -1, 1) * sin_ * xs[pair] * (b.orders > 0)
-        Ns = b.marched_samples
-        lam, X = np.empty((n_sec, Ns)), np.empty((n_sec, Ns))
-        st = np.empty((n_sec, Ns), dtype=np.int8)
-        eps = np.full(n_sec, problem.eps[0])
-        evaluate(x_all.ravel(), np.zeros((n_sec * H, n_sec * H)), np.zeros(n_sec * H), eps,
-                 np.full(n_sec, JENKINS), np.full(n_sec, problem.limits[0]), b.synthesis, b.analysis,
-                 b.half_wave, False, np.empty(n_sec * H), np.empty((n_sec, H, H)), lam, X, st)  # fmt: skip
-        lam_h = b.to_full(lam @ b.analysis.T)
-        if b.half_wave:
-            lam, X, st = np.hstack([lam, -lam]), np.hstack([X, -X]), np.hstack([st, st])
-        # sector 0's DOFs: U_0,k = D_k^{-1} (F_k - e_tip (1 - e^{-i theta_k}) Lambda_k), then rotated
-        orders = np.arange(problem.harmonics + 1)
-        theta = _phases(info, orders)
-        L = np.concatenate([lam_h[:1, :1], lam_h[:1, 1::2] - 1j * lam_h[:1, 2::2]], axis=1)[0]
-        rhs = np.zeros((len(orders), 3), dtype=complex)
-        rhs[1, _TIP] = info["fex"]
-        rhs[:, _TIP] -= (1 - np.exp(-1j * theta)) * L
-        U0 = np.linalg.solve(_sector_matrices(sector, info, theta, problem.omega, orders), rhs[..., None])[
-            ..., 0
-        ]
-        U = U0[None, :, :] * np.exp(1j * np.arange(n_sec)[:, None, None] * theta[None, :, None])  # (N, k, 3)
-        U = np.swapaxes(U, 1, 2).reshape(3 * n_sec, len(orders))
-        dof = np.empty((3 * n_sec, 2 * problem.harmonics + 1))
-        dof[:, 0], dof[:, 1::2], dof[:, 2::2] = U[:, 0].real, U[:, 1:].real, -U[:, 1:].imag
-        return (lam, X, st, lam_h), dof
+        return fields_
 
-    return fields_
+    def solve(self, omega: float, harmonics: int, guess, tol: float, max_iter: int) -> PeriodicSolution:
+        """The sector's solve at ``omega`` (rad/s), returned as the full disk's solution."""
+        cond = lambda B, basis: self.receptance(omega, basis)  # noqa: E731
+        problem = Problem(self.one, omega, harmonics, self.samples, np.array([self.wear]), condensed=cond)
+        sol = solve_problem(problem, guess, tol, max_iter)
+        n = len(self.model.friction)
+        full = PeriodicSolution(
+            model=self.model, omega=sol.omega, harmonics=sol.harmonics, samples=sol.samples,
+            half_wave=sol.half_wave, path=sol.path, converged=sol.converged, iterations=sol.iterations,
+            residual=sol.residual, message=sol.message, wear=np.full(n, self.wear),
+            normal_loads=np.full(n, sol.normal_loads[0]), unknowns=sol.unknowns, problem=problem,
+        )  # fmt: skip
+        if problem.n_active:
+            full._fields = self.fields(problem, sol.unknowns)
+        return full
 
 
 def _partner(basis: HarmonicBasis) -> np.ndarray:
@@ -154,35 +188,6 @@ def _partner(basis: HarmonicBasis) -> np.ndarray:
     key = {(int(k), bool(s)): i for i, (k, s) in enumerate(zip(basis.orders, basis.is_sine, strict=True))}
     return np.array([key.get((int(k), not s), i) for i, k, s in zip(slots, basis.orders, basis.is_sine,
                                                                     strict=True)])  # fmt: skip
-
-
-def _plan(model: Model, harmonics: int, samples: int | None, wear: float) -> tuple:
-    """What every frequency of a sector solve shares: the sector, the parameters, the one-contact model."""
-    sector, info = tuned_disk(model)
-    if samples is None:
-        samples = samples_for(info["sectors"], info["engine_order"], harmonics)
-    wear = float(wear)
-    if not np.isfinite(wear) or wear < 0:
-        raise ValueError(f"wear must be a finite depth >= 0 m (one for every contact), got {wear!r}")
-    one = replace(model, friction=model.friction[:1])  # contact 0 stands for all (module text)
-    return sector, info, one, samples, wear
-
-
-def _solve(model: Model, plan: tuple, omega: float, harmonics: int, guess, tol: float, max_iter: int):
-    sector, info, one, samples, wear = plan
-    cond = lambda B, basis: _receptance(sector, info, omega, basis)  # noqa: E731
-    problem = Problem(one, omega, harmonics, samples, np.array([wear]), condensed=cond)
-    sol = solve_problem(problem, guess, tol, max_iter)
-    n = len(model.friction)
-    full = PeriodicSolution(
-        model=model, omega=sol.omega, harmonics=sol.harmonics, samples=sol.samples, half_wave=sol.half_wave,
-        path=sol.path, converged=sol.converged, iterations=sol.iterations, residual=sol.residual,
-        message=sol.message, wear=np.full(n, wear), normal_loads=np.full(n, sol.normal_loads[0]),
-        unknowns=sol.unknowns, problem=problem,
-    )  # fmt: skip
-    if problem.n_active:
-        full._fields = _full_fields(model, sector, info, problem, sol.unknowns)
-    return full
 
 
 def solve_sector(
@@ -220,7 +225,7 @@ def solve_sector(
         returns it; ``unknowns`` and ``problem`` are the sector's.
     """
     (omega,) = check_omegas([omega])
-    return _solve(model, _plan(model, harmonics, samples, wear), omega, harmonics, guess, tol, max_iter)
+    return _Sector.of(model, harmonics, samples, wear).solve(omega, harmonics, guess, tol, max_iter)
 
 
 def sweep_sector(
@@ -236,7 +241,7 @@ def sweep_sector(
     """:func:`solve_sector` at each of ``omegas`` (rad/s), each from the secant prediction of its two
     predecessors (as :func:`fretwear.sweep`); the options as :func:`solve_sector`."""
     omegas = check_omegas(omegas)
-    plan = _plan(model, harmonics, samples, wear)
+    sector = _Sector.of(model, harmonics, samples, wear)
     out, previous = [], []
     for omega in omegas:
         guess = None
@@ -245,7 +250,7 @@ def sweep_sector(
             guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
         elif previous:
             guess = previous[-1][1]
-        sol = _solve(model, plan, omega, harmonics, guess, tol, max_iter)
+        sol = sector.solve(omega, harmonics, guess, tol, max_iter)
         out.append(sol)
         if sol.converged and sol.unknowns.size:
             previous.append((omega, sol.unknowns))
