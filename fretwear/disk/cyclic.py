@@ -45,7 +45,7 @@ from ..hbm.problem import Problem
 from ..hbm.solution import PeriodicSolution
 from ..model import DiskSector, Model, bladed_disk
 
-__all__ = ["solve_sector", "sweep_sector", "samples_for", "tuned_disk"]
+__all__ = ["Sector", "solve_sector", "sweep_sector", "samples_for", "tuned_disk", "is_tuned_disk"]
 
 _TIP = 2  # the tip's place in a sector's DOFs
 
@@ -71,6 +71,17 @@ def tuned_disk(model: Model) -> tuple[DiskSector, dict]:
     return DiskSector(info["sectors"], **params), info
 
 
+def is_tuned_disk(model: Model) -> bool:
+    """Whether ``model`` is a tuned shrouded :func:`fretwear.bladed_disk` as built (:func:`tuned_disk`)."""
+    if model.info.get("contacts") != "shroud":
+        return False
+    try:
+        tuned_disk(model)
+    except ValueError:
+        return False
+    return True
+
+
 def samples_for(sectors: int, engine_order: int, harmonics: int) -> int:
     """Samples per period: the smallest even multiple of ``N / gcd(EO, N)`` ``>= default_samples(Nh)``,
     so that the delay from one sector to the next is a whole number of samples (module text)."""
@@ -80,28 +91,28 @@ def samples_for(sectors: int, engine_order: int, harmonics: int) -> int:
 
 
 @dataclass(frozen=True)
-class _Sector:
-    """What every frequency of a sector solve shares: the disk, its parameters, the one-contact model and
-    the sector's nodal-diameter matrices per harmonic order ``0..Nh``."""
+class Sector:
+    """The tuned disk's sector: what every frequency and wear state of a sector solve shares (the disk, its
+    parameters, the one-contact model, the nodal-diameter matrices per harmonic order ``0..Nh``).
+
+    Built by :meth:`of`; :meth:`solve` answers at one frequency and wear depth.
+    """
 
     model: Model
     info: dict
     one: Model
     samples: int
-    wear: float
     theta: np.ndarray  # (Nh + 1,) phase from one sector to the next per order (rad)
     K: np.ndarray  # (Nh + 1, 3, 3) K0 + K1 e^{i theta} + K1^T e^{-i theta} (N/m)
     C: np.ndarray  # (Nh + 1, 3, 3) modal damping at theta (N s/m)
     M0: np.ndarray
 
     @classmethod
-    def of(cls, model: Model, harmonics: int, samples: int | None, wear: float) -> _Sector:
+    def of(cls, model: Model, harmonics: int, samples: int | None = None) -> Sector:
+        """The sector of ``model`` (a tuned shrouded :func:`fretwear.bladed_disk`, checked) for ``Nh``."""
         sector, info = tuned_disk(model)
         if samples is None:
             samples = samples_for(info["sectors"], info["engine_order"], harmonics)
-        wear = float(wear)
-        if not np.isfinite(wear) or wear < 0:
-            raise ValueError(f"wear must be a finite depth >= 0 m (one for every contact), got {wear!r}")
         theta = -2 * np.pi * np.arange(harmonics + 1) * info["engine_order"] / info["sectors"]
         K0, K1 = sector.stiffness()
         M0 = sector.mass
@@ -112,7 +123,7 @@ class _Sector:
             MP = M0 @ phi
             C[i] = MP @ np.diag(2 * info["damping_ratio"] * np.sqrt(np.maximum(w2, 0))) @ MP.conj().T
         one = replace(model, friction=model.friction[:1])  # contact 0 stands for all (module text)
-        return cls(model, info, one, samples, wear, theta, K, C, M0)
+        return cls(model, info, one, samples, theta, K, C, M0)
 
     def dynamic_stiffness(self, omega: float, orders: np.ndarray) -> np.ndarray:
         """``D_k`` (len(orders), 3, 3) of the module text at ``omega`` (rad/s)."""
@@ -165,16 +176,28 @@ class _Sector:
 
         return fields_
 
-    def solve(self, omega: float, harmonics: int, guess, tol: float, max_iter: int) -> PeriodicSolution:
-        """The sector's solve at ``omega`` (rad/s), returned as the full disk's solution."""
+    def solve(
+        self,
+        omega: float,
+        harmonics: int,
+        guess=None,
+        tol: float = 1e-10,
+        max_iter: int = 50,
+        wear: float = 0.0,
+    ) -> PeriodicSolution:
+        """The sector's solve at ``omega`` (rad/s), every contact worn ``wear`` (m), returned as the full
+        disk's solution."""
+        wear = float(wear)
+        if not np.isfinite(wear) or wear < 0:
+            raise ValueError(f"wear must be a finite depth >= 0 m (one for every contact), got {wear!r}")
         cond = lambda B, basis: self.receptance(omega, basis)  # noqa: E731
-        problem = Problem(self.one, omega, harmonics, self.samples, np.array([self.wear]), condensed=cond)
+        problem = Problem(self.one, omega, harmonics, self.samples, np.array([wear]), condensed=cond)
         sol = solve_problem(problem, guess, tol, max_iter)
         n = len(self.model.friction)
         full = PeriodicSolution(
             model=self.model, omega=sol.omega, harmonics=sol.harmonics, samples=sol.samples,
             half_wave=sol.half_wave, path=sol.path, converged=sol.converged, iterations=sol.iterations,
-            residual=sol.residual, message=sol.message, wear=np.full(n, self.wear),
+            residual=sol.residual, message=sol.message, wear=np.full(n, wear),
             normal_loads=np.full(n, sol.normal_loads[0]), unknowns=sol.unknowns, problem=problem,
         )  # fmt: skip
         if problem.n_active:
@@ -225,7 +248,7 @@ def solve_sector(
         returns it; ``unknowns`` and ``problem`` are the sector's.
     """
     (omega,) = check_omegas([omega])
-    return _Sector.of(model, harmonics, samples, wear).solve(omega, harmonics, guess, tol, max_iter)
+    return Sector.of(model, harmonics, samples).solve(omega, harmonics, guess, tol, max_iter, wear)
 
 
 def sweep_sector(
@@ -241,7 +264,7 @@ def sweep_sector(
     """:func:`solve_sector` at each of ``omegas`` (rad/s), each from the secant prediction of its two
     predecessors (as :func:`fretwear.sweep`); the options as :func:`solve_sector`."""
     omegas = check_omegas(omegas)
-    sector = _Sector.of(model, harmonics, samples, wear)
+    sector = Sector.of(model, harmonics, samples)
     out, previous = [], []
     for omega in omegas:
         guess = None
@@ -250,7 +273,7 @@ def sweep_sector(
             guess = x1 + (omega - w1) / (w1 - w0) * (x1 - x0)
         elif previous:
             guess = previous[-1][1]
-        sol = sector.solve(omega, harmonics, guess, tol, max_iter)
+        sol = sector.solve(omega, harmonics, guess, tol, max_iter, wear)
         out.append(sol)
         if sol.converged and sol.unknowns.size:
             previous.append((omega, sol.unknowns))

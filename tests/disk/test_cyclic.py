@@ -1,5 +1,7 @@
 """The tuned shrouded disk on one sector (:mod:`fretwear.disk.cyclic`) against the full disk and limits."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -85,3 +87,17 @@ def test_a_changed_disk_is_refused():
     model = fw.bladed_disk(6).scaled(2.0)
     with pytest.raises(ValueError, match="changed after bladed_disk built it"):
         solve_sector(model, 1000.0)
+
+
+def test_tuned_disk_wears_alike_on_a_sector_as_on_the_full_disk():
+    """fw.wear_history on the tuned disk runs on one sector; the full disk (the same model, not recognised
+    as a bladed_disk) gives the same history on the same grid: every contact worn alike."""
+    model = fw.bladed_disk(6, engine_order=1, fex=2.0)
+    omega, samples = 2 * np.pi * 222.0, samples_for(6, 1, 7)
+    options = dict(kw=3e-7, cycles=2e4, harmonics=7, samples=samples)
+    sector = fw.wear_history(model, omega, "stepping", **options)
+    full = fw.wear_history(replace(model, info={}), omega, "stepping", **options)
+    assert sector.converged and full.converged and sector.wear[-1, 0] > 0.3 * model.friction[0].u0
+    assert np.allclose(sector.cycles, full.cycles, rtol=1e-9, atol=0)
+    assert np.abs(sector.wear - full.wear).max() <= 1e-9 * sector.wear.max()
+    assert np.ptp(full.wear[-1]) <= 1e-9 * full.wear[-1, 0]  # the full disk wears alike too
