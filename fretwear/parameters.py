@@ -168,13 +168,13 @@ _ROWS = (
     # -- the paper model
     ("fex", "F_ex", "N", 0.0, 1e3, "<", "excitation amplitude on mass 1", _FORCE,
      dict(default=10.0, control="fex", html="F<sub>ex</sub>: excitation on mass 1 (N)", glossary="F_ex",
-          slider=(0.5, 30.0, 0.1))),
+          slider=(0.5, 30.0, 0.1), defaults=(("disk", 2.0),))),
     ("force_scale", "force scale", "", 0.0, 1e3, "<", "factor on the forces of a model file", _FORCE),
     ("mu", "mu", "", 0.0, 10.0, "<", "friction coefficient",
      "> 0: a friction contact (at 0 nothing sticks, the load ratio r = F_ex / (mu F_N) of the dashboard's "
      "regime map is infinite; a frictionless contact is a model file's); no dry contact has mu > 10",
      dict(default=1.0, control="mu", html="μ: friction coefficient", glossary="mu",
-          slider=(0.05, 2.0, 0.01))),
+          slider=(0.05, 2.0, 0.01), defaults=(("disk", 0.3),))),
     ("fn", "F_N", "N", 0.0, 1e4, "<", "initial normal load",
      "> 0: a loaded contact (at 0 the interference u0 = F_N / kn is 0 and a wear history has no w / u0; "
      "the wear commands refused it already); 1e4 N is 1000 x the paper's load",
@@ -190,12 +190,12 @@ _ROWS = (
      "k_w = 0 is no wear (frf and point compute that): the slow time k_w kn N vanishes and the cycles "
      "to a worn depth are infinite (NaN and ZeroDivisionError before); 1e-4 wears through in one cycle",
      dict(default=1e-11, control="kw", html="k<sub>w</sub>: Archard coefficient (1/N)", glossary="k_w",
-          slider=(-14.0, -6.0, 0.1), log=True)),
+          slider=(-14.0, -6.0, 0.1), log=True, defaults=(("disk", 1e-8),))),
     ("cycles", "cycle horizon", "cycles", 0.0, 1e30, "<", "wear horizon N",
      "> 0, not necessarily whole (the slow time is continuous); any horizon: the slow-time step does not "
      "depend on it (1e30 keeps K_w N p s in float range); the interface benchmark wears over 1e6 cycles",
      dict(default=1e5, symbol="horizon", control="horizon", html="Cycle horizon (cycles)", glossary="N",
-          slider=(2.0, 8.0, 0.1), log=True, defaults=(("interface", 1e6),))),
+          slider=(2.0, 8.0, 0.1), log=True, defaults=(("interface", 1e6), ("disk", 1e6)))),
     ("fixed_step", "fixed step", "cycles", 0.0, 1e30, "<", "fixed slow-time step", "as the horizon"),
     ("tol", "tolerance", "u0", 0.0, 0.5, "<", "slow-time local error tolerance on w/u0",
      "> 0; an error of half the interference controls nothing (the dashboard's bound); the dashboard "
@@ -217,7 +217,7 @@ _ROWS = (
     # -- frequencies and grids
     ("f", "f", "Hz", 0.0, 1e5, "<", "excitation frequency",
      _HZ + "; the paper's figures start at 0.7 Hz, the interface benchmark at 50 Hz",
-     dict(defaults=(("figures", 0.7), ("interface", 50.0)))),
+     dict(defaults=(("figures", 0.7), ("interface", 50.0), ("disk", 205.0)))),
     ("fmin", "f min", "Hz", 0.0, 1e5, "<", "lowest frequency", _HZ,
      dict(default=0.3, control="fmin", html="f<sub>min</sub>", slider=(0.05, 3.0, 0.01),
           defaults=(("disk", 165.0),))),
@@ -226,7 +226,7 @@ _ROWS = (
           defaults=(("disk", 200.0),))),
     ("n", "frequencies", "", 1, 10_001, "i", "points of a frequency sweep",
      "2001 points at Nh = 64: 8.5 s and 0.38 GB, so 10 001 about 35 s and 1.3 GB; 1e8 needed 47.7 GiB",
-     dict(default=101)),
+     dict(default=101, defaults=(("disk", 41),))),
     ("nf", "frequencies", "", 2, 401, "i", "frequencies of a wear map",
      "a map has two frequencies at least (one is a wear history); 401 x 400 exact map 7.5 s and 0.3 GB "
      "(CSV 25 MB); stepping about 80 s at Nh = 7, 15 min at Nh = 64",

@@ -5,9 +5,10 @@ import csv
 import numpy as np
 import pytest
 
+import fretwear as fw
 from fretwear.cli import EXIT_OK, EXIT_USAGE, main
-from fretwear.disk import draw_mistuning, magnification
-from fretwear.model import DiskSector
+from fretwear.disk import draw_mistuning, magnification, sweep_sector
+from fretwear.model import DiskSector, bladed_disk
 
 
 def _rows(path):
@@ -48,3 +49,29 @@ def test_mistuning_writes_the_librarys_factors(tmp_path, capsys):
 def test_bad_options_are_named(argv, message, tmp_path, capsys):
     assert main(["disk", "mistuning", *argv, "--out", str(tmp_path / "x.csv")]) == EXIT_USAGE
     assert message in capsys.readouterr().err
+
+
+def test_frf_of_the_tuned_disk_is_the_sector_sweep(tmp_path, capsys):
+    out = tmp_path / "frf.csv"
+    argv = ["disk", "frf", "--sectors", "6", "--engine-order", "1", "--fmin", "216", "--fmax", "232",
+            "--n", "5", "--harmonics", "3", "--out", str(out)]  # fmt: skip
+    assert main(argv) == EXIT_OK
+    model = bladed_disk(6, engine_order=1, fex=2.0)
+    ref = sweep_sector(model, 2 * np.pi * np.linspace(216, 232, 5), 3)
+    rows = _rows(out)
+    tips = np.array([[float(r[f"tip{i}_m"]) for i in range(6)] for r in rows])
+    assert np.array_equal(tips, [s.amplitude[2::3] for s in ref.solutions])
+    assert "tuned, one sector, DLFT Nh = 3: an approximation" in capsys.readouterr().err
+
+
+def test_wear_of_a_mistuned_disk_differs_between_blades(tmp_path, capsys):
+    out = tmp_path / "w.csv"
+    argv = ["disk", "wear", "--sectors", "6", "--engine-order", "1", "--f", "222", "--level", "0.02",
+            "--kw", "3e-7", "--cycles", "2e4", "--harmonics", "3", "--out", str(out)]  # fmt: skip
+    assert main(argv) == EXIT_OK
+    model = bladed_disk(6, engine_order=1, fex=2.0, mistuning=draw_mistuning(6, 0.02, 1, seed=0)[0])
+    ref = fw.wear_history(model, 2 * np.pi * 222, "stepping", kw=3e-7, cycles=2e4, harmonics=3)
+    last = _rows(out)[-1]
+    w = np.array([float(last[f"w{i}_m"]) for i in range(6)])
+    assert np.array_equal(w, ref.wear[-1]) and np.ptp(w) > 0.01 * w.max()
+    assert "mistuned, full disk" in capsys.readouterr().err
