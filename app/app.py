@@ -23,6 +23,7 @@ import panel as pn  # noqa: E402
 
 from app.backend import shared_executor  # noqa: E402
 from app.page import build_page, document_dispatch  # noqa: E402
+from app.scenes.disk import DiskScene, disk_tab  # noqa: E402
 from app.scenes.interface import InterfaceScene, interface_tab  # noqa: E402
 from app.scenes.study import StudyScene, study_tab  # noqa: E402
 from app.session import Session  # noqa: E402
@@ -47,9 +48,12 @@ study = StudyScene(options.study, tasks=session.tasks)
 interface = InterfaceScene(
     options.interface_model, tasks=session.tasks, executor=session.executor, dispatch=session.dispatch
 )
-pn.state.on_session_destroyed(lambda _context, s=interface: s.close())
+disk = DiskScene(tasks=session.tasks, executor=session.executor, dispatch=session.dispatch)
+for tab in (interface, disk):
+    pn.state.on_session_destroyed(lambda _context, s=tab: s.close())
 extra = (
     ("Interface", lambda export_card: interface_tab(interface, export_card)),
+    ("Bladed disk", lambda export_card: disk_tab(disk, export_card)),
     ("Study", lambda export_card: study_tab(study, export_card)),
 )
 build_page(session, pn.state.location, extra).servable(title="fretwear dashboard")

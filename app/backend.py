@@ -89,6 +89,9 @@ class Library:
     paper_interface = staticmethod(_lazy("fretwear", "paper_interface"))
     read_interface_model = staticmethod(_lazy("fretwear.interface", "read_interface_model"))
     open_study = staticmethod(_lazy("fretwear.studies.store", "open_study"))
+    bladed_disk = staticmethod(fretwear.bladed_disk)
+    draw_mistuning = staticmethod(_lazy("fretwear.disk", "draw_mistuning"))
+    sweep_sector = staticmethod(_lazy("fretwear.disk", "sweep_sector"))
 
     def __init__(self, **replacements: Callable) -> None:
         unknown = sorted(set(replacements) - set(_LIBRARY_NAMES))
@@ -171,6 +174,20 @@ class InterfaceModel:
     parameters: tuple[tuple[str, Any], ...] = ()
     path: str | None = None
     stamp: float | None = None
+
+
+@dataclass(frozen=True)
+class DiskSpec:
+    """The shrouded bladed disk as a hashable cache key: the arguments of :func:`fretwear.bladed_disk`
+    (``fex`` in N), mistuned by the seeded pattern of :func:`fretwear.disk.draw_mistuning` at ``level``
+    (0: tuned)."""
+
+    sectors: int = 24
+    engine_order: int = 3
+    fex: float = 2.0
+    mu: float = 0.3
+    level: float = 0.0
+    seed: int = 0
 
 
 class ResultCache:
@@ -544,6 +561,49 @@ class Backend:
             "dof": index,
             "dof_name": next((k for k, v in full.names.items() if v == index), str(index)),
         }
+
+    # -- the bladed disk (the Bladed disk tab) ---------------------------------------------
+
+    def disk_model(self, spec: DiskSpec) -> Model:
+        """The shrouded disk of ``spec`` (:func:`fretwear.bladed_disk`), its blades mistuned by the
+        pattern drawn at ``spec.level`` with ``spec.seed``."""
+        lib = self.library
+        self._tally("bladed_disk")
+        delta = lib.draw_mistuning(spec.sectors, spec.level, 1, seed=spec.seed)[0] if spec.level else None
+        return lib.bladed_disk(spec.sectors, engine_order=spec.engine_order, fex=spec.fex, mu=spec.mu,
+                               mistuning=delta)  # fmt: skip
+
+    def disk_frf(self, model: Model, grid: Grid, harmonics: int, wear: np.ndarray | None) -> dict[str, Any]:
+        """First-harmonic amplitude and harmonics (m) of every blade tip over the frequency ``grid`` (Hz)
+        at the worn depths ``wear`` (m, per shroud contact; ``None``: unworn): a tuned disk worn alike on
+        one sector (:func:`fretwear.disk.sweep_sector`), else the full disk (:func:`fretwear.sweep`)."""
+        from fretwear.disk.cyclic import is_tuned_disk
+
+        omegas = 2 * np.pi * grid.values
+        alike = wear is None or np.ptp(wear) <= 1e-12 * max(float(np.max(wear)), 1e-300)
+        if is_tuned_disk(model) and alike:
+            self._tally("sweep_sector")
+            w0 = 0.0 if wear is None else float(wear[0])
+            sols, how = self.library.sweep_sector(model, omegas, harmonics, wear=w0).solutions, "one sector"
+        else:
+            self._tally("sweep")
+            sols, how = self.library.sweep(model, omegas, harmonics, wear=wear).solutions, "full disk"
+        return {
+            "f_hz": grid.values,
+            "tips": np.array([s.amplitude[2::3] for s in sols]),
+            "tip_harmonics": np.array([s.dof_harmonics[2::3] for s in sols]),
+            "converged": np.array([s.converged for s in sols], dtype=bool),
+            "solved_on": how,
+        }
+
+    def disk_history(
+        self, model: Model, f_hz: float, harmonics: int, kw: float, cycles: float
+    ) -> WearHistory:
+        """Wear of every shroud contact at ``f_hz`` by slow-time stepping (:func:`fretwear.wear_history`,
+        ``kw`` in 1/N, to ``cycles``), on DLFT at ``harmonics``."""
+        self._tally("wear_history")
+        return self.library.wear_history(model, 2 * np.pi * f_hz, "stepping", kw=kw, cycles=cycles,
+                                         harmonics=harmonics)  # fmt: skip
 
     # -- a study written by ``fretwear study`` (the Study tab) ------------------------------
 

@@ -708,3 +708,19 @@ def test_the_interface_tab_computes_when_shown(open_page):
     frf = page.plot("Interface: FRF of pad_x")["legends"]
     assert [f["label"] for f in frf] == ["before wear", "after wear"] and frf[0]["n"] == frf[1]["n"] > 0
     assert "Interface: stick (0) / slip (1) / open (2) at N = 3e+04" in page.titles()
+
+
+def test_the_bladed_disk_tab_computes_when_shown(open_page):
+    """Feature (issue 24): the Bladed disk tab draws the tuned shrouded disk when first shown: the disk with
+    its 24 blades, the ZZENF diagram, the largest tip amplitude before and after wear, the wear per pair."""
+    page = open_page()
+    assert not any(t.startswith("Bladed disk") for t in page.titles())
+    page.tab("Bladed disk")
+    page.wait_title("Bladed disk: tips coloured by worn depth")  # drawn with the results
+    frf = page.plot("Bladed disk: largest blade-tip amplitude")["legends"]
+    assert [f["label"] for f in frf] == ["before wear", "after wear"] and frf[0]["n"] == frf[1]["n"] == 26
+    assert "Bladed disk: ZZENF diagram (no contacts), EO and f marked" in page.titles()
+    wear = page.plot("Bladed disk: worn depth")["legends"][-1]  # the last record: worn through
+    assert len(wear["y"]) == 24 and min(wear["y"]) > 0.9
+    assert max(wear["y"]) - min(wear["y"]) < 1e-9  # tuned: every contact alike
+    assert "one sector" in page.text()
