@@ -36,6 +36,7 @@ EXTRA = {
     "cost": (("--quick", None),),
     "figures": (("--harmonics", "3"), ("--nf", "3"), ("--ncycles", "3"), ("--formats", "csv")),
     "interface": (("--contact-nodes", "8"), ("--harmonics", "3")),
+    "disk": (("--n", "5"), ("--harmonics", "3")),
 }
 SKIP = ("dask ", "panel serve", "pip install", "python ")
 
