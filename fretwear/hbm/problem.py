@@ -18,7 +18,6 @@ import numpy as np
 
 from ..model import Model
 from . import dlft
-from . import receptance as receptance_form
 from .condensation import Condensed, Receptance, condense, condense_sweep, receptance
 from .harmonics import HarmonicBasis, default_samples
 
@@ -236,7 +235,7 @@ class Problem:
     def evaluate(self, x: np.ndarray, jacobian: bool = True):
         """Residual (N), Jacobian (N/m) or None, and the time-domain fields of the march."""
         if self.form == "receptance":
-            return receptance_form.evaluate(self, x, jacobian)
+            return self._evaluate_receptance(x, jacobian)
         nc, H = self.n_active, self.basis.size
         Ns = self.basis.marched_samples
         if not jacobian and self.march is not None and np.array_equal(x, self.march[0]):
@@ -257,6 +256,25 @@ class Problem:
                 dlft.jacobian_of_kinds(self.Z, self.eps, A, self.kinds, J)
             else:  # the kernel fretwear.compile warms up and checks in the cache
                 dlft.jacobian_from_blocks(self.Z, self.eps, A, J)
+        return R, J, A, lam, X, state
+
+    def _evaluate_receptance(self, x: np.ndarray, jacobian: bool):
+        """:meth:`evaluate` in the receptance form (:mod:`fretwear.hbm.receptance`):
+        ``R = k_t (x - s u_lin + G Lambda(x))`` (N), ``J = k_t (I + G k_t A)`` (N/m)."""
+        nc, H = self.n_active, self.basis.size
+        Ns, b = self.basis.marched_samples, self.basis
+        Lam, A = np.empty(nc * H), np.empty((nc, H, H))
+        lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
+        state = np.empty((nc, Ns), dtype=np.int8)
+        # with Z = 0 and F = 0 the DLFT residual is the Jenkins force Lambda(x) itself
+        dlft.evaluate(x, self.no_stiffness, np.zeros(nc * H), self.eps, self.kinds, self.limits, b.synthesis,
+                      b.analysis, b.half_wave, jacobian, Lam, A, lam, X, state)  # fmt: skip
+        kt = np.repeat(self.eps, H)
+        R = kt * (x - self.force_scale * self.U0 + self.G @ Lam)
+        J = None
+        if jacobian:  # d Lambda_c / d x_c = k_t A_c, block-diagonal
+            GdLam = np.einsum("ich,chk->ick", self.G.reshape(nc * H, nc, H), self.eps[:, None, None] * A)
+            J = kt[:, None] * (np.eye(nc * H) + GdLam.reshape(nc * H, nc * H))
         return R, J, A, lam, X, state
 
     def residual_scale(self) -> float:

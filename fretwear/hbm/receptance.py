@@ -14,7 +14,7 @@ force is a function of its own relative displacement (the return map of
 whose Jacobian ``k_t (I + G_r k_t A)`` (``A`` the blocks of the march) is
 regular wherever the contact states are: no inverse of ``G_r`` is needed.
 The rows are scaled by each contact's ``k_t`` so that the residual is a force,
-judged like every other one.
+judged like every other one (:meth:`fretwear.hbm.problem.Problem.evaluate`).
 
 :func:`steps` hands this law to the periodic-solve strategy
 (:mod:`fretwear.hbm.strategy`): Newton (non-monotone, then backtracking), a
@@ -29,38 +29,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import dlft, strategy
+from . import strategy
 from .strategy import NewtonResult
 
 if TYPE_CHECKING:
     from .problem import Problem
 
-__all__ = ["evaluate", "newton", "steps"]
+__all__ = ["newton", "homotopy", "load_walk", "steps"]
 
 #: smallest load or homotopy step of a continuation before it gives up
 MIN_STEP = 1e-6
-
-
-def evaluate(problem: Problem, x: np.ndarray, jacobian: bool = True):
-    """Residual (N), Jacobian (N/m) or None, and the march fields, as :meth:`Problem.evaluate`."""
-    nc, H = problem.n_active, problem.basis.size
-    Ns = problem.basis.marched_samples
-    Lam = np.empty(nc * H)
-    A = np.empty((nc, H, H))
-    lam, X = np.empty((nc, Ns)), np.empty((nc, Ns))
-    state = np.empty((nc, Ns), dtype=np.int8)
-    zero = np.zeros(nc * H)
-    b = problem.basis
-    # with Z = 0 and F = 0 the DLFT residual is the Jenkins force Lambda(x) itself
-    dlft.evaluate(x, problem.no_stiffness, zero, problem.eps, problem.kinds, problem.limits, b.synthesis,
-                  b.analysis, b.half_wave, jacobian, Lam, A, lam, X, state)  # fmt: skip
-    kt = np.repeat(problem.eps, H)
-    R = kt * (x - problem.force_scale * problem.U0 + problem.G @ Lam)
-    J = None
-    if jacobian:  # d Lambda_c / d x_c = k_t A_c
-        GdLam = np.einsum("ich,chk->ick", problem.G.reshape(nc * H, nc, H), problem.eps[:, None, None] * A)
-        J = kt[:, None] * (np.eye(nc * H) + GdLam.reshape(nc * H, nc * H))
-    return R, J, A, lam, X, state
 
 
 def _norm(v: np.ndarray) -> float:
@@ -110,7 +88,7 @@ def _result(problem: Problem, out) -> NewtonResult:
 
 def newton(problem: Problem, x0: np.ndarray, tol: float = 1e-10, max_iter: int = 50) -> NewtonResult:
     """Newton's method on the receptance residual; converged when ``max |R| <= tol * scale`` (N)."""
-    residual = lambda x, jac: evaluate(problem, x, jac)[:2]  # noqa: E731
+    residual = lambda x, jac: problem.evaluate(x, jac)[:2]  # noqa: E731
     return _result(problem, _newton(residual, x0, tol * problem.residual_scale(), max_iter))
 
 
@@ -144,28 +122,28 @@ def load_walk(problem: Problem, tol: float = 1e-10, max_iter: int = 50) -> Newto
 
     def residual_at(s):
         p = problem.at_load(s * full)
-        return lambda x, jac: evaluate(p, x, jac)[:2]
+        return lambda x, jac: p.evaluate(x, jac)[:2]
 
     x, ok, spent, msg = _continue(
         residual_at, np.zeros(problem.size), tol * problem.residual_scale(), max_iter
     )
-    r = _norm(evaluate(problem, x, False)[0]) / problem.residual_scale()
+    r = _norm(problem.evaluate(x, False)[0]) / problem.residual_scale()
     return NewtonResult(x, ok, spent, r, msg)
 
 
 def homotopy(problem: Problem, x0: np.ndarray, tol: float = 1e-10) -> NewtonResult:
     """The Newton homotopy ``R(x) = (1 - sigma) R(x0)`` from ``x0`` to ``sigma = 1``, followed by steps."""
-    r0 = evaluate(problem, x0, False)[0]
+    r0 = problem.evaluate(x0, False)[0]
 
     def residual_at(sigma):
         def residual(x, jac):
-            R, J = evaluate(problem, x, jac)[:2]
+            R, J = problem.evaluate(x, jac)[:2]
             return R - (1 - sigma) * r0, J
 
         return residual
 
     x, ok, spent, msg = _continue(residual_at, x0, tol * problem.residual_scale(), 50)
-    r = _norm(evaluate(problem, x, False)[0]) / problem.residual_scale()
+    r = _norm(problem.evaluate(x, False)[0]) / problem.residual_scale()
     return NewtonResult(x, ok, spent, r, msg)
 
 
