@@ -12,6 +12,7 @@ import os
 import tempfile
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 # One BLAS thread per process: the tests, the dashboard server they start and the kernel warm-up share
@@ -79,3 +80,20 @@ def small_cylinder():
 
     return cylinder_on_flat(contact_nodes=5, growth=1.6, pad_height=0.004, pad_half_width=0.004,
                             flat_half_width=0.006, flat_depth=0.004)  # fmt: skip
+
+
+@pytest.fixture(scope="session")
+def assert_linear():
+    """``check(sol, model, omega, extra)``: the periodic solution ``sol`` is the linear structure with the
+    stiffness ``K + extra`` (N/m) under the model's forcing at ``omega`` (rad/s): its first harmonic to 1e-10
+    of the largest amplitude, every other harmonic zero to the same bound (stuck and sliding limits)."""
+
+    def check(sol, model, omega: float, extra) -> None:
+        D = model.K + extra - omega**2 * model.M + 1j * omega * model.C
+        U = np.linalg.solve(D, model.force_cos - 1j * model.force_sin)
+        h, scale = sol.dof_harmonics, np.abs(U).max()
+        assert np.abs(h[:, 1] - U.real).max() <= 1e-10 * scale
+        assert np.abs(h[:, 2] + U.imag).max() <= 1e-10 * scale
+        assert np.abs(h[:, 3:]).max() <= 1e-10 * scale
+
+    return check

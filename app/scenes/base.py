@@ -147,6 +147,33 @@ class Exports:
         return figures.csv_text(tables[name], self.csv_header())
 
 
+class OwnSettings:
+    """A tab with settings of its own (Interface, Bladed disk), on the session's machinery
+    (:class:`~app.session.Runner`): nothing computes until :meth:`activate`; then :meth:`refresh` shows
+    the results of ``settings()`` from the cache or runs its ``tasks()``, after naming its ``problems()``.
+    The tab provides ``settings()`` and ``_publish_results``."""
+
+    active = False
+
+    def activate(self) -> None:
+        """The tab is shown: compute (only visible plots compute)."""
+        if not self.active:
+            self.active = True
+            self.refresh()
+
+    def refresh(self, *_events: Any) -> None:
+        """Show the results of the current settings: from the cache, or start a run."""
+        if not self.active:
+            return
+        generation = self.new_request()
+        s = self.settings()
+        problems = s.problems()
+        if problems:
+            self.invalid(problems)
+            return
+        self.run(generation, s.tasks(self.tasks), self._publish_results)
+
+
 class Scene(Exports, param.Parameterized):
     """One tab of the dashboard. Subclasses set the class attributes and the ``_figure_*`` methods."""
 

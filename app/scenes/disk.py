@@ -39,7 +39,7 @@ from ..backend import DiskSpec, Failure, Grid, shared_backend, shared_cache
 from ..live import live_pane, message_list, run_status
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter
-from .base import Exports
+from .base import Exports, OwnSettings
 
 __all__ = ["DiskScene", "DiskSettings", "disk_tab", "PROFILES"]
 
@@ -117,7 +117,7 @@ class DiskSettings:
         return [model, before, history, after, point]
 
 
-class DiskScene(Exports, Runner):
+class DiskScene(OwnSettings, Exports, Runner):
     """The Bladed disk tab's state: its settings, the run in progress and the published results.
 
     Parameters as :class:`~app.scenes.interface.InterfaceScene` (``tasks``, ``executor``, ``dispatch``).
@@ -150,7 +150,6 @@ class DiskScene(Exports, Runner):
         self.tasks = tasks or Tasks(shared_backend(), shared_cache())
         super().__init__(self.tasks.cache, executor, dispatch, **params)
         self.results: dict[str, Any] = {}
-        self.active = False
         self.param.watch(
             self.refresh, ["engine_order", "fex", "mu", "kw", "level", "seed", "frequency", "cycles"]
         )
@@ -162,23 +161,6 @@ class DiskScene(Exports, Runner):
             level=float(self.level), seed=int(self.seed), frequency=float(self.frequency), kw=float(self.kw),
             cycles=float(self.cycles),
         )  # fmt: skip
-
-    def activate(self) -> None:
-        """The tab is shown: compute (only visible plots compute)."""
-        if not self.active:
-            self.active = True
-            self.refresh()
-
-    def refresh(self, *_events: Any) -> None:
-        """Show the results of the current settings: from the cache, or start a run."""
-        if not self.active:
-            return
-        generation = self.new_request()
-        problems = self.settings().problems()
-        if problems:
-            self.invalid(problems)
-            return
-        self.run(generation, self.settings().tasks(self.tasks), self._publish_results)
 
     def _publish_results(self, results: dict[str, Any], final: bool) -> None:
         if not final:

@@ -41,7 +41,7 @@ from ..backend import Failure, Grid, InterfaceModel, shared_backend, shared_cach
 from ..live import live_pane, message_list, run_status
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp
-from .base import Exports
+from .base import Exports, OwnSettings
 
 __all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "MODELS", "PAPER", "RTOL"]
 
@@ -153,7 +153,7 @@ class InterfaceSettings:
         return [model, history, *frfs]
 
 
-class InterfaceScene(Exports, Runner):
+class InterfaceScene(OwnSettings, Exports, Runner):
     """The Interface tab's state: its settings, the run in progress and the published results.
 
     Its run is the tasks of :meth:`InterfaceSettings.tasks` on the session's machinery
@@ -199,7 +199,6 @@ class InterfaceScene(Exports, Runner):
         if self.path is not None:
             self.param.model.objects = [GROSS, PARTIAL, PAPER, FILE]
         self.results: dict[str, Any] = {}
-        self.active = False
         self.param.watch(self._defaults, ["model"])  # first: the run below sees the model's settings
         self.param.watch(self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles"])
 
@@ -222,24 +221,6 @@ class InterfaceScene(Exports, Runner):
             fmax=4.0 * float(self.frequency),
             stamp=file_stamp(self.path) if self.model == FILE else None,
         )
-
-    def activate(self) -> None:
-        """The tab is shown: compute (only visible plots compute)."""
-        if not self.active:
-            self.active = True
-            self.refresh()
-
-    def refresh(self, *_events: Any) -> None:
-        """Show the results of the current settings: from the cache, or start a run."""
-        if not self.active:
-            return
-        generation = self.new_request()
-        s = self.settings()
-        problems = s.problems()
-        if problems:
-            self.invalid(problems)
-            return
-        self.run(generation, s.tasks(self.tasks), self._publish_results)
 
     def _publish_results(self, results: dict[str, Any], final: bool) -> None:
         if not final:
