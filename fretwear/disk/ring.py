@@ -134,8 +134,8 @@ def ring_damper_disk(
     C = sl.block_diag(0.5 * (Cd + Cd.T), np.zeros((n, n)))
     K = sl.block_diag(Kd, np.zeros((n, n)))
     # the ring: kr between neighbours (closed), 1e-3 kr to ground
-    Kr = (2 * kr + 1e-3 * kr) * np.eye(n) - kr * (np.roll(np.eye(n), 1, axis=1) + np.roll(np.eye(n), -1, axis=1))
-    K[3 * n :, 3 * n :] = Kr
+    ring_k = np.roll(np.eye(n), 1, axis=1) + np.roll(np.eye(n), -1, axis=1)
+    K[3 * n :, 3 * n :] = (2 * kr + 1e-3 * kr) * np.eye(n) - kr * ring_k
 
     normal_load = mr * radius * rotation_speed**2
     kt = 10 * kr
