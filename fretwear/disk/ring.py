@@ -30,7 +30,8 @@ LAPACK returns; it is not reproduced.
 
 Excitation as the tutorial's: blade tip ``i`` is forced by ``fex cos(omega t -
 2 pi EO i / N)`` (pyHarm's ``GOForcing`` with the phase ``phi = 2 pi n_diam i /
-N``, amplitude 1 N), the band about the one-nodal-diameter mode (EO = 1).
+N``, amplitude 1 N). Its sweep runs over 0.95 to 1.1 times the one-nodal-diameter frequency, so the
+default engine order is 1 (inferred from that band).
 """
 
 from __future__ import annotations
