@@ -130,8 +130,9 @@ def main() -> None:
                  Mr=model.M[d:, d:], Kr=model.K[d:, d:], cfg=json.dumps(cfg))  # fmt: skip
         (tmp / "worker.py").write_text(WORKER)
         start = time.perf_counter()
+        # in tmp: pyHarm writes a .pyHarm/ folder into its working directory
         run = subprocess.run([str(python), str(tmp / "worker.py"), str(tmp / "in.npz"), str(tmp / "out.npz")],
-                             capture_output=True, text=True)  # fmt: skip
+                             capture_output=True, text=True, cwd=tmp)  # fmt: skip
         t_pyharm = time.perf_counter() - start
         if run.returncode:
             sys.exit(f"pyHarm failed:\n{run.stderr[-3000:]}")
