@@ -29,9 +29,12 @@ from .record import MODEL, caption, csv_header
 __all__ = ["paper_figures"]
 
 
-def _layout(panels: list, cols: int):
-    """Panels in a grid of ``cols`` columns, sized for Matplotlib."""
+def _layout(panels: list, cols: int, options: ExportOptions | None = None):
+    """Panels in a grid of ``cols`` columns, sized for Matplotlib; in one row for a landscape export size
+    (``options``' width at least its height: a column, a page, a slide)."""
     hv = holoviews()
+    if options is not None and options.width is not None and options.height is not None:
+        cols = len(panels) if options.width >= options.height else cols
     rows = -(-len(panels) // cols)
     layout = hv.Layout(panels).cols(cols)
     return styled(
@@ -256,7 +259,7 @@ def paper_figures(
             )
             for i, (fex, wm) in enumerate(maps.items())
         ]
-        write("fig07", _layout(panels, 3), _wear_map_table(maps), three)
+        write("fig07", _layout(panels, 3, options), _wear_map_table(maps), three)
         # Fig. 8: four cases at 6 N
         wm6 = maps[6.0]
         late = snapshots[-2]
@@ -288,7 +291,7 @@ def paper_figures(
                     title=f"Fig. 9{'abc'[i]}: Fₑₓ = {fex:g} N",
                 )
             )
-        write("fig09", _layout(panels, 1), table, three)
+        write("fig09", _layout(panels, 1, options), table, three)
 
         # Fig. 10: harmonic convergence at f_study, 10 N
         histories = hc.result()
