@@ -283,11 +283,31 @@ def _thin_ticks(figure: Figure, renderer: RendererBase) -> bool:
     return changed
 
 
-def _separate_labels(figure: Figure, renderer: RendererBase) -> bool:
-    """Labels drawn in an axes (``hv.Labels``) made smaller, then moved apart, where they touch or leave
-    the axes; whether any changed."""
+def _move_apart(figure: Figure, texts: list[Text], area: Bbox, renderer: RendererBase) -> None:
+    """Each of ``texts``, bottom to top, moved into ``area`` and up past those below it that it touches."""
     from matplotlib.transforms import offset_copy
 
+    placed: list[Bbox] = []
+    scale = 72 / figure.dpi
+    for t in texts:
+        if not hasattr(t, "_fretwear_base"):
+            t._fretwear_base = t.get_transform()
+        t.set_transform(t._fretwear_base)
+    for t in sorted(texts, key=lambda t: t.get_window_extent(renderer).y0):
+        box = t.get_window_extent(renderer)
+        dx = max(0.0, area.x0 - box.x0) - max(0.0, box.x1 - area.x1)
+        dy = max(0.0, area.y0 - box.y0) - max(0.0, box.y1 - area.y1)
+        for other in sorted(placed, key=lambda b: b.y0):
+            moved = box.translated(dx, dy)
+            if _touch(moved, other):
+                dy += other.y1 - moved.y0 + 1
+        t.set_transform(offset_copy(t._fretwear_base, figure, x=dx * scale, y=dy * scale, units="points"))
+        placed.append(t.get_window_extent(renderer))
+
+
+def _separate_labels(figure: Figure, renderer: RendererBase) -> bool:
+    """Labels drawn in an axes (``hv.Labels``) moved apart and into the axes where they touch or leave
+    it, and made smaller (to :data:`MIN_LABEL_SIZE`) while that is not enough; whether any changed."""
     changed = False
     for ax in figure.axes:
         texts = [t for t in ax.texts if t.get_visible() and t.get_text().strip()]
@@ -301,24 +321,12 @@ def _separate_labels(figure: Figure, renderer: RendererBase) -> bool:
         if not texts or not faults():
             continue
         changed = True
-        while faults() and min(t.get_fontsize() for t in texts) > MIN_LABEL_SIZE:
+        while True:  # moved apart; then, while they still touch, smaller and moved again
+            _move_apart(figure, texts, area, renderer)
+            if not faults() or min(t.get_fontsize() for t in texts) <= MIN_LABEL_SIZE:
+                break
             for t in texts:
                 t.set_fontsize(max(MIN_LABEL_SIZE, 0.9 * t.get_fontsize()))
-        # still touching: each label, bottom to top, moved up past those below it and into the axes
-        placed: list[Bbox] = []
-        for t in sorted(texts, key=lambda t: t.get_window_extent(renderer).y0):
-            base = getattr(t, "_fretwear_base", None) or t.get_transform()
-            t._fretwear_base = base
-            box = t.get_window_extent(renderer)
-            dx = max(0.0, area.x0 - box.x0) - max(0.0, box.x1 - area.x1)
-            dy = max(0.0, area.y0 - box.y0) - max(0.0, box.y1 - area.y1)
-            for other in placed:
-                moved = box.translated(dx, dy)
-                if _touch(moved, other):
-                    dy += other.y1 - moved.y0 + 1
-            scale = 72 / figure.dpi
-            t.set_transform(offset_copy(base, figure, x=dx * scale, y=dy * scale, units="points"))
-            placed.append(t.get_window_extent(renderer))
     return changed
 
 
