@@ -11,9 +11,7 @@ import csv
 import html
 import io
 import math
-import re
 import threading
-import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -185,7 +183,9 @@ def figure_title(figure) -> str:
     return "; ".join(dict.fromkeys(t for t in titles if t))
 
 
-def matplotlib_figure(fig: hv.core.Dimensioned, options: ExportOptions | None = None, caption: Caption = None):
+def matplotlib_figure(
+    fig: hv.core.Dimensioned, options: ExportOptions | None = None, caption: Caption = None
+):
     """``fig`` drawn by Matplotlib and laid out for a file (:func:`fretwear.figures.layout.lay_out`).
 
     The figure is ``options``' size (or its own) with ``caption`` under it, on
@@ -229,7 +229,9 @@ def _matplotlib_bytes(
         for fmt in formats:
             buf = io.BytesIO()
             with matplotlib.rc_context({"svg.fonttype": "none"}):  # SVG text stays text: searchable, editable
-                figure.savefig(buf, format=fmt, dpi=options.dpi, metadata=_metadata(fmt, name, _text(caption, "unicode")))
+                figure.savefig(
+                    buf, format=fmt, dpi=options.dpi, metadata=_metadata(fmt, name, _text(caption, "unicode"))
+                )
             out[fmt] = buf.getvalue()
         return out
     finally:

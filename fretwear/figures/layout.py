@@ -95,14 +95,18 @@ def _share_decorations(figure: Figure) -> None:
     spec = {ax: ax.get_subplotspec() for ax in panels}
     # (axis, the grid lines along which the label repeats, which panel keeps it); y along a row: the
     # leftmost; x along a column: the bottom one; along the other way the middle one
-    rules = (("y", "rowspan", lambda axes: min(axes, key=lambda a: spec[a].colspan.start)),
-             ("x", "colspan", lambda axes: max(axes, key=lambda a: spec[a].rowspan.stop)),
-             ("x", "rowspan", lambda axes: sorted(axes, key=lambda a: spec[a].colspan.start)[len(axes) // 2]),
-             ("y", "colspan", lambda axes: sorted(axes, key=lambda a: spec[a].rowspan.start)[len(axes) // 2]))
+    rules = (
+        ("y", "rowspan", lambda axes: min(axes, key=lambda a: spec[a].colspan.start)),
+        ("x", "colspan", lambda axes: max(axes, key=lambda a: spec[a].rowspan.stop)),
+        ("x", "rowspan", lambda axes: sorted(axes, key=lambda a: spec[a].colspan.start)[len(axes) // 2]),
+        ("y", "colspan", lambda axes: sorted(axes, key=lambda a: spec[a].rowspan.start)[len(axes) // 2]),
+    )
     for letter, line, keeper in rules:  # fmt: skip
         groups: dict[tuple, list] = {}
         for ax in panels:
-            groups.setdefault((getattr(spec[ax], line).start, getattr(ax, f"get_{letter}label")()), []).append(ax)
+            groups.setdefault(
+                (getattr(spec[ax], line).start, getattr(ax, f"get_{letter}label")()), []
+            ).append(ax)
         for (_, label), axes in groups.items():
             if label and len(axes) > 1:
                 keep = keeper(axes)
@@ -128,8 +132,9 @@ def _share_decorations(figure: Figure) -> None:
         parents = [bar.mappable.axes for bar in bars]
         for bar in bars:
             bar.remove()
-        new = figure.colorbar(first.mappable, ax=parents, extend=extend, pad=0.02, fraction=0.06 / len(parents),
-                              aspect=25)  # fmt: skip
+        new = figure.colorbar(
+            first.mappable, ax=parents, extend=extend, pad=0.02, fraction=0.06 / len(parents), aspect=25
+        )
         new.locator, new.formatter = locator, formatter
         new.set_label(label, fontsize=size)
         if tick_size:
@@ -142,7 +147,11 @@ def _fit_texts(figure: Figure, renderer: RendererBase) -> bool:
     changed = False
     for ax in _panels(figure):
         area = ax.get_window_extent(renderer)
-        for text, room in ((ax.title, area.width), (ax.xaxis.label, area.width), (ax.yaxis.label, area.height)):
+        for text, room in (
+            (ax.title, area.width),
+            (ax.xaxis.label, area.width),
+            (ax.yaxis.label, area.height),
+        ):
             whole = getattr(text, "_fretwear_whole", None) or " ".join(text.get_text().split())
             text._fretwear_whole = whole
             if not whole:
@@ -153,7 +162,9 @@ def _fit_texts(figure: Figure, renderer: RendererBase) -> bool:
             along = wide.height if text is ax.yaxis.label else wide.width
             new = whole
             if along > room:
-                new = wrap_text(figure, whole, text.get_fontsize(), max(room, 1.0), split=r"(?<=[,:;]) | (?=\()| ")
+                new = wrap_text(
+                    figure, whole, text.get_fontsize(), max(room, 1.0), split=r"(?<=[,:;]) | (?=\()| "
+                )
             text.set_text(new)
             changed |= new != probe
     return changed
@@ -313,7 +324,7 @@ def _separate_labels(figure: Figure, renderer: RendererBase) -> bool:
         texts = [t for t in ax.texts if t.get_visible() and t.get_text().strip()]
         area = ax.get_window_extent(renderer)
 
-        def faults() -> bool:
+        def faults(texts: list[Text] = texts, area: Bbox = area) -> bool:
             boxes = [t.get_window_extent(renderer) for t in texts]
             crossed = any(_touch(a, b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
             return crossed or any(not _inside(b, area) for b in boxes)
@@ -332,11 +343,16 @@ def _separate_labels(figure: Figure, renderer: RendererBase) -> bool:
 
 def _inside(box: Bbox, area: Bbox, tol: float = 0.5) -> bool:
     return (
-        box.x0 >= area.x0 - tol and box.x1 <= area.x1 + tol and box.y0 >= area.y0 - tol and box.y1 <= area.y1 + tol
+        box.x0 >= area.x0 - tol
+        and box.x1 <= area.x1 + tol
+        and box.y0 >= area.y0 - tol
+        and box.y1 <= area.y1 + tol
     )
 
 
-def lay_out(figure: Figure, caption: str = "", caption_size: float = 7.5, fontsize: float | None = None) -> None:
+def lay_out(
+    figure: Figure, caption: str = "", caption_size: float = 7.5, fontsize: float | None = None
+) -> None:
     """Lay out ``figure`` (drawn by HoloViews, on an Agg canvas) for a file, ``caption`` under it.
 
     Matplotlib's constrained layout places the axes, their colour bars,
@@ -369,7 +385,9 @@ def lay_out(figure: Figure, caption: str = "", caption_size: float = 7.5, fontsi
         bottom = text.get_window_extent(renderer).height / figure.dpi + PAD + CAPTION_GAP
     _share_decorations(figure)
     for legend in _place_legends(figure, renderer):
-        legend.set_bbox_to_anchor((0.5, max(bottom, PAD) / figure.get_figheight()), transform=figure.transFigure)
+        legend.set_bbox_to_anchor(
+            (0.5, max(bottom, PAD) / figure.get_figheight()), transform=figure.transFigure
+        )
         bottom = max(bottom, PAD) + legend.get_window_extent(renderer).height / figure.dpi + CAPTION_GAP
     bottom = min(0.6, bottom / figure.get_figheight())
     engine.set(rect=(0.0, bottom, 1.0, 1.0 - bottom))
@@ -428,7 +446,10 @@ def layout_faults(figure: Figure, tol: float = 0.5) -> list[str]:
             out.append(f"{name} is cut by the figure's edge")
     for i, (name, _, box, _) in enumerate(texts):
         for other, _, obox, _ in texts[i + 1 :]:
-            if min(box.x1, obox.x1) - max(box.x0, obox.x0) > tol and min(box.y1, obox.y1) - max(box.y0, obox.y0) > tol:
+            if (
+                min(box.x1, obox.x1) - max(box.x0, obox.x0) > tol
+                and min(box.y1, obox.y1) - max(box.y0, obox.y0) > tol
+            ):
                 out.append(f"{name} overlaps {other}")
     for name, owner, box, inner in texts:
         for area_name, ax, area in areas:

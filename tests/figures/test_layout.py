@@ -119,15 +119,22 @@ def _exported(options: figures.ExportOptions) -> dict:
     return out
 
 
+@pytest.fixture(scope="module")
+def exported() -> dict:
+    """The figures, built once: every size is landscape, so the paper's grids are one row for each."""
+    assert all(w >= h for w, h, _ in figures.SIZES.values())
+    return _exported(figures.ExportOptions(size="page"))
+
+
 @pytest.mark.parametrize("size", list(figures.SIZES))
-def test_no_text_overlaps_in_any_exported_figure(size):
+def test_no_text_overlaps_in_any_exported_figure(size, exported):
     """Defects (issue 26): the wear map's colour bar over the map and the caption, the regime map's
     legend over its colour bar, the loop's title cut and x ticks overlapping, the Pareto title cut and
     labels stacked, the sketch's labels overlapping, fig07/fig09's caption over the x tick labels, fig09's
     y tick labels cut, the colour bar of fig12-14 over the map and the caption cut on the right."""
     options = figures.ExportOptions(size=size)
     faults = {}
-    for name, fig in _exported(options).items():
+    for name, fig in exported.items():
         figure = figures.matplotlib_figure(fig, options, lambda markup: caption(STAMP, markup=markup))
         try:
             assert tuple(figure.get_size_inches()) == figures.SIZES[size][:2]
