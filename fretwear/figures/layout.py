@@ -191,8 +191,11 @@ def _clear_titles(figure: Figure, renderer: RendererBase) -> bool:
 
 def set_fonts(figure: Figure, size: float) -> None:
     """Font sizes of ``figure``'s texts from that of the axis labels, ``size`` (pt): titles 1.2 times,
-    tick labels and legends 0.9 times (as :meth:`fretwear.figures.ExportOptions.fonts`)."""
+    tick labels and legends 0.9 times (as :meth:`fretwear.figures.ExportOptions.fonts`), labels in the
+    axes (e.g. the sketch's values) scaled from Matplotlib's 10 pt to ``size``."""
     for ax in figure.axes:
+        for text in ax.texts:
+            text.set_fontsize(text.get_fontsize() * size / 10.0)
         for title in (ax.title, ax._left_title, ax._right_title):
             title.set_fontsize(1.2 * size)
         for axis in (ax.xaxis, ax.yaxis):
