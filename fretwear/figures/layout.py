@@ -67,41 +67,52 @@ def _panels(figure: Figure) -> list[Axes]:
     return [ax for ax in figure.axes if ax.get_subplotspec() is not None and ax.get_visible()]
 
 
+def _redraw_colorbar(figure: Figure, bars: list, parents: list[Axes]) -> None:
+    """``bars`` (colour bars of one mappable's scale) replaced by one ``fig.colorbar(..., ax=parents)``,
+    part of the layout, with the first one's label, ticks, tick format and font sizes."""
+    first = bars[0]
+    label = first.ax.yaxis.label
+    text, size = label.get_text(), label.get_fontsize()
+    ticks = first.ax.yaxis.get_ticklabels()
+    tick_size = ticks[0].get_fontsize() if ticks else None
+    locator, formatter, extend, mappable = first.locator, first.formatter, first.extend, first.mappable
+    for bar in bars:
+        bar.remove()
+    new = figure.colorbar(
+        mappable, ax=parents if len(parents) > 1 else parents[0], extend=extend, pad=0.02,
+        fraction=0.06 / len(parents), aspect=25,
+    )  # fmt: skip
+    new.locator, new.formatter = locator, formatter
+    new.set_label(text, fontsize=size)
+    if tick_size:
+        new.ax.tick_params(labelsize=tick_size)
+
+
 def _attach_colorbars(figure: Figure) -> None:
     """Colour bars placed by hand (``fig.add_axes``) drawn again with ``fig.colorbar(..., ax=parent)``."""
     for cax in list(figure.axes):
         bar = getattr(cax, "_colorbar", None)
         parent = getattr(bar, "mappable", None) and bar.mappable.axes
-        if bar is None or parent is None or hasattr(cax, "_colorbar_info"):
-            continue
-        label = cax.yaxis.label
-        ticks = cax.yaxis.get_ticklabels()
-        tick_size = ticks[0].get_fontsize() if ticks else None
-        locator, formatter, mappable = bar.locator, bar.formatter, bar.mappable
-        bar.remove()
-        new = figure.colorbar(mappable, ax=parent, extend=bar.extend, pad=0.02, fraction=0.06, aspect=25)
-        new.locator, new.formatter = locator, formatter
-        new.set_label(label.get_text(), fontsize=label.get_fontsize())
-        if tick_size:
-            new.ax.tick_params(labelsize=tick_size)
+        if bar is not None and parent is not None and not hasattr(cax, "_colorbar_info"):
+            _redraw_colorbar(figure, [bar], [parent])
 
 
 def _share_decorations(figure: Figure) -> None:
-    """The same axis label on every panel of a row (y) or column (x) kept on the outer one only, and
-    colour bars with the same label and range on a row of panels drawn once, beside the row."""
+    """An axis label repeated on the panels of a grid kept on one of them (y along a row: the leftmost;
+    x along a column: the bottom one; along the other direction: the middle one), and the colour bars
+    of a row of panels with the same label, range and map drawn once, beside the row."""
     panels = _panels(figure)
     if len(panels) < 2:
         return
     spec = {ax: ax.get_subplotspec() for ax in panels}
-    # (axis, the grid lines along which the label repeats, which panel keeps it); y along a row: the
-    # leftmost; x along a column: the bottom one; along the other way the middle one
+    # (axis, the grid lines along which the label repeats, which panel keeps it)
     rules = (
         ("y", "rowspan", lambda axes: min(axes, key=lambda a: spec[a].colspan.start)),
         ("x", "colspan", lambda axes: max(axes, key=lambda a: spec[a].rowspan.stop)),
         ("x", "rowspan", lambda axes: sorted(axes, key=lambda a: spec[a].colspan.start)[len(axes) // 2]),
         ("y", "colspan", lambda axes: sorted(axes, key=lambda a: spec[a].rowspan.start)[len(axes) // 2]),
     )
-    for letter, line, keeper in rules:  # fmt: skip
+    for letter, line, keeper in rules:
         groups: dict[tuple, list] = {}
         for ax in panels:
             groups.setdefault(
@@ -122,23 +133,8 @@ def _share_decorations(figure: Figure) -> None:
                bar.mappable.get_cmap().name)  # fmt: skip
         rows.setdefault(key, []).append(bar)
     for bars in rows.values():
-        if len(bars) < 2:
-            continue
-        first = bars[0]
-        label, size = first.ax.yaxis.label.get_text(), first.ax.yaxis.label.get_fontsize()
-        ticks = first.ax.yaxis.get_ticklabels()
-        tick_size = ticks[0].get_fontsize() if ticks else None
-        locator, formatter, extend = first.locator, first.formatter, first.extend
-        parents = [bar.mappable.axes for bar in bars]
-        for bar in bars:
-            bar.remove()
-        new = figure.colorbar(
-            first.mappable, ax=parents, extend=extend, pad=0.02, fraction=0.06 / len(parents), aspect=25
-        )
-        new.locator, new.formatter = locator, formatter
-        new.set_label(label, fontsize=size)
-        if tick_size:
-            new.ax.tick_params(labelsize=tick_size)
+        if len(bars) > 1:
+            _redraw_colorbar(figure, bars, [bar.mappable.axes for bar in bars])
 
 
 def _fit_texts(figure: Figure, renderer: RendererBase) -> bool:
