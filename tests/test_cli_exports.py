@@ -30,6 +30,7 @@ def test_map_figure_at_a_named_size_and_the_dashboards_dpi(tmp_path, capsys):
 
 @pytest.mark.parametrize("size", list(figures.SIZES))
 def test_figures_command_takes_the_size_presets(size):
+    assert list(cli.shared.SIZES) == list(figures.SIZES)  # the CLI's names without importing the plotting
     args = cli.build_parser().parse_args(["figures", "--out", "f", "--size", size, "--fontsize", "9"])
     options = cli.shared.export_options(args)
     width, height, _ = figures.SIZES[size]

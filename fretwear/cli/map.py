@@ -53,7 +53,7 @@ def add_arguments(wmap: argparse.ArgumentParser) -> None:
     option(wmap, "--ncycles", "number of log-spaced cycle counts (-); default 60", default=60)
     add_wear_options(wmap)
     add_out_option(wmap, "CSV (long format), .npz, or a figure: .png, .svg, .pdf, .html", "FILE")
-    add_export_options(wmap, own_size="7 x 4 in")
+    add_export_options(wmap, own=("7", "4"))
     add_settings_option(wmap)
 
 

@@ -74,14 +74,17 @@ def option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, flag: str,
 SIZES = {"column": "3.5 x 2.5 in, 7 pt", "page": "7 x 4 in, 10 pt", "slide": "10 x 6 in, 14 pt"}
 
 
-def add_export_options(parser: argparse.ArgumentParser, own_size: str = "each figure's own") -> None:
-    """``--size`` (a named size) and ``--width --height --dpi --fontsize`` of a figure file."""
+def add_export_options(
+    parser: argparse.ArgumentParser, own: tuple[str, str] = ("each figure's own", "each figure's own")
+) -> None:
+    """``--size`` (a named size) and ``--width --height --dpi --fontsize`` of a figure file; ``own``: the
+    width and height without them, as the help says."""
     group = parser.add_argument_group("figure", "size, resolution and fonts of the figure files")
     group.add_argument("--size", choices=tuple(SIZES), default=None,
                        help="named size: " + "; ".join(f"{k}: {v}" for k, v in SIZES.items())
                        + "; --width, --height, --fontsize override its values")  # fmt: skip
-    option(group, "--width", f"figure width (in); default: --size's, else {own_size}")
-    option(group, "--height", f"figure height (in); default: --size's, else {own_size}")
+    option(group, "--width", f"figure width (in); default: --size's, else {own[0]}")
+    option(group, "--height", f"figure height (in); default: --size's, else {own[1]}")
     dpi = PARAMETERS["dpi"].default
     option(group, "--dpi", f"resolution of the PNG files (dots per inch); default {dpi}", default=dpi)
     option(group, "--fontsize", "font size of the axis labels (pt); default: --size's, else Matplotlib's")

@@ -377,10 +377,13 @@ def lay_out(
     bottom = 0.0  # its height (in)
     if caption:
         room = figure.bbox.width - 2 * PAD * figure.dpi
-        words = wrap_text(figure, caption, caption_size, room)
-        text = figure.text(PAD / figure.get_figwidth(), PAD / figure.get_figheight(), words,
+        text = figure.text(PAD / figure.get_figwidth(), PAD / figure.get_figheight(), "",
                            fontsize=caption_size, va="bottom", ha="left")  # fmt: skip
         text.set_in_layout(False)
+        for narrower in (1.0, 0.97, 0.94, 0.9):  # the pieces measured apart can add up narrower than joined
+            text.set_text(wrap_text(figure, caption, caption_size, narrower * room))
+            if text.get_window_extent(renderer).width <= room:
+                break
         bottom = text.get_window_extent(renderer).height / figure.dpi + PAD + CAPTION_GAP
     _share_decorations(figure)
     for legend in _place_legends(figure, renderer):
