@@ -373,6 +373,7 @@ def lay_out(
         grid = ax.get_subplotspec().get_gridspec()
         if getattr(grid, "figure", None) is None:  # HoloViews' layouts make their grid without the figure
             grid.figure = figure
+        grid.wspace = grid.hspace = None  # HoloViews' spacing (a fraction of the axes), the layout's instead
     # the footer, under the layout's rect: the caption, and above it the legends too wide for a side
     bottom = 0.0  # its height (in)
     if caption:
