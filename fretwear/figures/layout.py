@@ -34,6 +34,10 @@ MIN_LABEL_SIZE = 5.0
 CAPTION_GAP, PAD = 0.08, 0.04
 
 
+#: widths (px) of the pieces :func:`wrap_text` measured, by piece, size, dpi and fonts
+_WIDTHS: dict[tuple, float] = {}
+
+
 def wrap_text(figure: Figure, text: str, size: float, room: float, split: str = r"(?<=[,;]) ") -> str:
     """``text`` in lines at most ``room`` pixels wide at font ``size`` (pt), broken after ``split``.
 
@@ -41,12 +45,18 @@ def wrap_text(figure: Figure, text: str, size: float, room: float, split: str = 
     growing line, each a new mathtext parse (about 1.4 s per exported figure).
     A piece wider than ``room`` stays whole on its own line.
     """
+    import matplotlib
+
     renderer = figure.canvas.get_renderer()
     probe = figure.text(0, 0, "", fontsize=size)
+    fonts = (size, figure.dpi, *(str(matplotlib.rcParams[k]) for k in ("font.family", "mathtext.fontset")))
 
     def width(piece: str) -> float:
-        probe.set_text(piece)
-        return probe.get_window_extent(renderer).width
+        key = (piece, *fonts)
+        if key not in _WIDTHS:  # the same captions come again and again (a figure set, the dashboard)
+            probe.set_text(piece)
+            _WIDTHS[key] = probe.get_window_extent(renderer).width
+        return _WIDTHS[key]
 
     space = width("a a") - width("aa")
     lines: list[list[str]] = [[]]
@@ -400,6 +410,8 @@ def lay_out(
         changed |= _separate_labels(figure, renderer) | _clear_titles(figure, renderer)
         if not changed:
             break
+    # laid out: later draws (each file format, the check) keep these positions
+    figure.set_layout_engine("none")
 
 
 def _text_boxes(figure: Figure, renderer: RendererBase):
