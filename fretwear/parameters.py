@@ -238,8 +238,8 @@ _ROWS = (
      dict(default=1e-2)),
     # -- figures
     ("dpi", "dpi", "", 50, 600, "i", "resolution of PNG files",
-     "30 x 30 in at 600 dpi is 324 Mpixel (1.3 GB of RGBA); the headless figures are written at 120",
-     dict(default=150, defaults=(("figures", 120),))),
+     "30 x 30 in at 600 dpi is 324 Mpixel (1.3 GB of RGBA); the dashboard and the CLI write at 150",
+     dict(default=150)),
     ("width", "width", "in", 2.0, 30.0, "", "figure width", "the axes need 2 in; 30 in: a poster"),
     ("height", "height", "in", 2.0, 30.0, "", "figure height", "as the width"),
     ("fontsize", "font size", "pt", 4.0, 40.0, "", "axis label font size", "legible to large"),

@@ -9,16 +9,25 @@ from pathlib import Path
 
 from ..arguments import staged_folder
 from ..wear import METHODS
-from .shared import EXIT_OK, UsageError, add_settings_option, check, option
+from .shared import (
+    EXIT_OK,
+    UsageError,
+    add_export_options,
+    add_settings_option,
+    check,
+    export_options,
+    option,
+)
 
-_FORMATS = ("png", "svg", "html", "csv")
+_FORMATS = ("png", "svg", "pdf", "html", "csv")
 
 
 #: the line of ``fretwear --help``, and the description of ``fretwear figures --help``
 HELP = "the paper's figure set (Fig. 5-14 equivalents), headless"
 DESCRIPTION = (
     "Computes the paper's figures 5-14 for the 2-DOF example and writes figNN.{png,svg,csv} "
-    "(and .html with --formats) to --out. Needs matplotlib and holoviews (installed with fretwear)."
+    "(and .pdf, .html with --formats) to --out, at --size column, page or slide if asked. Needs "
+    "matplotlib and holoviews (installed with fretwear)."
 )
 
 
@@ -40,11 +49,8 @@ def add_arguments(figures: argparse.ArgumentParser) -> None:
            default=1e-3)  # fmt: skip
     option(figures, "--degree", "degree of the polynomial method (Fig. 11, 12, 14); default 4", default=4)
     figures.add_argument("--formats", default="png,svg,csv",
-                         help="formats, comma-separated: png, svg, html, csv")  # fmt: skip
-    option(figures, "--width", "figure width (in); default: each figure's own")
-    option(figures, "--height", "figure height (in); default: each figure's own")
-    option(figures, "--dpi", "resolution of the PNG files (dots per inch); default 120", default=120)
-    option(figures, "--fontsize", "font size of the axis labels (pt); default Matplotlib's")
+                         help="formats, comma-separated: png, svg, pdf, html, csv")  # fmt: skip
+    add_export_options(figures)
     add_settings_option(figures)
 
 
@@ -69,10 +75,10 @@ def run(args: argparse.Namespace) -> int:
     Warnings of the computations are printed as one line each, like those of
     ``fretwear wear`` (never as Python's ``file:line: RuntimeWarning`` with a source line).
     """
-    from ..figures import ExportOptions, paper_figures
+    from ..figures import paper_figures
 
     formats = _formats(args.formats)
-    options = ExportOptions(width=args.width, height=args.height, dpi=args.dpi, fontsize=args.fontsize)
+    options = export_options(args)
     out = Path(args.out)
     said: set[str] = set()
 

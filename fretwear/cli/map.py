@@ -17,6 +17,7 @@ from .shared import (
     EXIT_OK,
     FIGURE_SUFFIXES,
     add_band_options,
+    add_export_options,
     add_model_options,
     add_out_option,
     add_settings_option,
@@ -40,7 +41,8 @@ DESCRIPTION = (
     "Wear map W(f, N) (paper Fig. 7) with the response, over linspace(fmin, fmax, nf) "
     "and the cycle counts 0 then ncycles - 1 log-spaced over the four decades up to --cycles (the "
     "dashboard's grid). CSV long format (f_hz, cycles, w, ...), NumPy NPZ arrays when --out ends in "
-    ".npz, or the figure when it ends in .png, .svg or .html (with its parameters as caption)."
+    ".npz, or the figure when it ends in .png, .svg, .pdf or .html (with its parameters as caption; "
+    "--size column, page or slide)."
 )
 
 
@@ -50,7 +52,8 @@ def add_arguments(wmap: argparse.ArgumentParser) -> None:
     add_band_options(wmap, "nf", 41, "number of frequencies (-)")
     option(wmap, "--ncycles", "number of log-spaced cycle counts (-); default 60", default=60)
     add_wear_options(wmap)
-    add_out_option(wmap, "CSV (long format), .npz, or a figure: .png, .svg, .html", "FILE")
+    add_out_option(wmap, "CSV (long format), .npz, or a figure: .png, .svg, .pdf, .html", "FILE")
+    add_export_options(wmap, own=("7", "4"))
     add_settings_option(wmap)
 
 

@@ -28,6 +28,7 @@ from ..arguments import atomic, check_output, number, remove_partial
 from ..hbm.solution import PeriodicSolution
 from ..model import Model, paper_model
 from ..model.modelfile import example_names, example_path, read_model_file
+from ..parameters import PARAMETERS
 from ..time import ShootingSolution
 from ..wear import DYNAMICS, METHODS, exact_answer_applies, method_options, resolve_dynamics, resolve_method
 from ..wear.polynomial import BASES
@@ -44,7 +45,7 @@ _PAPER_OPTIONS = ("fex", "mu", "fn", "kn", "u0")
 PAPER_BAND = (0.3, 1.3)
 
 #: the suffixes of --out that are a figure (``wear``, ``map``)
-FIGURE_SUFFIXES = (".png", ".svg", ".html")
+FIGURE_SUFFIXES = (".png", ".svg", ".pdf", ".html")
 
 R = TypeVar("R")
 
@@ -67,6 +68,36 @@ def option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, flag: str,
     name, ``--fixed-step`` -> ``fixed_step``; ``low`` narrows its range); ``kwargs`` go to argparse."""
     name = name or flag.removeprefix("--").replace("-", "_")
     return parser.add_argument(flag, type=number(name, low), help=help, **kwargs)
+
+
+#: the named export sizes (``fretwear.figures.export.SIZES``, without importing the plotting layer)
+SIZES = {"column": "3.5 x 2.5 in, 7 pt", "page": "7 x 4 in, 10 pt", "slide": "10 x 6 in, 14 pt"}
+
+
+def add_export_options(
+    parser: argparse.ArgumentParser, own: tuple[str, str] = ("each figure's own", "each figure's own")
+) -> None:
+    """``--size`` (a named size) and ``--width --height --dpi --fontsize`` of a figure file; ``own``: the
+    width and height without them, as the help says."""
+    group = parser.add_argument_group("figure", "size, resolution and fonts of the figure files")
+    group.add_argument("--size", choices=tuple(SIZES), default=None,
+                       help="named size: " + "; ".join(f"{k}: {v}" for k, v in SIZES.items())
+                       + "; --width, --height, --fontsize override its values")  # fmt: skip
+    option(group, "--width", f"figure width (in); default: --size's, else {own[0]}")
+    option(group, "--height", f"figure height (in); default: --size's, else {own[1]}")
+    dpi = PARAMETERS["dpi"].default
+    option(group, "--dpi", f"resolution of the PNG files (dots per inch); default {dpi}", default=dpi)
+    option(group, "--fontsize", "font size of the axis labels (pt); default: --size's, else Matplotlib's")
+
+
+def export_options(args: argparse.Namespace):
+    """The :class:`fretwear.figures.ExportOptions` of :func:`add_export_options`' options (the defaults for
+    a command without them)."""
+    from ..figures import ExportOptions
+
+    names = ("width", "height", "fontsize", "size")
+    values = {name: getattr(args, name, None) for name in names}
+    return ExportOptions(dpi=getattr(args, "dpi", None) or PARAMETERS["dpi"].default, **values)
 
 
 def add_model_options(parser: argparse.ArgumentParser) -> None:
@@ -405,7 +436,8 @@ def write_figure(fig, args: argparse.Namespace, method: str, options: dict, **ex
 
     values, model = _stamp(args, method, options)
     with atomic(args.out) as temp:
-        save_figure(fig, temp, caption=lambda markup: caption({**values, **extra}, model, markup))
+        save_figure(fig, temp, options=export_options(args),
+                    caption=lambda markup: caption({**values, **extra}, model, markup))  # fmt: skip
 
 
 def say_warnings(command: str, notes: Iterable[str], caught: list, limit: int = 3) -> None:

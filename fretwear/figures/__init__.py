@@ -2,7 +2,8 @@
 
 :mod:`~fretwear.figures.plots` builds HoloViews figures from library results,
 :mod:`~fretwear.figures.sketch` draws the paper's 2-DOF model,
-:mod:`~fretwear.figures.export` writes figures (PNG, SVG, HTML) and tables (CSV),
+:mod:`~fretwear.figures.export` writes figures (PNG, SVG, PDF, HTML) and tables (CSV),
+:mod:`~fretwear.figures.layout` lays them out for a file and checks that nothing overlaps,
 :mod:`~fretwear.figures.record` stamps them with their parameters and reads and
 writes the settings files of the dashboard and the CLI,
 :mod:`~fretwear.figures.paper` computes and writes the paper's figure set,
@@ -10,15 +11,20 @@ writes the settings files of the dashboard and the CLI,
 """
 
 from .export import (
+    EXPORT_FORMATS,
     FIGURE_FORMATS,
+    SIZES,
     ExportOptions,
     csv_text,
     figure_bytes,
+    figure_title,
+    matplotlib_figure,
     render_figure,
     save_csv,
     save_figure,
     save_figures,
 )
+from .layout import lay_out, layout_faults
 from .paper import paper_figures
 from .plots import (
     holoviews,
@@ -38,8 +44,14 @@ from .sketch import model_sketch, sketch_scale
 from .study import wear_life_figure
 
 __all__ = [
+    "EXPORT_FORMATS",
     "FIGURE_FORMATS",
+    "SIZES",
     "ExportOptions",
+    "figure_title",
+    "lay_out",
+    "layout_faults",
+    "matplotlib_figure",
     "caption",
     "csv_header",
     "csv_text",

@@ -11,9 +11,7 @@ import csv
 import html
 import io
 import math
-import re
 import threading
-import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,7 +19,9 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from .layout import lay_out
 from .plots import holoviews, load_backend
+from .record import version
 
 #: a figure's caption: its text, or ``markup -> text`` (``"mathtext"`` for Matplotlib, ``"html"``)
 Caption = str | Callable[[str], str] | None
@@ -31,7 +31,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FIGURE_FORMATS",
+    "EXPORT_FORMATS",
+    "SIZES",
     "ExportOptions",
+    "figure_title",
+    "matplotlib_figure",
     "figure_bytes",
     "render_figure",
     "save_figure",
@@ -40,9 +44,18 @@ __all__ = [
     "save_csv",
 ]
 
-#: formats of :func:`figure_bytes`
+#: formats of the dashboard's downloads
 FIGURE_FORMATS = ("png", "svg", "html")
-FigureFormat = Literal["png", "svg", "html"]
+#: formats of :func:`figure_bytes` (:data:`FIGURE_FORMATS` and PDF, for a journal)
+EXPORT_FORMATS = ("png", "svg", "pdf", "html")
+FigureFormat = Literal["png", "svg", "pdf", "html"]
+#: named sizes: width and height (in) and font size of the axis labels (pt); one journal column, a page
+#: (the dashboard's default size) and a slide
+SIZES: dict[str, tuple[float, float, float]] = {
+    "column": (3.5, 2.5, 7.0),
+    "page": (7.0, 4.0, 10.0),
+    "slide": (10.0, 6.0, 14.0),
+}
 #: CSS pixels per inch: the size of an HTML figure
 CSS_DPI = 96
 
@@ -57,23 +70,33 @@ class ExportOptions:
         Size of the whole figure, caption included (inches), in [2, 30]; ``None``
         keeps the figure's own size.
     dpi : int
-        Resolution of PNG files (dots per inch), in [50, 600]; SVG and HTML are
-        vector or screen formats and ignore it (HTML is sized at 96 px per inch).
+        Resolution of PNG files (dots per inch), in [50, 600]; SVG, PDF and HTML
+        are vector or screen formats and ignore it (HTML is sized at 96 px per inch).
     fontsize : float
         Font size of the axis labels (pt), in [4, 40]; titles are 1.2 times,
         ticks and legends 0.9 times as large; ``None`` keeps the defaults.
+    size : str, optional
+        A name of :data:`SIZES` (``"column"``, ``"page"``, ``"slide"``): its
+        width, height and font size, for those not given.
     """
 
     width: float | None = None
     height: float | None = None
-    dpi: int = 120
+    dpi: int = 150
     fontsize: float | None = None
+    size: str | None = None
 
     #: valid ranges: name -> (low, high, unit)
     RANGES = {"width": (2.0, 30.0, "in"), "height": (2.0, 30.0, "in"), "dpi": (50, 600, ""),
               "fontsize": (4.0, 40.0, "pt")}  # fmt: skip
 
     def __post_init__(self) -> None:
+        if self.size is not None:
+            if self.size not in SIZES:
+                raise ValueError(f"size must be one of {', '.join(SIZES)}, got {self.size!r}")
+            for name, value in zip(("width", "height", "fontsize"), SIZES[self.size], strict=True):
+                if getattr(self, name) is None:
+                    object.__setattr__(self, name, value)  # frozen: filled in once, here
         for name, (low, high, unit) in self.RANGES.items():
             value = getattr(self, name)
             if value is None and name != "dpi":
@@ -100,12 +123,15 @@ def figure_bytes(
     options: ExportOptions | None = None,
     caption: Caption = None,
 ) -> bytes:
-    """Render ``fig`` as PNG or SVG (Matplotlib backend) or standalone HTML (Bokeh, inline resources).
+    """Render ``fig`` as PNG, SVG or PDF (Matplotlib backend) or standalone HTML (Bokeh, inline resources).
 
     ``options`` sets the size, the resolution and the font size; ``caption``
     (the parameter record: its text, or a function of the markup, see
-    :func:`fretwear.figures.record.caption`) is written under the figure. The HTML page, titled
-    ``title``, embeds BokehJS and the data: it opens offline. Load the backend
+    :func:`fretwear.figures.record.caption`) is written under the figure. The
+    Matplotlib formats are laid out by :func:`fretwear.figures.layout.lay_out`
+    and carry the figure's own title (else ``title``), ``fretwear <version>``
+    as their creator and the record as their description in their metadata.
+    The HTML page, titled ``title``, embeds BokehJS and the data: it opens offline. Load the backend
     (:func:`load_backend`) before building ``fig`` so that its options apply.
     """
     return render_figure(fig, (fmt,), title=title, options=options, caption=caption)[fmt]
@@ -123,16 +149,16 @@ def render_figure(
     options: ExportOptions | None = None,
     caption: Caption = None,
 ) -> dict[str, bytes]:
-    """``fig`` in each of ``formats`` (see :func:`figure_bytes`), drawn once for PNG and SVG together."""
-    bad = sorted(set(formats) - set(FIGURE_FORMATS))
+    """``fig`` in each of ``formats`` (see :func:`figure_bytes`), drawn once for PNG, SVG and PDF together."""
+    bad = sorted(set(formats) - set(EXPORT_FORMATS))
     if bad:
-        raise ValueError(f"fmt must be one of {FIGURE_FORMATS}, got {bad[0]!r}")
+        raise ValueError(f"fmt must be one of {EXPORT_FORMATS}, got {bad[0]!r}")
     options = options or ExportOptions()
     out = {}
-    raster = tuple(f for f in formats if f in ("png", "svg"))
+    raster = tuple(f for f in formats if f in ("png", "svg", "pdf"))
     with _RENDERING:  # the renderers keep process-wide state: renders from a server's threads take turns
         if raster:
-            out |= _matplotlib_bytes(fig, raster, options, caption)
+            out |= _matplotlib_bytes(fig, raster, options, caption, title)
         if "html" in formats:
             out["html"] = _html_bytes(fig, title, options, caption)
     return out
@@ -142,35 +168,31 @@ def _text(caption: Caption, markup: str) -> str:
     return caption(markup) if callable(caption) else (caption or "")
 
 
-def _wrapped(figure, canvas, text: str, size: float) -> str:
-    """``text`` in lines as wide as the figure (less 2 %), broken after its ``", "`` and ``"; "``.
+def _metadata(fmt: str, title: str, caption: str) -> dict[str, str]:
+    """The file's metadata in ``fmt``'s own keys: the title, fretwear as creator, the record (caption)."""
+    creator = f"fretwear {version()}"
+    keys = {"png": ("Title", "Software", "Description"), "svg": ("Title", "Creator", "Description"),
+            "pdf": ("Title", "Creator", "Subject")}[fmt]  # fmt: skip
+    values = dict(zip(keys, (title, creator, caption), strict=True))
+    return {k: v for k, v in values.items() if v}
 
-    Each piece is measured once: Matplotlib's own wrapping measures every
-    growing line, each a new mathtext parse (about 1.4 s per exported figure).
+
+def figure_title(figure) -> str:
+    """The titles of ``figure``'s axes (a Matplotlib figure), on one line, joined by ``"; "``."""
+    titles = (" ".join(ax.get_title().split()) for ax in figure.axes)
+    return "; ".join(dict.fromkeys(t for t in titles if t))
+
+
+def matplotlib_figure(
+    fig: hv.core.Dimensioned, options: ExportOptions | None = None, caption: Caption = None
+):
+    """``fig`` drawn by Matplotlib and laid out for a file (:func:`fretwear.figures.layout.lay_out`).
+
+    The figure is ``options``' size (or its own) with ``caption`` under it, on
+    an Agg canvas; the caller closes it (``matplotlib.pyplot.close``). Load the
+    Matplotlib backend (:func:`load_backend`) before building ``fig``.
     """
-    renderer = canvas.get_renderer()
-    probe = figure.text(0, 0, "", fontsize=size)
-
-    def width(piece: str) -> float:
-        probe.set_text(piece)
-        return probe.get_window_extent(renderer).width
-
-    space = width("a a") - width("aa")
-    room = 0.98 * figure.get_figwidth() * figure.dpi
-    lines: list[list[str]] = [[]]
-    used = 0.0
-    for piece in re.split(r"(?<=[,;]) ", text):
-        w = width(piece)
-        if lines[-1] and used + space + w > room:
-            lines.append([])
-            used = 0.0
-        used += (space if lines[-1] else 0.0) + w
-        lines[-1].append(piece)
-    probe.remove()
-    return "\n".join(" ".join(line) for line in lines)
-
-
-def _matplotlib_bytes(fig, formats: tuple[str, ...], options: ExportOptions, caption: Caption) -> dict:
+    options = options or ExportOptions()
     hv = holoviews()
     load_backend("matplotlib")
     opts: dict[str, Any] = {}
@@ -180,40 +202,36 @@ def _matplotlib_bytes(fig, formats: tuple[str, ...], options: ExportOptions, cap
         opts["fontsize"] = options.fonts()
     if opts:
         fig = fig.opts(backend="matplotlib", **opts)
-    import matplotlib
-    import matplotlib.pyplot as plt
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    plot = hv.renderer("matplotlib").get_plot(fig)
-    figure = plot.state
+    figure = hv.renderer("matplotlib").get_plot(fig).state
+    if options.width is not None or options.height is not None:  # layouts size themselves by aspect
+        w, h = figure.get_size_inches()
+        figure.set_size_inches(options.width or w, options.height or h)
+    FigureCanvasAgg(figure)  # HoloViews leaves the base canvas, which has no renderer
+    size = 0.75 * (options.fontsize or 10.0)
+    lay_out(figure, _text(caption, "mathtext"), size, options.fontsize)
+    return figure
+
+
+def _matplotlib_bytes(
+    fig, formats: tuple[str, ...], options: ExportOptions, caption: Caption, title: str | None
+) -> dict:
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    figure = matplotlib_figure(fig, options, caption)
     try:
-        if options.width is not None or options.height is not None:  # layouts size themselves by aspect
-            w, h = figure.get_size_inches()
-            figure.set_size_inches(options.width or w, options.height or h)
-        canvas = FigureCanvasAgg(figure)  # HoloViews leaves the base canvas, which has no renderer
-        bottom = 0.0
-        if caption:
-            size = 0.75 * (options.fontsize or 10.0)
-            words = _wrapped(figure, canvas, _text(caption, "mathtext"), size)
-            text = figure.text(0.01, 0.01, words, fontsize=size, va="bottom", ha="left")
-            text.set_in_layout(False)
-            extent = text.get_window_extent(canvas.get_renderer())  # wrapped to the width
-            bottom = min(
-                0.5, (extent.height + 0.15 * figure.dpi) / (figure.get_size_inches()[1] * figure.dpi)
-            )
-        with warnings.catch_warnings():
-            warnings.simplefilter(
-                "ignore"
-            )  # colour bars: "not compatible with tight_layout"; then as laid out
-            figure.tight_layout(rect=(0, bottom, 1, 1))
         # the record also in the file's metadata, as plain Unicode text (the caption's mathtext is drawn
         # glyph by glyph)
-        metadata = {"Description": _text(caption, "unicode")} if caption else {}
+        name = figure_title(figure) or title or "fretwear figure"
         out = {}
         for fmt in formats:
             buf = io.BytesIO()
             with matplotlib.rc_context({"svg.fonttype": "none"}):  # SVG text stays text: searchable, editable
-                figure.savefig(buf, format=fmt, dpi=options.dpi, metadata=metadata)
+                figure.savefig(
+                    buf, format=fmt, dpi=options.dpi, metadata=_metadata(fmt, name, _text(caption, "unicode"))
+                )
             out[fmt] = buf.getvalue()
         return out
     finally:
@@ -275,11 +293,11 @@ def save_figure(
     options: ExportOptions | None = None,
     caption: Caption = None,
 ) -> Path:
-    """Write ``fig`` to ``path``; the suffix (``.png``, ``.svg`` or ``.html``) sets the format."""
+    """Write ``fig`` to ``path``; the suffix (``.png``, ``.svg``, ``.pdf`` or ``.html``) sets the format."""
     path = Path(path)
     fmt = path.suffix.lstrip(".").lower()
-    if fmt not in FIGURE_FORMATS:
-        raise ValueError(f"the file name must end in one of {FIGURE_FORMATS}, got {path.name!r}")
+    if fmt not in EXPORT_FORMATS:
+        raise ValueError(f"the file name must end in one of {EXPORT_FORMATS}, got {path.name!r}")
     data = figure_bytes(fig, fmt, title=path.stem, options=options, caption=caption)  # type: ignore[arg-type]
     path.write_bytes(data)
     return path
@@ -292,12 +310,12 @@ def save_figures(
     options: ExportOptions | None = None,
     caption: Caption = None,
 ) -> list[Path]:
-    """Write ``fig`` to each of ``paths`` (one format per suffix), drawn once for PNG and SVG."""
+    """Write ``fig`` to each of ``paths`` (one format per suffix), drawn once for PNG, SVG and PDF."""
     paths = [Path(p) for p in paths]
     formats = tuple(p.suffix.lstrip(".").lower() for p in paths)
     for p, fmt in zip(paths, formats, strict=True):
-        if fmt not in FIGURE_FORMATS:
-            raise ValueError(f"the file name must end in one of {FIGURE_FORMATS}, got {p.name!r}")
+        if fmt not in EXPORT_FORMATS:
+            raise ValueError(f"the file name must end in one of {EXPORT_FORMATS}, got {p.name!r}")
     data = render_figure(fig, formats, title=paths[0].stem if paths else "", options=options, caption=caption)
     for p, fmt in zip(paths, formats, strict=True):
         p.write_bytes(data[fmt])

@@ -13,7 +13,7 @@ from ..hbm import linear_frf, sweep
 from ..model import paper_model
 from ..studies import compare_methods, harmonic_convergence, wear_map
 from ..wear import cycle_grid, method_options, snapshot_cycles, wear_history
-from .export import FIGURE_FORMATS, ExportOptions, save_csv, save_figures
+from .export import EXPORT_FORMATS, ExportOptions, save_csv, save_figures
 from .plots import (
     holoviews,
     line_figure,
@@ -29,9 +29,12 @@ from .record import MODEL, caption, csv_header
 __all__ = ["paper_figures"]
 
 
-def _layout(panels: list, cols: int):
-    """Panels in a grid of ``cols`` columns, sized for Matplotlib."""
+def _layout(panels: list, cols: int, options: ExportOptions | None = None):
+    """Panels in a grid of ``cols`` columns, sized for Matplotlib; in one row for a landscape export size
+    (``options``' width at least its height: a column, a page, a slide)."""
     hv = holoviews()
+    if options is not None and options.width is not None and options.height is not None:
+        cols = len(panels) if options.width >= options.height else cols
     rows = -(-len(panels) // cols)
     layout = hv.Layout(panels).cols(cols)
     return styled(
@@ -101,7 +104,7 @@ def paper_figures(
     """Compute the paper's figures 5-14 for the 2-DOF example and write them to ``out``.
 
     Each figure ``figNN`` is written in every format of ``formats`` (``png``,
-    ``svg``, ``html``, and ``csv`` for its data), the figures with a caption and
+    ``svg``, ``pdf``, ``html``, and ``csv`` for its data), the figures with a caption and
     the tables with a header block that record their parameters
     (:mod:`fretwear.figures.record`). Excitation levels 6, 10 and 14 N,
     ``mu = 1``, ``F_N = 10`` N (section 2.1):
@@ -146,7 +149,7 @@ def paper_figures(
     tol : float
         Tolerance of stepping and of the time integration (fraction of ``u0``).
     formats : sequence of str
-        Any of ``png``, ``svg``, ``html``, ``csv``.
+        Any of ``png``, ``svg``, ``pdf``, ``html``, ``csv``.
     workers : int
         Threads of the computations.
     options : ExportOptions, optional
@@ -159,16 +162,16 @@ def paper_figures(
     list of Path
         The files written.
     """
-    bad = sorted(set(formats) - {*FIGURE_FORMATS, "csv"})
+    bad = sorted(set(formats) - {*EXPORT_FORMATS, "csv"})
     if bad:
-        raise ValueError(f"formats must be among {(*FIGURE_FORMATS, 'csv')}, got {bad}")
+        raise ValueError(f"formats must be among {(*EXPORT_FORMATS, 'csv')}, got {bad}")
     if not 0 < fmin < fmax or not 0 < f_study:
         raise ValueError(f"need 0 < fmin < fmax and f_study > 0 (Hz), got {fmin}, {fmax}, {f_study}")
     if int(frequencies) < 2 or int(cycle_points) < 3:
         raise ValueError("frequencies must be >= 2 and cycle_points >= 3")
     say = log or (lambda _msg: None)
     for fmt in formats:
-        if fmt in FIGURE_FORMATS:
+        if fmt in EXPORT_FORMATS:
             load_backend("matplotlib" if fmt != "html" else "bokeh")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -256,7 +259,7 @@ def paper_figures(
             )
             for i, (fex, wm) in enumerate(maps.items())
         ]
-        write("fig07", _layout(panels, 3), _wear_map_table(maps), three)
+        write("fig07", _layout(panels, 3, options), _wear_map_table(maps), three)
         # Fig. 8: four cases at 6 N
         wm6 = maps[6.0]
         late = snapshots[-2]
@@ -288,7 +291,7 @@ def paper_figures(
                     title=f"Fig. 9{'abc'[i]}: Fₑₓ = {fex:g} N",
                 )
             )
-        write("fig09", _layout(panels, 1), table, three)
+        write("fig09", _layout(panels, 1, options), table, three)
 
         # Fig. 10: harmonic convergence at f_study, 10 N
         histories = hc.result()

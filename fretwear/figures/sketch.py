@@ -144,11 +144,14 @@ def model_sketch(
         (0.5 * (left + m1[0]), 1.5, f"k₁ = {k[0]:.3g} N/m"),
         (0.5 * (left + m1[0]), 0.35, f"c₁ = {c[0]:.2g} N s/m"),
         (0.5 * (m2[1] + right), 2.45, f"k₂ = {k[1]:.3g} N/m"),
-        (0.5 * (m2[1] + right), 1.35, f"c₂ = {c[1]:.2g} N s/m"),
+        # right of mass 1's farthest excursion (its right side reaches 7.9 at the largest drawn excursion)
+        (0.5 * (_M2[1] + right) + 0.85, 1.38, f"c₂ = {c[1]:.2g} N s/m"),
         (xn + 2.2, 3.25, f"kₙ = {contact.kn:.3g} N/m"),
         (xn + 2.2, 2.9, f"Fₙ = kₙ(u₀ − w) = {fn:.3g} N"),
-        (1.9, 2.55, f"μ = {contact.mu:.3g}{label}"),
-        (1.9, 2.2, f"w = {100 * fraction:.0f} % of u₀ = {contact.u0:.2g} m"),
+        # left of mass 2 at its farthest (3.8 - 0.9), three short lines: legible in one journal column
+        (1.6, 2.95, f"μ = {contact.mu:.3g}{label}"),
+        (1.6, 2.6, f"w = {100 * fraction:.0f} % of u₀"),
+        (1.6, 2.25, f"u₀ = {contact.u0:.2g} m"),
     ]
     labels = hv.Labels(
         {"x": [t[0] for t in texts], "y": [t[1] for t in texts], "text": [t[2] for t in texts]},

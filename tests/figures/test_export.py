@@ -84,7 +84,7 @@ def test_captions_break_at_their_separators_within_the_figure_width():
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from fretwear.figures.export import _wrapped
+    from fretwear.figures.layout import wrap_text
 
     text = figures.caption(
         {"fex": 10.0, "mu": 1.0, "normal_load": 10.0, "kw": 1e-11, "harmonics": 7, "method": "exact"},
@@ -93,7 +93,7 @@ def test_captions_break_at_their_separators_within_the_figure_width():
     for inches in (4.0, 7.0):
         fig = Figure(figsize=(inches, 3.0), dpi=100)
         canvas = FigureCanvasAgg(fig)
-        lines = _wrapped(fig, canvas, text, 7.5).split("\n")
+        lines = wrap_text(fig, text, 7.5, 0.98 * inches * 100).split("\n")
         assert " ".join(lines) == text and len(lines) == (2 if inches == 4.0 else 1)  # nothing lost
         assert all(line.endswith((",", ";")) for line in lines[:-1])  # broken after a separator only
         widths = [
