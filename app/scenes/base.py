@@ -11,6 +11,7 @@ their parameter record (:meth:`Scene.record`).
 from __future__ import annotations
 
 from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -20,7 +21,7 @@ import param
 from fretwear import figures
 from fretwear.figures.record import caption, csv_header
 
-from ..backend import Failure
+from ..backend import Failure, shared_backend, shared_cache
 from ..state import EXACT_MAP, Controls, Settings, Task, Tasks
 
 if TYPE_CHECKING:
@@ -151,9 +152,30 @@ class OwnSettings:
     """A tab with settings of its own (Interface, Bladed disk), on the session's machinery
     (:class:`~app.session.Runner`): nothing computes until :meth:`activate`; then :meth:`refresh` shows
     the results of ``settings()`` from the cache or runs its ``tasks()``, after naming its ``problems()``.
-    The tab provides ``settings()`` and ``_publish_results``."""
+    The tab provides ``settings()`` and ``_publish_results``.
+
+    Parameters
+    ----------
+    tasks : Tasks, optional
+        Builds the task and holds the result cache (default: the server's shared cache).
+    executor : Executor, optional
+        Where runs go; ``None`` computes in the calling thread (tests).
+    dispatch : callable, optional
+        ``dispatch(callback)`` runs ``callback`` where the page may be updated.
+    """
 
     active = False
+
+    def __init__(
+        self,
+        tasks: Tasks | None = None,
+        executor: Executor | None = None,
+        dispatch: Callable[[Callable[[], None]], None] | None = None,
+        **params: Any,
+    ) -> None:
+        self.tasks = tasks or Tasks(shared_backend(), shared_cache())
+        super().__init__(self.tasks.cache, executor, dispatch, **params)
+        self.results: dict[str, Any] = {}
 
     def activate(self) -> None:
         """The tab is shown: compute (only visible plots compute)."""

@@ -21,7 +21,6 @@ is what ``benchmarks/bench_disk_exact.py`` measures against the exact dynamics.
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import Executor
 from dataclasses import dataclass
 from functools import partial
 from typing import Any
@@ -35,7 +34,7 @@ from fretwear.figures.plots import ensure_backend, holoviews, overlay_options, s
 from fretwear.figures.record import version
 from fretwear.model import DiskSector
 
-from ..backend import DiskSpec, Failure, Grid, shared_backend, shared_cache
+from ..backend import DiskSpec, Failure, Grid
 from ..live import live_pane, message_list, run_status
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter
@@ -120,7 +119,8 @@ class DiskSettings:
 class DiskScene(OwnSettings, Exports, Runner):
     """The Bladed disk tab's state: its settings, the run in progress and the published results.
 
-    Parameters as :class:`~app.scenes.interface.InterfaceScene` (``tasks``, ``executor``, ``dispatch``).
+    ``options``: ``tasks``, ``executor``, ``dispatch`` of :class:`~app.scenes.base.OwnSettings`, and
+    values of the parameters.
     """
 
     key = "disk"
@@ -140,16 +140,8 @@ class DiskScene(OwnSettings, Exports, Runner):
     notes = param.List([])
     version = param.Integer(0)
 
-    def __init__(
-        self,
-        tasks: Tasks | None = None,
-        executor: Executor | None = None,
-        dispatch: Callable[[Callable[[], None]], None] | None = None,
-        **params: Any,
-    ) -> None:
-        self.tasks = tasks or Tasks(shared_backend(), shared_cache())
-        super().__init__(self.tasks.cache, executor, dispatch, **params)
-        self.results: dict[str, Any] = {}
+    def __init__(self, **options: Any) -> None:
+        super().__init__(**options)
         self.param.watch(
             self.refresh, ["engine_order", "fex", "mu", "kw", "level", "seed", "frequency", "cycles"]
         )

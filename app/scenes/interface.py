@@ -37,7 +37,7 @@ from fretwear.figures.plots import ensure_backend, holoviews, overlay_options, s
 from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
 
-from ..backend import Failure, Grid, InterfaceModel, shared_backend, shared_cache
+from ..backend import Failure, Grid, InterfaceModel
 from ..live import live_pane, message_list, run_status
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp
@@ -193,12 +193,10 @@ class InterfaceScene(OwnSettings, Exports, Runner):
         dispatch: Callable[[Callable[[], None]], None] | None = None,
         **params: Any,
     ) -> None:
-        self.tasks = tasks or Tasks(shared_backend(), shared_cache())
-        super().__init__(self.tasks.cache, executor, dispatch, **params)
+        super().__init__(tasks, executor, dispatch, **params)
         self.path = None if path is None else str(path)
         if self.path is not None:
             self.param.model.objects = [GROSS, PARTIAL, PAPER, FILE]
-        self.results: dict[str, Any] = {}
         self.param.watch(self._defaults, ["model"])  # first: the run below sees the model's settings
         self.param.watch(self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles"])
 

@@ -278,10 +278,15 @@ class Problem:
         return R, J, A, lam, X, state
 
     def residual_scale(self) -> float:
-        """Force scale (N) against which residuals are judged."""
-        scale = max(
-            np.abs(self.F).max(initial=0.0), np.abs(self.limits[self.kinds != dlft.UNILATERAL]).max(initial=0)
-        )
+        """Force scale (N) against which residuals are judged: the largest external force or slip force.
+
+        A Jenkins contact's force never exceeds its spring's, which the external force sets: its slip
+        force counts up to that scale only (a slip force of 1e10 N would accept a stuck guess).
+        """
+        force = np.abs(self.F).max(initial=0.0)
+        rigid = np.abs(self.limits[self.kinds == dlft.FRICTION]).max(initial=0.0)
+        jenkins = min(np.abs(self.limits[self.kinds == dlft.JENKINS]).max(initial=0.0), force)
+        scale = max(force, rigid, jenkins)
         return scale if scale > 0 else 1.0
 
     # -- linear solutions -------------------------------------------------------

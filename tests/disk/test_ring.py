@@ -89,12 +89,11 @@ def test_stuck_contacts_against_a_cyclic_assembly(sectors):
 
 @pytest.mark.parametrize("omega_hz", [160.0, 173.5, 185.0])
 def test_stuck_and_sliding_limits_of_a_solve(omega_hz):
-    """Never slipping (slip force 5.7e4 N): the linear disk with the springs kt; vanishing slip force: the
-    disk with the ring free. Both to 1e-10 (the shroud's check of tests/disk/test_cyclic.py; measured 1e-14).
-    (A slip force of 5.7e10 N, mu = 1e9, is not used: the periodic solve judges residuals against the slip
-    force and accepts the zero guess, fretwear.hbm.problem.Problem.residual_scale.)"""
+    """Never slipping (slip force 5.7e4 N, and 5.7e10 N: a Jenkins slip force beyond the spring's force
+    does not set the residual's scale): the linear disk with the springs kt; vanishing slip force: the disk
+    with the ring free. Both to 1e-10 (the shroud's check of tests/disk/test_cyclic.py; measured 1e-14)."""
     omega = 2 * np.pi * omega_hz
-    for mu, springs in ((1e3, True), (1e-16, False)):
+    for mu, springs in ((1e3, True), (1e9, True), (1e-16, False)):
         model = ring_damper_disk(8, mu=mu)
         sol = fw.solve_periodic(model, omega, 5)
         assert sol.converged and np.all(sol.state == (fw.model.STICK if springs else fw.model.SLIP))
