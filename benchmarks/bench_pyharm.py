@@ -1,6 +1,6 @@
 """Code against code (issue 24): the ring-damper disk of pyHarm's tutorial 006 in pyHarm 1.2.2 and fretwear.
 
-The model is :func:`fretwear.disk.ring.ring_damper_disk` (24 sectors, ring sectors of 2e-3 kg, kr = 1e7,
+The model is :func:`fretwear.model.ring.ring_damper_disk` (24 sectors, ring sectors of 2e-3 kg, kr = 1e7,
 Jenkins ring-disk contacts with kt = 1e8, mu = 0.1, N = mr R Omega^2 = 56.6 N, EO 1, 1 N on every tip,
 modal damping 1e-3 on the disk). pyHarm gets the same matrices (a "blisk" and a "ring" substructure), one
 ``Jenkins`` connector per ring sector (its AFT element: ``k``, ``mu``, ``N0``) and one ``GOForcing`` per tip
@@ -45,8 +45,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import fretwear as fw  # noqa: E402
-from fretwear.disk.ring import ring_damper_disk  # noqa: E402
 from fretwear.model import DiskSector  # noqa: E402
+from fretwear.model.ring import ring_damper_disk  # noqa: E402
 
 VENV = Path("/work/venv-pyharm")
 PYHARM = "pyharm-os==1.2.2"

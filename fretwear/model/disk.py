@@ -46,7 +46,7 @@ __all__ = ["DiskSector", "bladed_disk"]
 SECTOR_DOFS = ("disk", "root", "tip")
 
 #: contact layouts of :func:`bladed_disk`
-LAYOUTS = ("shroud", "none")
+LAYOUTS = ("shroud", "ring", "none")
 
 
 @dataclass(frozen=True)
@@ -144,7 +144,7 @@ def bladed_disk(
     engine_order: int = 1,
     fex: float = 1.0,
     contacts: str = "shroud",
-    mu: float = 0.3,
+    mu: float | None = None,
     kn: float = 1e7,
     u0: float = 1e-6,
     kt: float = 5e5,
@@ -165,11 +165,15 @@ def bladed_disk(
         Engine order ``EO`` of the excitation: tip ``i`` is forced by ``fex cos(omega t - 2 pi EO i / N)``.
     fex : float
         Force amplitude on each tip (N), finite.
-    contacts : {"shroud", "none"}
+    contacts : {"shroud", "ring", "none"}
         ``"shroud"``: a Jenkins contact between the tips of blades ``i`` and
-        ``i + 1`` (mod ``N``), friction contact ``i``; ``"none"``: the linear disk.
-    mu : float
-        Friction coefficient of the shroud contacts (-), >= 0.
+        ``i + 1`` (mod ``N``), friction contact ``i``; ``"ring"``: pyHarm's
+        friction ring damper under the tuned disk
+        (:func:`fretwear.model.ring.ring_damper_disk`, its parameters
+        ``rotation_speed``, ``mr``, ``radius``, ``kr`` among ``properties``);
+        ``"none"``: the linear disk.
+    mu : float, optional
+        Friction coefficient of the contacts (-), >= 0; default 0.3 (shroud), 0.1 (ring, the tutorial's).
     kn : float
         Normal stiffness of the shroud contacts (N/m), > 0.
     u0 : float
@@ -187,6 +191,17 @@ def bladed_disk(
         ``disk{i}``, ``root{i}``, ``tip{i}``; ``info`` holds the parameters (the cyclic solve of
         :mod:`fretwear.disk.cyclic` reads them).
     """
+    if contacts == "ring":
+        from .ring import ring_damper_disk
+
+        if mistuning is not None:
+            raise ValueError(
+                "the ring damper's disk is tuned: mistuning applies to contacts 'shroud' or 'none'"
+            )
+        given = {} if mu is None else {"mu": mu}
+        return ring_damper_disk(sectors, engine_order=engine_order, fex=fex, damping_ratio=damping_ratio,
+                                **given, **properties)  # fmt: skip
+    mu = 0.3 if mu is None else mu
     names = [f.name for f in fields(DiskSector)][1:]
     unknown = sorted(set(properties) - set(names))
     if unknown:

@@ -1,6 +1,7 @@
 """The lumped bladed disk with a friction ring damper: pyHarm's tutorial 006 (Laxalde et al. 2007).
 
-The disk is :func:`fretwear.bladed_disk`'s (:class:`~fretwear.model.DiskSector`:
+``fretwear.bladed_disk(contacts="ring", ...)`` builds it. The disk is
+:func:`fretwear.bladed_disk`'s (:class:`~fretwear.model.DiskSector`:
 ``N`` sectors, disk, blade-root and blade-tip masses, tuned). Under it a ring
 of ``N`` sectors, one DOF each, as in pyHarm's tutorial 006 "Lumped bladed disk
 study with a ring damper" (QUICKguils/pyHarm, ``Tutorials/``):
@@ -41,8 +42,8 @@ from dataclasses import asdict, fields
 import numpy as np
 import scipy.linalg as sl
 
-from ..model import DiskSector, FrictionContact, Model
-from ..model.structure import _finite
+from .disk import DiskSector
+from .structure import FrictionContact, Model, _finite
 
 __all__ = ["ring_damper_disk", "tutorial_rotation_speed"]
 

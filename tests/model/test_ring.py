@@ -1,4 +1,4 @@
-"""The ring-damper disk (:mod:`fretwear.disk.ring`): its linear modes against a cyclic-symmetry assembly and
+"""The ring-damper disk (:mod:`fretwear.model.ring`): its linear modes against a cyclic-symmetry assembly and
 the tutorial's numbers, and the stuck and sliding limits of a friction solve."""
 
 import numpy as np
@@ -6,8 +6,8 @@ import pytest
 import scipy.linalg as sl
 
 import fretwear as fw
-from fretwear.disk.ring import ring_damper_disk, tutorial_rotation_speed
 from fretwear.model import DiskSector
+from fretwear.model.ring import ring_damper_disk, tutorial_rotation_speed
 
 #: pyHarm tutorial 006's sorted natural frequencies of the disk (Hz), as printed by the notebook
 TUTORIAL_DISK_HZ = [
@@ -138,3 +138,14 @@ def test_partial_slip_lies_between_the_limits():
 def test_bad_input_is_refused(change, match):
     with pytest.raises(ValueError, match=match):
         ring_damper_disk(**change)
+
+
+def test_bladed_disk_builds_the_ring_layout():
+    a = fw.bladed_disk(8, contacts="ring", engine_order=2, kr=2e7)
+    b = ring_damper_disk(8, engine_order=2, kr=2e7)
+    assert all(
+        np.array_equal(getattr(a, k), getattr(b, k)) for k in ("M", "C", "K", "force_cos", "force_sin")
+    )
+    assert a.friction == b.friction and a.info["contacts"] == "ring" and a.friction[0].mu == 0.1
+    with pytest.raises(ValueError, match="ring damper's disk is tuned"):
+        fw.bladed_disk(8, contacts="ring", mistuning=np.zeros(8))
