@@ -10,7 +10,8 @@ Format
 
     [study]
     title = "Probabilistic wear life at 0.7 Hz"    # optional
-    quantities = ["wear_life"]                      # any of "frf", "wear_life", "wear"
+    quantities = ["wear_life"]                      # any of "frf", "wear_life", "wear" ("magnification":
+                                                    # the bladed disk's, section "Mistuning" below)
     seed = 2024                                     # integer >= 0; required with random parameters
     samples = 1000                                  # number of random draws; required with them
     points_per_task = 25                            # optional: points computed by one task
@@ -74,8 +75,8 @@ Random draws: parameter ``k`` (in the order of :data:`PARAMETERS`, or of
 stream ``numpy.random.default_rng([seed, k])``, so sample ``i`` is the same
 whatever the number of samples (``--samples`` only adds or removes draws at the end).
 
-Mistuning of the bladed disk
-----------------------------
+Mistuning
+---------
 ``name = "bladed_disk"`` is the linear lumped disk (:func:`fretwear.bladed_disk` without contacts), its
 parameters in ``[model]``: ``sectors``, ``engine_order``, ``damping_ratio``, ``fex`` (N) and the
 sector's masses ``m0, mb1, mb2`` (kg) and springs ``kG, k0, kb1, kb2`` (N/m). Its one quantity is
