@@ -46,6 +46,12 @@ quantities: ``fraction`` (``cycles_to``), ``cycles`` (the wear grid), ``dof``,
     2 stuck, 3 horizon, 4 not converged, 5 invalid parameters (e.g. a negative
     draw of ``mu``), 6 error. A point that fails is NaN with its status; the
     study goes on.
+``magnification``, ``peak_frequency``, ``peak_blade``, ``delta`` (``magnification``, the bladed disk)
+    Per point (``level``, ``sample``): the amplitude magnification factor (-), where the largest
+    blade-tip amplitude is (Hz) and on which blade (``-1``: not computed), and the draw's pattern
+    ``delta_i`` (dimension ``blade``); the attributes hold the band (``band_hz``), the tuned peak
+    (``tuned_amplitude``, m, at ``tuned_frequency``, Hz) and Whitehead's bound (``whitehead``).
+    :func:`~fretwear.studies.summary.magnification_summary` gives the curve against the level.
 ``task_seconds``
     Compute time of each task (s), NaN for a task not computed yet: the record
     of completed blocks that a rerun uses to resume.
@@ -79,7 +85,7 @@ from ..arguments import atomic, check_output
 from ..studies.layout import layout
 from ..studies.run import run_study
 from ..studies.spec import SpecError, read_spec
-from ..studies.summary import wear_depth_summary, wear_life_summary
+from ..studies.summary import magnification_summary, wear_depth_summary, wear_life_summary
 from .shared import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, EXIT_OK, EXIT_USAGE, option
 
 __all__ = ["HELP", "DESCRIPTION", "add_arguments", "check_args", "run"]
@@ -228,4 +234,14 @@ def run(args: argparse.Namespace) -> int:
             with atomic(args.figure) as temp:
                 wear_life_figure(ds, 0.5).savefig(temp, dpi=150)
             say(f"wrote {args.figure}")
+    if spec.mistuning:
+        import xarray as xr
+
+        s = magnification_summary(xr.open_zarr(args.out))
+        say(f"tuned peak {s['tuned_amplitude']:.4g} m at {s['tuned_frequency']:.4f} Hz in "
+            f"{s['band'][0]:g}-{s['band'][1]:g} Hz; Whitehead's bound {s['whitehead']:.3f}")  # fmt: skip
+        say("level %   mean    95 %  largest  draws  above the bound")
+        for row in zip(s["levels"], s["mean"], s["p95"], s["max"], s["n"], s["above"], strict=True):
+            level, mean, p95, top, n, above = row
+            say(f"{100 * level:7.3g} {mean:7.3f} {p95:7.3f} {top:8.3f} {n:6d}  {above:d}")
     return EXIT_OK if result.complete and not result.failed_points else EXIT_NOT_CONVERGED

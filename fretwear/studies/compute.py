@@ -10,6 +10,10 @@ A model with contact pairs is reduced once (:func:`prepared`, at
 :attr:`~fretwear.studies.spec.StudySpec.reduce_hz`); each of its points is one
 :func:`fretwear.solve_periodic` (``frf``) and one :func:`fretwear.wear_history`
 (``wear``) on that reduced model, with the point's ``mu`` and ``force_scale``.
+
+The bladed disk's mistuning study (``magnification``) draws a point's pattern in the task, from the
+study's seed and the point's level and sample index (:mod:`fretwear.studies.spec`), and calls
+:func:`fretwear.disk.magnification` once per level of the block.
 """
 
 from __future__ import annotations
@@ -18,12 +22,13 @@ import math
 import time
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
+from ..disk import draw_mistuning, magnification
 from ..front import solve_periodic, sweep, wear_history
 from ..model import craig_bampton, paper_model
 from ..wear import METHODS, describe, resolve_dynamics, resolve_method
@@ -53,7 +58,8 @@ FAILED = (NOT_CONVERGED, INVALID, ERROR)
 @dataclass(frozen=True)
 class Work:
     """What every task needs: the quantities, the base model and the fixed settings (and, for a model
-    with contact pairs, ``reduce_hz``: the ``f_max`` of its reduction, Hz)."""
+    with contact pairs, ``reduce_hz``: the ``f_max`` of its reduction, Hz; for the mistuning study, the
+    seed, the samples per level and the disk's parameters)."""
 
     quantities: tuple[str, ...]
     model_kind: str
@@ -63,6 +69,9 @@ class Work:
     cycle_grid: np.ndarray | None
     reduce_hz: float | None = None
     depths: tuple[float, ...] = ()
+    seed: int | None = None
+    samples: int = 0
+    disk: dict[str, Any] = field(default_factory=dict)
 
     @classmethod
     def of(cls, spec: StudySpec) -> Work:
@@ -75,6 +84,9 @@ class Work:
             spec.cycle_grid() if "wear" in spec.quantities else None,
             spec.reduce_hz,
             spec.depths,
+            spec.seed,
+            spec.samples,
+            spec.model_parameters if spec.mistuning else {},
         )
 
     @property
@@ -107,6 +119,7 @@ VARIABLES: dict[bool, dict[str, dict[str, tuple[str, ...]]]] = {
                 "sliding_distance": ("friction_contact",), "friction_energy": ("friction_contact",)},
         "wear_life": {"cycles_to": ("fraction",)},
         "wear": {"wear_fraction": ("cycles",), "wear_amplitude": ("cycles", "dof")},
+        "magnification": {"magnification": (), "peak_frequency": (), "peak_blade": (), "delta": ("blade",)},
     },
     True: {  # per reported DOF (:func:`reported_dofs`) and per pair
         "frf": {"amplitude": ("dof",), "slip_distance": ("pair",), "mean_pressure": ("pair",),
@@ -125,7 +138,7 @@ def outputs(work: Work) -> dict[str, tuple[tuple[str, ...], tuple[int, ...]]]:
         sizes = dict(dof=len(reported_dofs(model)), pair=model.n_pairs, depth=len(work.depths))
     else:
         sizes = dict(dof=model.n_dofs, contact=len(model.contacts), friction_contact=len(model.friction),
-                     fraction=len(work.fractions))  # fmt: skip
+                     fraction=len(work.fractions), blade=model.n_dofs // 3)  # fmt: skip
     sizes["cycles"] = len(work.cycle_grid) if "wear" in work.quantities else 0
     return {
         name: (dims, tuple(sizes[d] for d in dims))
@@ -291,6 +304,30 @@ def _frf_points(work: Work, params: Mapping[str, np.ndarray], idx: np.ndarray, o
         status[i] = max(status[i], OK)
 
 
+#: integer variables and their value where not computed (the others are float, NaN there)
+INTEGER_FILL = {"peak_blade": -1}
+
+
+def _magnification_block(work: Work, params: Mapping[str, np.ndarray], n: int, out, status, messages) -> None:
+    """The mistuning study's points (``level``, ``sample``): one :func:`fretwear.disk.magnification`
+    per level of the block, on the rows ``sample`` of ``draw_mistuning(sectors, level, samples, seed)``."""
+    levels = np.broadcast_to(np.asarray(params["level"], dtype=float), (n,))
+    rows = np.broadcast_to(np.asarray(params["sample"], dtype=np.int64), (n,))
+    sectors = work.model.n_dofs // 3
+    for level in np.unique(levels):
+        idx = np.flatnonzero(levels == level)
+        try:
+            delta = draw_mistuning(sectors, float(level), work.samples, seed=work.seed)[rows[idx]]
+            res = magnification(delta, tuple(work.fixed["band"]), **work.disk)
+        except Exception as exc:  # noqa: BLE001 - a failed point is recorded, never an aborted study
+            status[idx] = INVALID if isinstance(exc, ValueError) else ERROR
+            messages.extend((int(i), f"{type(exc).__name__}: {' '.join(str(exc).split())}") for i in idx)
+            continue
+        out["magnification"][idx], out["peak_frequency"][idx] = res.factor, res.frequency
+        out["peak_blade"][idx], out["delta"][idx] = res.blade, delta
+        status[idx] = OK
+
+
 def compute_block(work: Work, params: Mapping[str, np.ndarray]) -> dict[str, Any]:
     """Compute the points of one block (a Dask task).
 
@@ -311,11 +348,16 @@ def compute_block(work: Work, params: Mapping[str, np.ndarray]) -> dict[str, Any
     """
     start, cpu = time.perf_counter(), time.process_time()
     n = len(next(iter(params.values()))) if params else 1
-    points = {k: np.broadcast_to(np.asarray(v), (n,)) for k, v in params.items()}
-    points.update({k: np.full(n, v, dtype=object) for k, v in work.fixed.items() if k not in points})
-    out = {name: np.full((n, *shape), np.nan) for name, (_, shape) in outputs(work).items()}
+    out = {name: np.full((n, *shape), INTEGER_FILL.get(name, np.nan), dtype=np.int16 if name in INTEGER_FILL
+                         else float) for name, (_, shape) in outputs(work).items()}  # fmt: skip
     status = np.zeros(n, dtype=np.int8)
     messages: list[tuple[int, str]] = []
+    if "magnification" in work.quantities:  # the bladed disk's only quantity
+        _magnification_block(work, params, n, out, status, messages)
+        seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+        return {**out, "status": status, "seconds": seconds, "cpu_seconds": cpu, "messages": messages}
+    points = {k: np.broadcast_to(np.asarray(v), (n,)) for k, v in params.items()}
+    points.update({k: np.full(n, v, dtype=object) for k, v in work.fixed.items() if k not in points})
     work = prepared(work)  # reduced once by the client already (run_study); here for a direct call
     if work.pairs:
         for i in range(n):

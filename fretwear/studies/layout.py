@@ -21,6 +21,10 @@ POINT_SECONDS = {"frf": 1e-3, "exact": 0.08, "exact-shooting": 0.01, "stepping":
 #: the same for a model with contact pairs, per pair at Nh = 7 (the 32-pair benchmark reduced: a periodic
 #: solve 0.7 s, a stepping wear history 5 s; measured on 2 cores)
 PAIR_SECONDS = {"frf": 0.7 / 32, "stepping": 5.0 / 32, "polynomial": 10.0 / 32}
+#: the same for a mistuning pattern of the 24-sector disk (an eigenproblem of 72 DOFs and the peak search:
+#: 24 ms on the loaded 2-core machine), scaled as the cube of the sectors above 24 (below, as 24: an
+#: 8-sector pattern took 7 ms, the peak search more than the eigenproblem)
+MAGNIFICATION_SECONDS = 0.024
 #: target compute time of one task (s): Dask's overhead is a few ms per task
 TASK_SECONDS = 2.0
 #: tasks a study is cut into at least (when it has that many points): load balance and progress
@@ -53,6 +57,8 @@ class Layout:
 
 def _point_seconds(spec: StudySpec) -> float:
     """Estimated compute time of one point (s), from the quantities, methods and ``Nh``."""
+    if spec.mistuning:
+        return MAGNIFICATION_SECONDS * max(1.0, (spec.model.n_dofs / 72) ** 3)
     if spec.pairs:
         nh = np.max(spec.grid.get("harmonics", [spec.fixed["harmonics"]])) / 7
         methods = (
@@ -108,6 +114,9 @@ def block_params(spec: StudySpec, lay: Layout, draws: Mapping[str, np.ndarray], 
         if dim == "sample":
             for name, values in draws.items():
                 params[name] = np.broadcast_to(values[sl].reshape(axis), shape).ravel()
+            if spec.mistuning:  # the task draws the point's pattern from its index (fretwear.studies.spec)
+                index = np.arange(sl.start, sl.stop).reshape(axis)
+                params["sample"] = np.broadcast_to(index, shape).ravel()
         else:
             params[dim] = np.broadcast_to(spec.grid[dim][sl].reshape(axis), shape).ravel()
     return params, slices, shape

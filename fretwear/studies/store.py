@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
-from .compute import STATUS, Work, method_label, outputs, pair_method, reported_dofs
+from .compute import INTEGER_FILL, STATUS, Work, method_label, outputs, pair_method, reported_dofs
 from .layout import Layout, layout
 from .spec import SpecError, StudySpec
 
@@ -28,6 +28,10 @@ _UNITS = {
     "mean_pressure": "Pa",
     "wear_depth": "m",
     "wear_pressure": "Pa",
+    "magnification": "-",
+    "peak_frequency": "Hz",
+    "peak_blade": "-",
+    "delta": "-",
 }
 _LONG_NAMES = {
     "cycles_to": "cycles to w = fraction * u0 (inf: the contact sticks; NaN: beyond the horizon or failed)",
@@ -41,6 +45,11 @@ _LONG_NAMES = {
     "mean_pressure": "contact pressure of each pair, mean over the period (no wear)",
     "wear_depth": "worn depth of each contact pair along the wear history",
     "wear_pressure": "contact pressure of each pair, mean over the period, along the wear history",
+    "magnification": "amplitude magnification factor: largest blade-tip amplitude over the tuned peak, both "
+    "in the band",
+    "peak_frequency": "frequency of the largest blade-tip amplitude",
+    "peak_blade": "blade of the largest amplitude (0 to sectors - 1; -1: not computed)",
+    "delta": "the draw's blade stiffness deviations delta_i (kb1, kb2 times 1 + delta_i)",
 }
 #: what the variables of a model with contact pairs mean where it differs from 1-D contacts
 _PAIR_NAMES = {
@@ -71,6 +80,9 @@ def template(spec: StudySpec, lay: Layout):
     work = Work.of(spec)
     dims = spec.dims
     coords: dict[str, Any] = {}
+    if spec.mistuning:
+        coords["sample"] = ("sample", np.arange(spec.samples), {"long_name": "mistuning pattern: row of "
+                            "draw_mistuning(sectors, level, samples, seed)"})  # fmt: skip
     if spec.random:
         coords["sample"] = ("sample", np.arange(spec.samples), {"long_name": "random draw"})
         for name, values in spec.draws().items():
@@ -95,6 +107,8 @@ def template(spec: StudySpec, lay: Layout):
             spec.cycle_grid(),
             {"units": "cycles", "long_name": "vibration cycles N"},
         )
+    if "blade" in extra_dims:
+        coords["blade"] = ("blade", np.arange(spec.model.n_dofs // 3), {"long_name": "blade (its sector)"})
     for d, names in _names(spec).items():
         if d in extra_dims:
             coords[d] = (d, np.array(names))
@@ -107,13 +121,16 @@ def template(spec: StudySpec, lay: Layout):
         chunks = lay.chunks + shape
         data_vars[name] = (
             dims + extra,
-            da.full(lay.shape + shape, np.nan, chunks=chunks),
+            # an integer variable is written whole here (its fill value is not NaN), as status
+            np.full(lay.shape + shape, INTEGER_FILL[name], dtype=np.int16)
+            if name in INTEGER_FILL
+            else da.full(lay.shape + shape, np.nan, chunks=chunks),
             {
                 "units": _UNITS[name],
                 "long_name": (_PAIR_NAMES if spec.pairs else {}).get(name, _LONG_NAMES[name]),
             },
         )
-        encoding[name] = {"chunks": chunks}
+        encoding[name] = {"chunks": chunks, **({"_FillValue": None} if name in INTEGER_FILL else {})}
     data_vars["status"] = (
         dims,
         np.zeros(lay.shape, dtype=np.int8),
@@ -149,8 +166,33 @@ def template(spec: StudySpec, lay: Layout):
             attrs["wear_method"] = pair_method(spec.fixed)[0]
     elif spec.wear and not {"method", "dynamics", "harmonics"} & set(spec.grid):
         attrs["wear_method"] = method_label(spec.model, spec.fixed)
+    if spec.mistuning:
+        attrs.update(_tuned(spec))
     ds = xr.Dataset(data_vars, coords=coords, attrs=attrs)
     return ds, encoding
+
+
+def _tuned(spec: StudySpec) -> dict[str, Any]:
+    """The attributes of a mistuning study: the model, the band, the tuned disk's peak in it (by
+    :func:`fretwear.disk.magnification` of the zero pattern) and Whitehead's bound ``(1 + sqrt(N)) / 2``."""
+    from ..disk import magnification
+
+    info = spec.model.info
+    res = magnification(np.zeros((1, info["sectors"])), tuple(spec.fixed["band"]), **spec.model_parameters)
+    return {
+        "model": spec.model_kind,
+        "sectors": int(info["sectors"]),
+        "engine_order": int(info["engine_order"]),
+        "band_hz": [float(f) for f in res.band],
+        "tuned_amplitude": res.tuned,
+        "tuned_amplitude_units": "m",
+        "tuned_frequency": res.tuned_frequency,
+        "tuned_frequency_units": "Hz",
+        "whitehead": float(res.whitehead),
+        "seed": spec.seed,
+        "patterns": f"point (level, sample i): row i of draw_mistuning({info['sectors']}, level, "
+        f"{spec.samples}, seed={spec.seed}) (fretwear.disk)",
+    }
 
 
 def create_store(spec: StudySpec, lay: Layout, out: Path) -> None:

@@ -1,4 +1,5 @@
-"""Summaries of a study's result: the wear life over the random samples, the deepest wear of an interface."""
+"""Summaries of a study's result: the wear life over the random samples, the deepest wear of an interface,
+the magnification of a mistuned bladed disk against the mistuning level."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ import numpy as np
 
 from .compute import HORIZON, OK, STUCK
 
-__all__ = ["wear_depth_summary", "wear_life_summary"]
+__all__ = ["magnification_summary", "wear_depth_summary", "wear_life_summary"]
 
 
 def wear_life_summary(ds, fraction: float = 0.5, *, depth: float | None = None) -> dict[str, float]:
@@ -97,4 +98,51 @@ def wear_depth_summary(ds) -> dict[str, float]:
         "max": float(values.max()),
         "position": float(ds["position"].values[pair]),
         "point": coords,
+    }
+
+
+def magnification_summary(ds) -> dict:
+    """The magnification curve of a mistuning study: per level, the mean, 95th percentile and largest
+    amplitude magnification factor over its draws, against Whitehead's bound.
+
+    Only points with status ``ok`` count (the others are NaN in ``factors`` and left out); the
+    percentile is NumPy's default (linear), as ``benchmarks/bench_mistuning.py`` prints it.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A study with the quantity ``magnification`` (``xarray.open_zarr(RESULT)``, or
+        :func:`fretwear.studies.store.open_study`).
+
+    Returns
+    -------
+    dict
+        ``levels`` (n_levels,), ``mean``, ``p95``, ``max`` (-, per level; NaN for a level without a
+        computed draw), ``n`` (computed draws per level), ``factors`` (n_levels, samples: every draw's
+        factor, NaN where not computed), ``above`` (draws above the bound, per level), ``whitehead``
+        (``(1 + sqrt(N)) / 2``), ``tuned_amplitude`` (m), ``tuned_frequency`` (Hz), ``band`` (Hz).
+    """
+    if "magnification" not in ds:
+        raise ValueError("the study has no 'magnification' quantity (no variable magnification)")
+    factors = np.asarray(ds["magnification"].transpose("level", "sample").values, dtype=float)
+    ok = np.asarray(ds["status"].transpose("level", "sample").values) == OK
+    factors = np.where(ok, factors, np.nan)
+    n = ok.sum(axis=1)
+    stats = {"mean": [], "p95": [], "max": []}
+    for row, count in zip(factors, n, strict=True):
+        f = row[np.isfinite(row)] if count else np.full(1, np.nan)
+        stats["mean"].append(f.mean())
+        stats["p95"].append(np.percentile(f, 95))
+        stats["max"].append(f.max())
+    bound = float(ds.attrs["whitehead"])
+    return {
+        "levels": np.asarray(ds["level"].values, dtype=float),
+        **{k: np.array(v) for k, v in stats.items()},
+        "n": n,
+        "factors": factors,
+        "above": (np.nan_to_num(factors) > bound).sum(axis=1),
+        "whitehead": bound,
+        "tuned_amplitude": float(ds.attrs["tuned_amplitude"]),
+        "tuned_frequency": float(ds.attrs["tuned_frequency"]),
+        "band": tuple(float(f) for f in ds.attrs["band_hz"]),
     }
