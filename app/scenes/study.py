@@ -26,7 +26,7 @@ import param
 from fretwear import figures
 from fretwear.figures.plots import ensure_backend, holoviews, marker_line, overlay_options, styled
 from fretwear.studies.compute import STATUS
-from fretwear.studies.summary import wear_life_summary
+from fretwear.studies.summary import magnification_summary, wear_life_summary
 
 from ..backend import Failure, shared_backend, shared_cache
 from ..live import live_pane, message_list
@@ -45,6 +45,8 @@ QUANTITIES = {
     "friction_energy": ("friction energy per period, no wear", "J", False),
     "slip_distance": ("distance slid per period by each pair, no wear", "m", False),  # contact pairs
     "mean_pressure": ("pressure of each pair, mean over the period, no wear", "Pa", False),
+    "magnification": ("amplitude magnification factor (mistuned over tuned peak)", "-", False),  # bladed disk
+    "peak_frequency": ("frequency of the largest blade-tip amplitude", "Hz", False),
 }
 #: statuses drawn as markers of their own (their value is NaN or inf)
 FAILED = tuple(s for s in STATUS if s in ("not_computed", "not_converged", "invalid", "error"))
@@ -145,7 +147,7 @@ class StudyScene(Exports, Runner):
         names = []
         if self.grid_dims and self.quantity:
             names.append("slice")
-        if "sample" in self.dims and "cycles_to" in self.ds:
+        if "sample" in self.dims and ("cycles_to" in self.ds or "magnification" in self.ds):
             names.append("histogram")
         if "sample" in self.dims and self.quantity and self.inputs:
             names.append("scatter")
@@ -299,9 +301,34 @@ class StudyScene(Exports, Runner):
         level = {self.level: self.fraction}
         return np.asarray(sl["cycles_to"].sel(level).values, dtype=float), wear_life_summary(sl, **level)
 
+    def _figure_magnification(self):
+        """Histogram of the magnification factors of the draws at the selected mistuning level, with their
+        mean, 95th percentile and Whitehead's bound (a mistuning study of the bladed disk)."""
+        hv = holoviews()
+        summary = magnification_summary(self.ds)
+        i = self.point.get("level", 0)
+        factors = summary["factors"][i]
+        finite = factors[np.isfinite(factors)]
+        bound = summary["whitehead"]
+        top = max(bound, finite.max() if finite.size else 1.0) * 1.02
+        counts, edges = np.histogram(finite, bins=np.linspace(min(1.0, finite.min(initial=1.0)), top, 31))
+        xlabel = "amplitude magnification factor (-)"
+        hist = hv.Histogram((edges, counts), kdims=[hv.Dimension("x", label=xlabel)],
+                            vdims=[hv.Dimension("y", label="draws")])  # fmt: skip
+        hist = styled(hist, {"alpha": 0.8, "framewise": True}, {"color": "#4c72b0", "tools": ["hover"]},
+                      {"facecolor": "#4c72b0"})  # fmt: skip
+        lines = [marker_line(hv, v) for v in (summary["mean"][i], summary["p95"][i], bound)]
+        mean, p95 = _number(summary["mean"][i]), _number(summary["p95"][i])
+        title = (f"Study: magnification at level {summary['levels'][i]:g}, mean {mean}, 95 % {p95}, "
+                 f"Whitehead's bound {bound:.3g}")  # fmt: skip
+        return overlay_options(hv.Overlay([hist, *lines]), title, xlabel, "draws", False, False, False,
+                               (0.05, 0.0))  # fmt: skip
+
     def _figure_histogram(self):
         hv = holoviews()
         ensure_backend()
+        if "magnification" in self.ds:
+            return self._figure_magnification()
         life, summary = self._life()
         finite = life[np.isfinite(life) & (life > 0)]
         if finite.size:

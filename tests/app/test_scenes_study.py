@@ -71,6 +71,21 @@ harmonics = 5
 [wear]
 depths = [1e-7, 3e-7]
 """
+#: a mistuning study of a 6-sector disk (linear: the amplitude magnification of seeded patterns)
+MISTUNING = """
+[study]
+title = "mistuning"
+quantities = ["magnification"]
+seed = 3
+samples = 8
+[model]
+name = "bladed_disk"
+sectors = 6
+engine_order = 1
+[parameters]
+level = [0.0, 0.03]
+band = [165.0, 200.0]
+"""
 #: the browser tests' study (16 draws; the normal mu goes negative for some), under its own title
 RANDOM = STUDY_SPEC.replace('title = "browser study"', 'title = "random"')
 
@@ -84,7 +99,8 @@ def stores(tmp_path_factory):
     with Client(
         processes=False, n_workers=1, threads_per_worker=1, dashboard_address="127.0.0.1:0"
     ) as client:
-        for name, text in (("grid", GRID), ("random", RANDOM), ("pairs", PAIRS), ("pairs_life", PAIRS_LIFE)):
+        for name, text in (("grid", GRID), ("random", RANDOM), ("pairs", PAIRS), ("pairs_life", PAIRS_LIFE),
+                           ("mistuning", MISTUNING)):  # fmt: skip
             spec_path = root / f"{name}.toml"
             spec_path.write_text(text)
             out[name] = root / f"{name}.zarr"
@@ -270,3 +286,20 @@ def test_the_tab_has_a_slider_per_axis_and_says_how_to_open_a_study(stores, no_s
     assert "--study" in empty[0].object and "fretwear study" in empty[0].object
     bad = study_tab(StudyScene(stores["grid"].parent / "missing.zarr"), lambda _scene: None)
     assert bad[0].object.startswith("Cannot open the study: study ") and "no such file" in bad[0].object
+
+
+def test_a_mistuning_study_shows_the_magnification_of_its_draws(stores, no_solver):
+    """Issue 24: the dashboard opens a mistuning study: the histogram at a level counts its draws' factors,
+    its lines are their mean, 95th percentile and Whitehead's bound; nothing is recomputed."""
+    from fretwear.disk import draw_mistuning, magnification
+
+    scene = StudyScene(stores["mistuning"], tasks=Tasks(Backend(), ResultCache()))
+    assert scene.error == "" and "histogram" in scene.figure_names and scene.quantity == "magnification"
+    scene.select("level", 1)
+    overlay = scene.figure("histogram")
+    hist = overlay.Histogram.I
+    assert hist.dimension_values(1).sum() == 8
+    ref = magnification(draw_mistuning(6, 0.03, 8, seed=3), (165.0, 200.0), sectors=6, engine_order=1)
+    lines = [e.data for e in overlay if type(e).__name__ == "VLine"]
+    assert lines == pytest.approx([ref.factor.mean(), np.percentile(ref.factor, 95), ref.whitehead])
+    assert f"mean {ref.factor.mean():.4g}" in overlay.opts.get().kwargs["title"]
