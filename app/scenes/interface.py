@@ -22,7 +22,6 @@ are kept in the server's shared cache.
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import Executor
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
@@ -163,12 +162,9 @@ class InterfaceScene(OwnSettings, Exports, Runner):
     ----------
     path : str or Path, optional
         An interface model file (``--interface-model``): offered as the third model.
-    tasks : Tasks, optional
-        Builds the task and holds the result cache (default: the server's shared cache).
-    executor : Executor, optional
-        Where runs go; ``None`` computes in the calling thread (tests).
-    dispatch : callable, optional
-        ``dispatch(callback)`` runs ``callback`` where the page may be updated.
+    **options
+        ``tasks``, ``executor``, ``dispatch`` of :class:`~app.scenes.base.OwnSettings`, and values of the
+        parameters.
     """
 
     key = "interface"
@@ -185,15 +181,8 @@ class InterfaceScene(OwnSettings, Exports, Runner):
     notes = param.List([])
     version = param.Integer(0)
 
-    def __init__(
-        self,
-        path: str | Path | None = None,
-        tasks: Tasks | None = None,
-        executor: Executor | None = None,
-        dispatch: Callable[[Callable[[], None]], None] | None = None,
-        **params: Any,
-    ) -> None:
-        super().__init__(tasks, executor, dispatch, **params)
+    def __init__(self, path: str | Path | None = None, **options: Any) -> None:
+        super().__init__(**options)
         self.path = None if path is None else str(path)
         if self.path is not None:
             self.param.model.objects = [GROSS, PARTIAL, PAPER, FILE]

@@ -34,7 +34,6 @@ import math
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
-import scipy.linalg as sl
 
 from ..hbm.condensation import Receptance, _distinct_orders, _real_blocks, _real_vector
 from ..hbm.continuation import Sweep, check_omegas
@@ -44,6 +43,7 @@ from ..hbm.periodic import solve_problem
 from ..hbm.problem import Problem
 from ..hbm.solution import PeriodicSolution
 from ..model import DiskSector, Model, bladed_disk
+from ..model.disk import modal_damping
 
 __all__ = ["Sector", "solve_sector", "sweep_sector", "samples_for", "tuned_disk", "is_tuned_disk"]
 
@@ -117,11 +117,8 @@ class Sector:
         K0, K1 = sector.stiffness()
         M0 = sector.mass
         K = K0 + K1 * np.exp(1j * theta)[:, None, None] + K1.T * np.exp(-1j * theta)[:, None, None]
-        C = np.empty_like(K)
-        for i in range(len(theta)):  # Nh + 1 eigenproblems of size 3, once per sweep
-            w2, phi = sl.eigh(K[i], M0)
-            MP = M0 @ phi
-            C[i] = MP @ np.diag(2 * info["damping_ratio"] * np.sqrt(np.maximum(w2, 0))) @ MP.conj().T
+        # Nh + 1 eigenproblems of size 3, once per sweep
+        C = np.array([modal_damping(M0, Ki, info["damping_ratio"]) for Ki in K])
         one = replace(model, friction=model.friction[:1])  # contact 0 stands for all (module text)
         return cls(model, info, one, samples, theta, K, C, M0)
 

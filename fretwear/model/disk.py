@@ -40,7 +40,7 @@ import scipy.linalg as sl
 
 from .structure import FrictionContact, Model, _finite
 
-__all__ = ["DiskSector", "bladed_disk"]
+__all__ = ["DiskSector", "bladed_disk", "modal_damping"]
 
 #: DOFs of one sector, in order
 SECTOR_DOFS = ("disk", "root", "tip")
@@ -81,6 +81,18 @@ class DiskSector:
             raise ValueError(f"sectors must be an integer >= 3, got {self.sectors!r}")
         for name in ("m0", "mb1", "mb2", "kG", "k0", "kb1", "kb2"):
             object.__setattr__(self, name, _finite(name, getattr(self, name), 0.0, strict=True))
+
+    @classmethod
+    def of(cls, sectors: int, properties: dict, caller: str) -> DiskSector:
+        """The sector with ``properties`` (its masses and springs), each name checked: a misspelled one
+        is a ``ValueError`` naming ``caller`` and the sector's parameters."""
+        names = [f.name for f in fields(cls)][1:]
+        unknown = sorted(set(properties) - set(names))
+        if unknown:
+            raise ValueError(
+                f"{unknown[0]!r} is not a parameter of {caller}; the sector has {', '.join(names)}"
+            )
+        return cls(sectors, **properties)
 
     @property
     def mass(self) -> np.ndarray:
@@ -134,6 +146,18 @@ class DiskSector:
         """Frequencies (Hz) against nodal diameter ``0 .. N // 2``, shape (N // 2 + 1, 3): the ZZENF
         diagram."""
         return np.array([self.frequencies(nd) for nd in range(self.sectors // 2 + 1)])
+
+
+def modal_damping(M: np.ndarray, K: np.ndarray, damping_ratio: float) -> np.ndarray:
+    """Modal damping ``C = M Phi diag(2 zeta omega_r) Phi^H M`` (N s/m): the ratio ``zeta`` in every mode.
+
+    ``Phi`` are the mass-normalised modes of ``(K, M)`` (``K`` may be Hermitian: a sector at a nodal
+    diameter); the result is Hermitian to round-off (symmetrised).
+    """
+    w2, phi = sl.eigh(K, M)
+    MPhi = M @ phi
+    C = MPhi @ np.diag(2 * damping_ratio * np.sqrt(np.maximum(w2, 0.0))) @ MPhi.conj().T
+    return 0.5 * (C + C.conj().T)
 
 
 def bladed_disk(
@@ -202,13 +226,7 @@ def bladed_disk(
         return ring_damper_disk(sectors, engine_order=engine_order, fex=fex, damping_ratio=damping_ratio,
                                 **given, **properties)  # fmt: skip
     mu = 0.3 if mu is None else mu
-    names = [f.name for f in fields(DiskSector)][1:]
-    unknown = sorted(set(properties) - set(names))
-    if unknown:
-        raise ValueError(
-            f"{unknown[0]!r} is not a parameter of bladed_disk; the sector has {', '.join(names)}"
-        )
-    sector = DiskSector(sectors, **properties)
+    sector = DiskSector.of(sectors, properties, "bladed_disk")
     n_sec = sector.sectors
     delta = np.zeros(n_sec) if mistuning is None else np.array(mistuning, dtype=float)
     if delta.shape != (n_sec,) or not np.all(np.isfinite(delta)) or np.any(delta <= -1):
@@ -216,10 +234,7 @@ def bladed_disk(
     if not (0 <= damping_ratio < 1):
         raise ValueError(f"damping_ratio must lie in [0, 1), got {damping_ratio!r}")
     M, K = sector.assemble(delta)
-    # modal damping: C = M Phi diag(2 zeta omega_r) Phi^T M with Phi mass-normalised
-    w2, phi = sl.eigh(K, M)
-    MPhi = M @ phi
-    C = MPhi @ np.diag(2 * damping_ratio * np.sqrt(w2)) @ MPhi.T
+    C = modal_damping(M, K, damping_ratio)
     if contacts not in LAYOUTS:
         raise ValueError(f"contacts must be one of {', '.join(LAYOUTS)}, got {contacts!r}")
     tips = np.arange(n_sec) * 3 + 2
@@ -233,5 +248,5 @@ def bladed_disk(
             "contacts": contacts, "mistuning": tuple(delta.tolist())}  # fmt: skip
     if shroud:
         info.update(mu=shroud[0].mu, kn=shroud[0].kn, u0=shroud[0].u0, kt=shroud[0].kt)
-    model = Model(M=M, C=0.5 * (C + C.T), K=K, friction=shroud, names=dof_names, info=info)
+    model = Model(M=M, C=C, K=K, friction=shroud, names=dof_names, info=info)
     return model.travelling_wave(tips, engine_order, fex)

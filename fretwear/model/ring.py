@@ -37,12 +37,12 @@ default engine order is 1 (inferred from that band).
 
 from __future__ import annotations
 
-from dataclasses import asdict, fields
+from dataclasses import asdict
 
 import numpy as np
 import scipy.linalg as sl
 
-from .disk import DiskSector
+from .disk import DiskSector, modal_damping
 from .structure import FrictionContact, Model, _finite
 
 __all__ = ["ring_damper_disk", "tutorial_rotation_speed"]
@@ -107,13 +107,7 @@ def ring_damper_disk(
         ring sector ``i`` at ``3 N + i`` (``ring{i}``). Friction contact ``i`` joins ``ring{i}`` to
         ``disk{i}``. ``info`` holds the parameters and the normal load ``normal_load`` (N).
     """
-    names = [f.name for f in fields(DiskSector)][1:]
-    unknown = sorted(set(properties) - set(names))
-    if unknown:
-        raise ValueError(
-            f"{unknown[0]!r} is not a parameter of ring_damper_disk; the sector has {', '.join(names)}"
-        )
-    sector = DiskSector(sectors, **properties)
+    sector = DiskSector.of(sectors, properties, "ring_damper_disk")
     n = sector.sectors
     mr = _finite("mr", mr, 0.0, strict=True)
     radius = _finite("radius", radius, 0.0, strict=True)
@@ -126,14 +120,11 @@ def ring_damper_disk(
         raise ValueError(f"damping_ratio must lie in [0, 1), got {damping_ratio!r}")
 
     Md, Kd = sector.assemble(np.zeros(n))
-    # modal damping of the disk alone (the tutorial damps the blisk, not the ring)
-    w2, phi = sl.eigh(Kd, Md)
-    MPhi = Md @ phi
-    Cd = MPhi @ np.diag(2 * damping_ratio * np.sqrt(w2)) @ MPhi.T
+    Cd = modal_damping(Md, Kd, damping_ratio)  # the disk alone: the tutorial damps the blisk, not the ring
 
     ring = 3 * n + np.arange(n)
     M = sl.block_diag(Md, mr * np.eye(n))
-    C = sl.block_diag(0.5 * (Cd + Cd.T), np.zeros((n, n)))
+    C = sl.block_diag(Cd, np.zeros((n, n)))
     K = sl.block_diag(Kd, np.zeros((n, n)))
     # the ring: kr between neighbours (closed), 1e-3 kr to ground
     ring_k = np.roll(np.eye(n), 1, axis=1) + np.roll(np.eye(n), -1, axis=1)
