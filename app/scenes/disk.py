@@ -44,6 +44,13 @@ __all__ = ["DiskScene", "DiskSettings", "disk_tab", "PROFILES"]
 
 #: records of the wear history drawn as profiles over the blades (first, last, evenly between)
 PROFILES = 4
+#: the tab's sliders: parameter, label, (low, high, step)
+SLIDERS = (
+    ("engine_order", "EO", (0, 12, 1)),
+    ("fex", "F_ex (N)", (0.5, 10.0, 0.1)),
+    ("mu", "mu", (0.05, 1.0, 0.01)),
+    ("level", "mistuning level", (0.0, 0.1, 0.0025)),
+)
 #: displacement magnification of the drawing, as a fraction of the blade length per largest amplitude
 DRAWN_SWING = 0.25
 
@@ -312,11 +319,16 @@ def disk_tab(scene: DiskScene, export_card: Callable[[Any], Any]) -> list:
     """The Bladed disk tab: its controls, progress, figures, notes and exports; starts the first run."""
     hv = holoviews()
     boxes = []
-    for name, label in (("engine_order", "EO"), ("fex", "F_ex (N)"), ("mu", "mu"), ("kw", "k_w (1/N)"),
-                        ("level", "mistuning level"), ("seed", "seed"), ("frequency", "f (Hz)"),
+    # sliders for what a class explores (a run when released), boxes for the rest
+    for name, label, (low, high, step) in SLIDERS:
+        kind = pn.widgets.IntSlider if name == "engine_order" else pn.widgets.EditableFloatSlider
+        slider = kind(name=label, start=low, end=high, step=step, value=getattr(scene, name), width=170)
+        slider.param.watch(partial(lambda n, event: setattr(scene, n, event.new), name), "value_throttled")
+        boxes.append(slider)
+    for name, label in (("kw", "k_w (1/N)"), ("seed", "seed"), ("frequency", "f (Hz)"),
                         ("cycles", "N (cycles)")):  # fmt: skip
-        kind = pn.widgets.IntInput if name in ("engine_order", "seed") else pn.widgets.FloatInput
-        box = kind(label=label, value=getattr(scene, name), width=110)
+        kind = pn.widgets.IntInput if name == "seed" else pn.widgets.FloatInput
+        box = kind(name=label, value=getattr(scene, name), width=110)
         box.link(scene, value=name)
         boxes.append(box)
     phase = pn.widgets.Player(name="phase (°)", start=0, end=350, step=10, value=0, interval=60,
