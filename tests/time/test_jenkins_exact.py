@@ -108,6 +108,24 @@ def test_monodromy_matches_finite_differences():
     assert np.abs(y0[2]) < SLIP
     assert np.abs(FD - J).max() <= 1e-6 * np.abs(J).max()
     assert np.allclose(sol.monodromy, J, rtol=0, atol=1e-12 * np.abs(J).max())
+    # from a state in slip: the force's perturbation is lost (a zero column), the others propagate
+    slipping = np.flatnonzero(sol.state[0] != STICK)
+    t0 = sol.time[slipping[len(slipping) // 2]]
+    ys = sol.trajectory.evaluate([t0])[0][:, 0]
+    ys = np.append(ys, sol.contact_force[0, slipping[len(slipping) // 2]])
+    assert abs(ys[2]) == pytest.approx(SLIP, rel=1e-14)
+
+    def flow(y):
+        return ti.integrate(model, omega, y, t0, t0 + sol.period).y
+
+    J = ti.integrate(model, omega, ys, t0, t0 + sol.period, jacobian=True).jacobian
+    for j in range(3):
+        h = 1e-7 * max(abs(ys[j]), 1e-3)
+        e = np.zeros(3)
+        e[j] = h
+        FD[:, j] = (flow(ys + e) - flow(ys - e)) / (2 * h)
+    assert np.all(J[:, 2] == 0)
+    assert np.abs(FD - J).max() <= 1e-6 * np.abs(J).max()
 
 
 def test_steady_state_marches_to_the_shooting_orbit():
