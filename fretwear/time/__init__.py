@@ -1,8 +1,9 @@
 """Exact dynamics in time: the event-driven integrator and periodic solutions by shooting.
 
 :mod:`~fretwear.time.integrator` integrates the equations of motion with
-Coulomb contacts exactly (piecewise-linear dynamics, events located to
-round-off); :mod:`~fretwear.time.shooting` finds periodic orbits on it
+Coulomb contacts, rigid or Jenkins (a tangential stiffness in series),
+exactly (piecewise-linear dynamics, events located to round-off);
+:mod:`~fretwear.time.shooting` finds periodic orbits on it
 (:func:`shooting`), the truth every harmonic-balance answer is measured against.
 """
 

@@ -8,9 +8,11 @@ at one instant, or ``max_phases`` phases), :data:`NONFINITE`.
 The kernels take their arrays packed in tuples (Numba types a tuple by the
 types of its members, so a packed call compiles and caches as the flat one):
 
-* ``model = (M^-1, B, C, K, F)``: inverse mass matrix, relative map of the
-  friction contacts, damping, stiffness and the forcing columns
-  ``(F_s, F_c, F_sn)`` (:attr:`fretwear.time.patterns.Table.model_arrays`);
+* ``model = (M^-1, B, C, K, F, kt)``: inverse mass matrix, relative map of
+  the friction contacts, damping, stiffness, the forcing columns
+  ``(F_s, F_c, F_sn)`` and the tangential stiffnesses of Jenkins contacts
+  (empty for rigid ones; then the state ``y`` is ``(u, v)``, else
+  ``(u, v, lambda)``) (:attr:`fretwear.time.patterns.Table.model_arrays`);
 * ``patterns = (masks, Ah, force_rows, phi, phi_series, step, count)``: the
   stick patterns built so far at one frequency
   (:meth:`fretwear.time.patterns.Table.table`), or at every frequency with a

@@ -101,11 +101,17 @@ def find_slot(masks, count, mask):
 
 @njit(cache=True, nogil=True)
 def augmented(y, t, g, dirs, omega, nf, X):
-    """Augmented state ``(u, v, lambda, 1, cos, sin)`` (zero force for stuck and open contacts)."""
-    n2 = y.shape[0]
-    X[:n2] = y
-    for j in range(nf):
-        X[n2 + j] = g[j] * dirs[j]
+    """Augmented state ``(u, v, lambda, 1, cos, sin)``.
+
+    A rigid model's ``y = (u, v)``: the forces ``g d`` (zero for stuck and
+    open contacts); a Jenkins model's ``y = (u, v, lambda)`` holds them.
+    """
+    ny = y.shape[0]
+    n2 = X.shape[0] - nf - 3
+    X[:ny] = y
+    if ny == n2:
+        for j in range(nf):
+            X[n2 + j] = g[j] * dirs[j]
     X[n2 + nf] = 1.0
     X[n2 + nf + 1] = math.cos(omega * t)
     X[n2 + nf + 2] = math.sin(omega * t)
@@ -199,7 +205,7 @@ def select(t, y, Z, forced, g, dirs, model, omega, patterns):
 
     Returns ``(status, stuck mask, directions, need)``.
     """
-    Minv, B, C, Kmat, F = model
+    Minv, B, C, Kmat, F, _ = model
     masks, Ah, force_rows, _, _, _, count = patterns
     n, nf = Minv.shape[0], B.shape[0]
     out = dirs.copy()

@@ -62,7 +62,7 @@ def quadrature(model, omega, patterns, steps, n_steps):
     (``rho h <= 3``); the rule's error on ``sigma^24`` is ``6e-15`` of it, on a
     coefficient below ``1e-5``: round-off.
     """
-    Minv, _, C, _, F = model
+    Minv, _, C, _, F, _ = model
     _, Ah, _, _, _, step, _ = patterns
     _, st_len, st_pat, _, st_X = steps
     n = Minv.shape[0]

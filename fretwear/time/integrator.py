@@ -34,10 +34,20 @@ Fourier coefficient are Gauss-Legendre quadratures of the step polynomials,
 exact to round-off. The state-transition (monodromy) matrix is the product of
 the exact step propagators and the saltation matrices of the events.
 
+**Jenkins contacts** (``FrictionContact(..., kt=...)``, a spring ``k_t`` in
+series with the slider): the force ``lambda_j`` is a state, ``y = (u, v,
+lambda)``; stuck, ``lambda_j' = k_t (B v)_j``; slipping, ``lambda_j = +-g_j``;
+stick to slip when ``|lambda_j|`` reaches ``g_j``, slip to stick when the
+relative velocity vanishes (:mod:`fretwear.time.patterns`,
+:mod:`fretwear.time.marching`). No Delassus matrix and no rank condition:
+the closed ring of a bladed disk's shroud is taken. The slider moves only in
+slip, so the sliding distance is its travel and ``g_j`` times it the energy
+dissipated.
+
 Requirements: ``M`` positive definite (no massless DOF), no unilateral
-:class:`~fretwear.model.NormalContact`, and linearly independent friction
-contacts (``B`` of full row rank, otherwise stuck forces are indeterminate).
-All quantities are in SI units.
+:class:`~fretwear.model.NormalContact`, friction contacts all rigid or all
+Jenkins, and linearly independent rigid contacts (``B`` of full row rank,
+otherwise stuck forces are indeterminate). All quantities are in SI units.
 """
 
 from __future__ import annotations
@@ -125,8 +135,9 @@ class Trajectory:
     ----------
     t0, t1 : float
         Integration interval (s).
-    y : ndarray, shape (2 n,)
-        State ``(u, v)`` at ``t1``: displacements (m) and velocities (m/s).
+    y : ndarray, shape (2 n,) or (2 n + n_friction,)
+        State ``(u, v)`` at ``t1``: displacements (m) and velocities (m/s);
+        with Jenkins contacts ``(u, v, lambda)``, their forces (N) included.
     times : ndarray, shape (k,)
         Sample times requested with ``samples`` (s); empty if none.
     states : ndarray, shape (2 n, k)
@@ -151,7 +162,7 @@ class Trajectory:
         Work of the external force, ``integral f(t) . v dt`` (J).
     viscous_dissipation : float
         ``integral v^T C v dt`` (J).
-    jacobian : ndarray, shape (2 n, 2 n) or None
+    jacobian : ndarray, shape (len(y), len(y)) or None
         State-transition matrix ``dy(t1)/dy(t0)`` including the saltation of
         every event, when requested. A perturbation of the relative velocity
         of a contact stuck at ``t0`` is absorbed at once (M-orthogonal
@@ -254,8 +265,9 @@ def engine_loads(model: Model, omega: float, wear) -> tuple[Engine, np.ndarray, 
 def check_state(eng: Engine, y, name: str) -> np.ndarray:
     """``y`` as a finite state ``(u, v)`` of ``eng``'s model; ``ValueError`` naming ``name`` otherwise."""
     y = np.asarray(y, dtype=float)
-    if y.shape != (2 * eng.n,) or not np.all(np.isfinite(y)):
-        raise ValueError(f"{name} must be a finite state (u, v) of shape ({2 * eng.n},), got shape {y.shape}")
+    what = "(u, v, lambda) (Jenkins contacts)" if len(eng.kt) else "(u, v)"
+    if y.shape != (eng.ny,) or not np.all(np.isfinite(y)):
+        raise ValueError(f"{name} must be a finite state {what} of shape ({eng.ny},), got shape {y.shape}")
     return y
 
 
@@ -429,10 +441,12 @@ def integrate(
         Structure with friction contacts only; ``M`` positive definite.
     omega : float
         Excitation angular frequency (rad/s), > 0.
-    y0 : array_like, shape (2 n,)
+    y0 : array_like, shape (2 n,) or (2 n + n_friction,)
         Initial state ``(u, v)`` at ``t0`` (m, m/s). A contact with zero
         relative velocity starts stuck if its stuck force lies inside the
-        friction cone.
+        friction cone. With Jenkins contacts ``(u, v, lambda)``: their forces
+        (N), clipped to ``+-mu F_N``; one at its limit slips if its relative
+        velocity (at rest: acceleration) points along it.
     t0, t1 : float
         Start and end times (s), ``t1 >= t0``; the excitation phase is
         ``omega t``.

@@ -2,7 +2,16 @@
 
 Steps of the Taylor series of :mod:`fretwear.time.patterns` up to the first
 crossing of a guard (:mod:`fretwear.time.series`), contact states at each
-event (:mod:`fretwear.time.events`).
+event (:mod:`fretwear.time.events`; Jenkins contacts below).
+
+**Jenkins contacts** (the state is ``y = (u, v, lambda)``). At the start a
+contact whose force is inside its cone (``|lambda_j| < g_j``) sticks; one at
+its limit (its force clipped to ``+-g_j``) slips when its relative velocity
+points along its force, or, at rest, its relative acceleration does; it
+sticks otherwise. At an event the triggering contact alone changes: a stuck
+force reaching ``d g_j`` starts a slip in direction ``d`` (the force set to
+``d g_j`` exactly), a slip whose relative velocity vanishes sticks; events of
+other contacts at the same instant follow at once as null steps.
 
 **Monodromy**. The state-transition matrix of ``y = (u, v)`` is the product of
 the step propagators ``exp(A_yy s)`` and, at each event, of the saltation
@@ -10,6 +19,16 @@ matrix ``I + (f+ - f-) grad(h)^T / (dh/dt)`` of the triggering guard ``h``; a
 contact that becomes stuck, or is stuck at the start, annihilates the
 perturbations of its relative velocity (M-orthogonal projection, the
 first-order effect of the short slip such a perturbation causes).
+
+For Jenkins contacts the saltation matrices follow from the same formula in
+``y = (u, v, lambda)``. Stick to slip, guard ``h = g_j - d lambda_j``: the
+vector fields differ only in ``lambda_j' = k_t (B v)_j`` (before) and ``0``
+(after), so ``f+ - f- = -k_t v_r e_j`` and ``grad(h) . f- = -d k_t v_r``: the
+saltation is ``I - e_j e_j^T`` (a perturbation of a slipping force is lost).
+Slip to stick, guard ``h = d (B v)_j``: ``lambda_j' = k_t (B v)_j`` vanishes
+at the event and the force is continuous, so ``f+ = f-``: no saltation. A
+contact that slips at the start has its force's perturbation annihilated
+likewise.
 """
 
 from __future__ import annotations
@@ -41,6 +60,8 @@ __all__ = ["march", "MAX_NULL"]
 
 MAX_NULL = 40  # consecutive events at one instant before giving up
 _NEAR = 1e-12  # a slipping contact this close to zero relative velocity joins an event
+_AT_LIMIT = 1e-12  # a Jenkins force this close to its slip force is at the limit at the start
+_AT_REST = 1e-13  # a relative velocity this small (of the velocities' scale) is zero at the start
 
 
 @njit(cache=True, nogil=True)
@@ -53,17 +74,68 @@ def _phi_at(series, sigma, out):
 
 
 @njit(cache=True, nogil=True)
+def _jenkins_start(t, y, g, model, omega):
+    """Stuck mask and slip directions of a Jenkins model at ``(t, y)`` (module docstring).
+
+    Clips the forces ``y[2 n:]`` into their cones in place (zero for an open contact).
+    """
+    Minv, B, C, Kmat, F, _ = model
+    n, nf = Minv.shape[0], B.shape[0]
+    n2 = 2 * n
+    dirs = np.zeros(nf, dtype=np.int64)
+    S = NONE
+    limit = np.zeros(nf, dtype=np.int64)
+    for j in range(nf):
+        lam = y[n2 + j]
+        if g[j] <= 0:
+            y[n2 + j] = 0.0
+        elif abs(lam) < g[j] * (1 - _AT_LIMIT):
+            S |= 1 << j
+        else:
+            limit[j] = 1 if lam > 0 else -1
+            y[n2 + j] = limit[j] * g[j]
+    if not np.any(limit != 0):
+        return S, dirs
+    vscale = 0.0
+    for i in range(n):
+        vscale = max(vscale, 2 * abs(y[n + i]))
+    co, si = math.cos(omega * t), math.sin(omega * t)
+    r = np.empty(n)  # M a = f - C v - K u - B^T lambda
+    for i in range(n):
+        s = F[i, 0] + F[i, 1] * co + F[i, 2] * si
+        for m in range(n):
+            s -= C[i, m] * y[n + m] + Kmat[i, m] * y[m]
+        for j in range(nf):
+            s -= B[j, i] * y[n2 + j]
+        r[i] = s
+    acc = Minv @ r
+    for j in range(nf):
+        d = limit[j]
+        if d == 0:
+            continue
+        vr = dot(B[j], y, n, n2)[0]
+        if abs(vr) <= _AT_REST * vscale:
+            vr = dot(B[j], acc, 0, n)[0]
+        if d * vr > 0:
+            dirs[j] = d
+        else:
+            S |= 1 << j
+    return S, dirs
+
+
+@njit(cache=True, nogil=True)
 def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, records):
     """Integrate from ``(t0, y0)`` to ``t1`` (``model``, ``patterns``, ``records``: :mod:`.codes`).
 
     Returns ``(status, need, y, J, sliding, n_steps, n_phases, n_events)``:
-    the state at ``t1``, ``dy(t1)/dy(t0)`` (identity unless ``jacobian``) and
+    the state at ``t1`` (``(u, v)``, or ``(u, v, lambda)`` for Jenkins
+    contacts), ``dy(t1)/dy(t0)`` (identity unless ``jacobian``) and
     the distance slid by each contact (m). With ``record``, the steps
     (start time, length, pattern slot, phase, start state), phases (start,
     state codes, directions) and events (time, contact, kind, direction) are
     written to the buffers ``records``; :data:`NEED_SPACE` when they are full.
     """
-    Minv, B, _, _, _ = model
+    Minv, B, _, _, _, kt = model
     masks, Ah, force_rows, phi, phi_series, step, count = patterns
     steps, phases, events = records
     st_t, st_len, st_pat, st_phase, st_X = steps
@@ -72,37 +144,46 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
     n, nf = Minv.shape[0], B.shape[0]
     n2 = 2 * n
     D = n2 + nf + 3
+    jen = kt.shape[0] > 0  # Jenkins contacts: y = (u, v, lambda)
+    ny = n2 + kt.shape[0]
     y = y0.copy()
-    J = np.eye(n2)
+    J = np.eye(ny)
     sliding = np.zeros(nf)
     n_steps = n_phases = n_events = 0
     t = t0
-    # initial states: contacts at zero relative velocity are decided by the Coulomb law
-    vscale = 0.0
-    for i in range(n):
-        vscale = max(vscale, 2 * abs(y[n + i]))
-    dirs = np.zeros(nf, dtype=np.int64)
-    Z = NONE
-    for j in range(nf):
-        if g[j] <= 0:
-            continue
-        vr = dot(B[j], y, n, 2 * n)[0]
-        if abs(vr) <= 1e-13 * vscale:
-            Z |= 1 << j
-        else:
-            dirs[j] = 1 if vr > 0 else -1
-    status, S, dirs, need = select(t, y, Z, NONE, g, dirs, model, omega, patterns)
-    if status != OK:
-        return status, need, y, J, sliding, 0, 0, 0
-    if jacobian and S:
-        BZ, MiBt, _, L = delassus(Minv, B, bits(S, nf))
-        project(MiBt, BZ, L, J[n:, :])
+    if jen:
+        S, dirs = _jenkins_start(t, y, g, model, omega)
+        if jacobian:
+            for j in range(nf):
+                if not (S >> j & 1):
+                    J[n2 + j, n2 + j] = 0.0
+    else:
+        # initial states: contacts at zero relative velocity are decided by the Coulomb law
+        vscale = 0.0
+        for i in range(n):
+            vscale = max(vscale, 2 * abs(y[n + i]))
+        dirs = np.zeros(nf, dtype=np.int64)
+        Z = NONE
+        for j in range(nf):
+            if g[j] <= 0:
+                continue
+            vr = dot(B[j], y, n, 2 * n)[0]
+            if abs(vr) <= 1e-13 * vscale:
+                Z |= 1 << j
+            else:
+                dirs[j] = 1 if vr > 0 else -1
+        status, S, dirs, need = select(t, y, Z, NONE, g, dirs, model, omega, patterns)
+        if status != OK:
+            return status, need, y, J, sliding, 0, 0, 0
+        if jacobian and S:
+            BZ, MiBt, _, L = delassus(Minv, B, bits(S, nf))
+            project(MiBt, BZ, L, J[n:, :])
     X = np.empty(D)
     Xn = np.empty(D)
     c = np.empty((K + 1, D))
     a = np.empty(K + 1)
-    Phi = np.empty((n2, n2))
-    Jt = np.empty((n2, n2))
+    Phi = np.empty((ny, ny))
+    Jt = np.empty((ny, ny))
     ur0 = np.zeros(nf)
     off_up = np.zeros(nf)
     off_lo = np.zeros(nf)
@@ -116,7 +197,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
         h = step[k]
         augmented(y, t, g, dirs, omega, nf, X)
         for j in range(nf):
-            if S >> j & 1:
+            if S >> j & 1 and not jen:
                 X[n2 + j] = 0.0
         # guard offsets: a stuck force that starts beyond its limit (within the rule's tolerance)
         for j in range(nf):
@@ -195,8 +276,8 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                 t = t + best * h
             if who >= 0 or t >= t1:
                 break
-        y[:] = X[:n2]
-        for i in range(n2):
+        y[:] = X[:ny]
+        for i in range(ny):
             if not math.isfinite(y[i]):
                 return NONFINITE, 0, y, J, sliding, n_steps, n_phases, n_events
         for j in range(nf):
@@ -204,61 +285,77 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                 sliding[j] += max(dirs[j] * (dot(B[j], y, 0, n)[0] - ur0[j]), 0.0)
         if who < 0:
             return OK, 0, y, J, sliding, n_steps, n_phases, n_events
-        # the event: contacts at zero relative velocity, and the triggering guard
-        Zm = S
-        forced = 0
-        if kind == 2:
-            Zm |= 1 << who
-        else:
-            forced = 1 << who
-        for j in range(nf):
-            if g[j] > 0 and not (Zm >> j & 1):
-                vr = dot(B[j], y, n, n2)[0]
-                vs = 0.0
-                for i in range(n):
-                    vs += abs(B[j, i]) * (abs(y[n + i]) + omega * abs(y[i]))
-                if abs(vr) <= _NEAR * vs:
-                    Zm |= 1 << j
-        status, S_new, d_new, need = select(t, y, Zm, forced, g, dirs, model, omega, patterns)
-        if status != OK:
-            return status, need, y, J, sliding, n_steps, n_phases, n_events
-        k_new = find_slot(masks, count, S_new)
-        if k_new < 0:
-            return NEED_PATTERN, S_new, y, J, sliding, n_steps, n_phases, n_events
-        changed = S_new != S
-        for j in range(nf):
-            if d_new[j] != dirs[j]:
-                changed = True
-        if jacobian and changed:
-            # saltation of the triggering guard
-            grad = np.zeros(n2)
+        if jen:  # the triggering contact changes alone (module docstring)
+            S_new = S
+            d_new = dirs.copy()
             if kind == 2:
-                for i in range(n):
-                    grad[n + i] = dirs[who] * B[who, i]
+                S_new |= 1 << who
+                d_new[who] = 0
             else:
-                sgn = -1.0 if kind == 0 else 1.0
-                for i in range(n2):
-                    grad[i] = sgn * force_rows[k, who, i]
-            f_minus = (Ah[k] @ X)[:n2] / h
-            Xp = np.empty(D)
-            augmented(y, t, g, d_new, omega, nf, Xp)
+                S_new &= ~(1 << who)
+                d_new[who] = 1 if kind == 0 else -1
+                y[n2 + who] = d_new[who] * g[who]
+                if jacobian:  # saltation I - e e^T of a force reaching its limit
+                    J[n2 + who, :] = 0.0
+            changed = True
+            if find_slot(masks, count, S_new) < 0:
+                return NEED_PATTERN, S_new, y, J, sliding, n_steps, n_phases, n_events
+        else:
+            # the event: contacts at zero relative velocity, and the triggering guard
+            Zm = S
+            forced = 0
+            if kind == 2:
+                Zm |= 1 << who
+            else:
+                forced = 1 << who
             for j in range(nf):
-                if S_new >> j & 1:
-                    Xp[n2 + j] = 0.0
-            f_plus = (Ah[k_new] @ Xp)[:n2] / step[k_new]
-            hdot = grad @ f_minus
-            jump = f_plus - f_minus
-            if abs(hdot) > 1e-14 * np.abs(grad).sum() * np.abs(f_minus).sum() and np.abs(jump).max() > 0:
-                for col in range(n2):  # J += (jump / hdot) (grad^T J)
-                    gj = 0.0
-                    for r in range(n2):
-                        gj += grad[r] * J[r, col]
-                    gj /= hdot
-                    for r in range(n2):
-                        J[r, col] += jump[r] * gj
-            if S_new & ~S:
-                BZ, MiBt, _, L = delassus(Minv, B, bits(S_new, nf))
-                project(MiBt, BZ, L, J[n:, :])
+                if g[j] > 0 and not (Zm >> j & 1):
+                    vr = dot(B[j], y, n, n2)[0]
+                    vs = 0.0
+                    for i in range(n):
+                        vs += abs(B[j, i]) * (abs(y[n + i]) + omega * abs(y[i]))
+                    if abs(vr) <= _NEAR * vs:
+                        Zm |= 1 << j
+            status, S_new, d_new, need = select(t, y, Zm, forced, g, dirs, model, omega, patterns)
+            if status != OK:
+                return status, need, y, J, sliding, n_steps, n_phases, n_events
+            k_new = find_slot(masks, count, S_new)
+            if k_new < 0:
+                return NEED_PATTERN, S_new, y, J, sliding, n_steps, n_phases, n_events
+            changed = S_new != S
+            for j in range(nf):
+                if d_new[j] != dirs[j]:
+                    changed = True
+            if jacobian and changed:
+                # saltation of the triggering guard
+                grad = np.zeros(n2)
+                if kind == 2:
+                    for i in range(n):
+                        grad[n + i] = dirs[who] * B[who, i]
+                else:
+                    sgn = -1.0 if kind == 0 else 1.0
+                    for i in range(n2):
+                        grad[i] = sgn * force_rows[k, who, i]
+                f_minus = (Ah[k] @ X)[:n2] / h
+                Xp = np.empty(D)
+                augmented(y, t, g, d_new, omega, nf, Xp)
+                for j in range(nf):
+                    if S_new >> j & 1:
+                        Xp[n2 + j] = 0.0
+                f_plus = (Ah[k_new] @ Xp)[:n2] / step[k_new]
+                hdot = grad @ f_minus
+                jump = f_plus - f_minus
+                if abs(hdot) > 1e-14 * np.abs(grad).sum() * np.abs(f_minus).sum() and np.abs(jump).max() > 0:
+                    for col in range(n2):  # J += (jump / hdot) (grad^T J)
+                        gj = 0.0
+                        for r in range(n2):
+                            gj += grad[r] * J[r, col]
+                        gj /= hdot
+                        for r in range(n2):
+                            J[r, col] += jump[r] * gj
+                if S_new & ~S:
+                    BZ, MiBt, _, L = delassus(Minv, B, bits(S_new, nf))
+                    project(MiBt, BZ, L, J[n:, :])
         if changed and record:
             for j in range(nf):
                 was, now = S >> j & 1, S_new >> j & 1

@@ -9,7 +9,7 @@ force ``lambda_j = g_j d_j`` (``g_j = mu_j F_N,j``, ``d_j`` the slip direction,
     X = (u, v, lambda, 1, cos omega t, sin omega t),   size D = 2 n + n_f + 3,
 
 (``lambda`` holds the forces of the contacts that are not stuck, zero for the
-stuck ones) the motion is the autonomous linear system ``X' = A_S X`` with
+stuck ones; Jenkins contacts below) the motion is the autonomous linear system ``X' = A_S X`` with
 
     u' = v,   v' = P_S M^-1 r(X),   r = f(t) - C v - K u - B^T lambda,
     (cos, sin)' = omega (-sin, cos),   lambda' = 0,
@@ -19,6 +19,17 @@ stuck ones) the motion is the autonomous linear system ``X' = A_S X`` with
 contacts, whose forces are ``lambda_S = W_S^-1 B_S M^-1 r(X)`` (the rows
 :attr:`Pattern.force`). The same coordinates serve every pattern, so that a
 change of pattern changes no coordinate.
+
+**Jenkins contacts** (``FrictionContact(..., kt=...)``: a spring ``k_t`` in
+series with the Coulomb slider, force ``lambda_j = k_t (u_r,j - s_j)``,
+``|lambda_j| <= g_j``). Their force is a state: ``lambda`` holds every
+contact's force, and the state of the march is ``y = (u, v, lambda)``
+(``2 n + n_f``, the first entries of ``X``). A stuck Jenkins contact is no
+constraint: ``lambda_j' = k_t,j (B v)_j`` (no Delassus matrix, no rank
+condition); a slipping one keeps ``lambda_j = g_j d_j`` (``lambda_j' = 0``).
+Its force row is ``e_lambda_j``, so the guards are the same polynomials: the
+stuck force reaching ``+-g_j``, the relative velocity of a slipping contact
+changing sign. A model's friction contacts are all rigid or all Jenkins.
 
 Each pattern is propagated by its Taylor series over steps of length
 ``h_S``: ``X(t + s) = sum_k (A_S h_S)^k / k! X(t) (s / h_S)^k`` with
@@ -59,12 +70,14 @@ def _null_space(A: np.ndarray) -> np.ndarray:
     return vh[rank:].T
 
 
-def unsupported(model: Model) -> str | None:
+def unsupported(model: Model, *, jenkins: bool = False) -> str | None:
     """Why the event-driven integrator cannot run ``model`` (``None`` when it can).
 
-    It needs friction contacts only, a positive definite ``M`` and linearly
-    independent contacts; the exact dynamics (:func:`fretwear.shooting`) apply
-    exactly where it runs.
+    It needs friction contacts only, a positive definite ``M`` and, for rigid
+    contacts, linearly independent contacts; the exact dynamics
+    (:func:`fretwear.shooting`) apply exactly where it runs. Jenkins contacts
+    (``kt`` given) are taken when ``jenkins`` (the integrator and shooting);
+    without it (the default, the exact wear dynamics) they are a reason.
     """
     if model.pairs is not None:
         return (
@@ -80,9 +93,25 @@ def unsupported(model: Model) -> str | None:
     if np.linalg.eigvalsh(M).min() <= 1e-12 * np.abs(M).max():
         return (
             "requires a positive definite mass matrix M: "
-            "massless DOFs (singular M) are not supported; condense them out first"
+            "massless DOFs (singular M) are not supported; condense them out first "
+            "(a Jenkins element is a FrictionContact with kt)"
         )
-    if model.friction and np.linalg.matrix_rank(model.relative_map(model.friction)) < len(model.friction):
+    n_jenkins = sum(c.kt is not None for c in model.friction)
+    if n_jenkins and not jenkins:
+        return (
+            f"takes Jenkins contacts (kt given: {n_jenkins} of the friction contacts) in fretwear.shooting "
+            "and fretwear.time.integrate only: the exact wear dynamics are for rigid contacts"
+        )
+    if n_jenkins and n_jenkins < len(model.friction):
+        return (
+            f"requires the friction contacts to be all rigid or all Jenkins (kt given), got {n_jenkins} "
+            f"Jenkins of {len(model.friction)}: mixed models are not implemented"
+        )
+    if (
+        model.friction
+        and not n_jenkins
+        and np.linalg.matrix_rank(model.relative_map(model.friction)) < len(model.friction)
+    ):
         return (
             "requires linearly independent friction contacts (relative map B of full row rank): "
             "redundant contacts make the stuck forces indeterminate"
@@ -94,17 +123,22 @@ class Structure:
     """What the stick patterns of one model share at every frequency.
 
     Checks the model (friction contacts only, ``M`` positive definite,
-    independent contacts) and caches, per stuck set, ``A_S`` without its
-    ``omega`` entries and the force rows.
+    independent rigid contacts) and caches, per stuck set, ``A_S`` without its
+    ``omega`` entries and the force rows. ``kt``: the tangential stiffnesses
+    (N/m) of a Jenkins model, empty for rigid contacts; ``ny``: the size of the
+    state ``y``, ``2 n`` (rigid) or ``2 n + n_f`` (Jenkins: ``(u, v, lambda)``).
     """
 
     def __init__(self, model: Model) -> None:
-        reason = unsupported(model)
+        reason = unsupported(model, jenkins=True)
         if reason:
             raise ValueError(f"the time integrator {reason}")
         self.model = model
         self.n, self.nf = model.n_dofs, len(model.friction)
         self.dim = 2 * self.n + self.nf + 3
+        jenkins = any(c.kt is not None for c in model.friction)
+        self.kt = np.array([c.kt for c in model.friction], dtype=float) if jenkins else np.zeros(0)
+        self.ny = 2 * self.n + len(self.kt)
         self.B = model.relative_map(model.friction)
         Minv = np.linalg.inv(model.M)
         self.Minv = (Minv + Minv.T) / 2
@@ -161,7 +195,10 @@ class Structure:
         rows = np.zeros((nf, D))
         rows[:, i_lam:i_one] = np.eye(nf)
         acc = self.Minv @ R
-        if stuck:
+        if stuck and len(self.kt):  # Jenkins: the stuck forces follow the springs, lambda' = k_t B v
+            A_lam = np.zeros((nf, D))
+            A_lam[stuck, n : 2 * n] = self.kt[stuck, None] * self.B[stuck]
+        elif stuck:
             BS = self.B[stuck]
             MiBt = self.Minv @ BS.T
             W = BS @ MiBt
@@ -171,6 +208,8 @@ class Structure:
         A = np.zeros((D, D))
         A[:n, n : 2 * n] = np.eye(n)
         A[n : 2 * n] = acc
+        if stuck and len(self.kt):
+            A[i_lam:i_one] = A_lam
         self._matrices[mask] = A, rows
         return A, rows
 
@@ -191,7 +230,8 @@ class Table:
     Parameters
     ----------
     model : Model
-        Friction contacts only, ``M`` positive definite, contacts linearly independent.
+        Friction contacts only (all rigid or all Jenkins), ``M`` positive definite, rigid
+        contacts linearly independent.
     omegas : array_like, shape (W,)
         Excitation frequencies (rad/s), > 0.
     """
@@ -201,10 +241,10 @@ class Table:
         self.structure, self.model = st, model
         self.omegas = np.array(omegas, dtype=float).reshape(-1)
         self.periods = 2 * np.pi / self.omegas
-        self.n, self.nf, self.dim = st.n, st.nf, st.dim
+        self.n, self.nf, self.dim, self.ny, self.kt = st.n, st.nf, st.dim, st.ny, st.kt
         self.B, self.Minv, self.C, self.K, self.forces = st.B, st.Minv, st.C, st.K, st.forces
-        #: ``(M^-1, B, C, K, forces)`` as the kernels take them (:mod:`fretwear.time.codes`)
-        self.model_arrays = (st.Minv, st.B, st.C, st.K, st.forces)
+        #: ``(M^-1, B, C, K, forces, kt)`` as the kernels take them (:mod:`fretwear.time.codes`)
+        self.model_arrays = (st.Minv, st.B, st.C, st.K, st.forces, st.kt)
         self.extrema_rows = st.extrema_rows
         self.count = 0
         #: the linear stuck responses per set of loaded contacts (filled by the shooting solver)
@@ -234,14 +274,14 @@ class Table:
         return self.masks, self.Ah, self.force_rows, self.phi, self.phi_series, self.step, self.count
 
     def _allocate(self, cap: int) -> None:
-        W, n2, D, K = len(self.omegas), 2 * self.n, self.dim, TAYLOR_ORDER
+        W, ny, D, K = len(self.omegas), self.ny, self.dim, TAYLOR_ORDER
         old = self.__dict__.get("masks")
         arrays = {
             "masks": np.full(cap, -1, dtype=np.int64),
             "Ah": np.zeros((W, cap, D, D)),  # A_S h_S
             "force_rows": np.zeros((cap, self.nf, D)),  # X -> friction force of every contact
-            "phi": np.zeros((W, cap, n2, n2)),  # exp(A_yy h_S): state transition of a full step
-            "phi_series": np.zeros((W, cap, K + 1, n2, n2)),  # (A_yy h_S)^k / k!
+            "phi": np.zeros((W, cap, ny, ny)),  # exp(A_yy h_S): state transition of a full step
+            "phi_series": np.zeros((W, cap, K + 1, ny, ny)),  # (A_yy h_S)^k / k!
             "step": np.zeros((W, cap)),  # h_S (s)
         }
         for name, a in arrays.items():
@@ -262,7 +302,7 @@ class Table:
             A0[p], self.force_rows[k0 + p] = self.structure.matrices(mask)
             self.masks[k0 + p] = mask
             self._slots[mask] = k0 + p
-        _prepare_all(A0, self.omegas, 2 * self.n, k0, self.Ah, self.phi_series, self.phi, self.step)
+        _prepare_all(A0, self.omegas, self.ny, k0, self.Ah, self.phi_series, self.phi, self.step)
         self.count += len(masks)
 
 
@@ -317,7 +357,7 @@ def _inf_norm(A):
 
 
 @njit(cache=True, nogil=True)
-def _prepare(A0, omega, period, n2, Ah, series, phi):
+def _prepare(A0, omega, period, ny, Ah, series, phi):
     """Step ``h_S`` of ``A_S`` (``A0`` plus the rotation ``omega``); fills ``A h``, the series, ``phi``.
 
     With ``|.|`` the infinity norm after diagonal balancing, the tail of
@@ -355,14 +395,14 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
             Ah[i, j] = A[i, j] * h
     phi[:, :] = 0.0
     series[0] = 0.0
-    for i in range(n2):
+    for i in range(ny):
         series[0, i, i] = 1.0
         phi[i, i] = 1.0
     for k in range(1, K + 1):  # (A_yy h)^k / k!
-        for i in range(n2):
-            for j in range(n2):
+        for i in range(ny):
+            for j in range(ny):
                 t = 0.0
-                for q in range(n2):
+                for q in range(ny):
                     t += series[k - 1, i, q] * Ah[q, j]
                 series[k, i, j] = t / k
                 phi[i, j] += series[k, i, j]
@@ -370,10 +410,10 @@ def _prepare(A0, omega, period, n2, Ah, series, phi):
 
 
 @njit(cache=True, nogil=True)
-def _prepare_all(A0, omegas, n2, k0, Ah, series, phi, step):
+def _prepare_all(A0, omegas, ny, k0, Ah, series, phi, step):
     """:func:`_prepare` of the patterns ``A0`` (slots ``k0, k0 + 1, ...``) at every frequency."""
     for w in range(omegas.shape[0]):
         period = 2 * math.pi / omegas[w]
         for p in range(A0.shape[0]):
             k = k0 + p
-            step[w, k] = _prepare(A0[p], omegas[w], period, n2, Ah[w, k], series[w, k], phi[w, k])
+            step[w, k] = _prepare(A0[p], omegas[w], period, ny, Ah[w, k], series[w, k], phi[w, k])

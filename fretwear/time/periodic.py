@@ -33,11 +33,14 @@ _STEP_TOL = 1e-7  # a Newton step below this (relative) ends the iterations (res
 
 
 @njit(cache=True, nogil=True)
-def scaled_norm(y, n, omega):
-    """``|y|`` with the velocities ``y[n:]`` scaled by ``1 / omega`` (m)."""
+def scaled_norm(y, n, omega, kt):
+    """``|y|`` with the velocities ``y[n:2 n]`` scaled by ``1 / omega`` and Jenkins forces ``y[2 n:]`` by
+    ``1 / kt`` (m)."""
     s = 0.0
     for i in range(n):
         s += y[i] * y[i] + (y[n + i] / omega) ** 2
+    for j in range(y.shape[0] - 2 * n):
+        s += (y[2 * n + j] / kt[j]) ** 2
     return math.sqrt(s)
 
 
@@ -110,27 +113,26 @@ def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, verify
     the last evaluated state, ``last = (y0, y1, sliding, n_steps, n_phases,
     n_events)`` its period (the one left in ``records``).
     """
-    n = model[0].shape[0]
-    n2 = 2 * n
+    n, kt = model[0].shape[0], model[5]
     y = y_guess.copy()
-    I = np.eye(n2)
+    I = np.eye(y.shape[0])
     status, need, y1, J, sliding, ns, nph, nev = _period(
         model, omega, patterns, g, y, TRUE, max_phases, records
     )
     last = (y, y1, sliding, ns, nph, nev)
     if status != OK:
         return status, need, y, False, False, 0, math.inf, J, last
-    res = scaled_norm(y1 - y, n, omega)
+    res = scaled_norm(y1 - y, n, omega, kt)
     history = np.empty(max_iter + 1)
     for it in range(max_iter + 1):
-        size = max(scaled_norm(y, n, omega), 1e-300)
+        size = max(scaled_norm(y, n, omega, kt), 1e-300)
         history[it] = res / size
         if res <= tol * size:
             return OK, 0, y, True, True, it, res / size, J, last
         if it == max_iter or (it >= _STALL and history[it] > 0.5 * history[it - _STALL]):
             return OK, 0, y, False, False, it, res / size, J, last
         dy = _newton_step(J - I, y - y1)
-        if not verify and scaled_norm(dy, n, omega) <= _STEP_TOL * size:
+        if not verify and scaled_norm(dy, n, omega, kt) <= _STEP_TOL * size:
             return OK, 0, y + dy, True, False, it + 1, res / size, J, last
         alpha = 1.0
         while True:
@@ -141,7 +143,7 @@ def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, verify
             last = (trial, t1, sliding, ns, nph, nev)
             if status == NEED_PATTERN or status == NEED_SPACE:
                 return status, need, y, False, False, it, res / size, J, last
-            tres = scaled_norm(t1 - trial, n, omega) if status == OK else math.inf
+            tres = scaled_norm(t1 - trial, n, omega, kt) if status == OK else math.inf
             if tres < res or alpha < 1e-4:
                 break
             alpha *= 0.5
@@ -157,7 +159,7 @@ def settle(model, omega, patterns, g, y0, periods, tol, max_phases):
 
     Returns ``(status, need, y, marched, change)``, ``change`` relative (velocities scaled by ``1 / omega``).
     """
-    n = model[0].shape[0]
+    n, kt = model[0].shape[0], model[5]
     y = y0.copy()
     change = math.inf
     for p in range(periods):
@@ -166,7 +168,7 @@ def settle(model, omega, patterns, g, y0, periods, tol, max_phases):
         )
         if status != OK:
             return status, need, y, p, change
-        change = scaled_norm(y1 - y, n, omega) / max(scaled_norm(y1, n, omega), 1e-300)
+        change = scaled_norm(y1 - y, n, omega, kt) / max(scaled_norm(y1, n, omega, kt), 1e-300)
         y = y1
         if change <= tol:
             return OK, 0, y, p + 1, change
@@ -220,7 +222,7 @@ def solve(
     else :data:`NEED_PATTERN` (build pattern ``need``) or :data:`NEED_SPACE`
     (grow the record buffers) at problem ``i``, to be called again from ``i``.
     """
-    B = model[1]
+    B, kt = model[1], model[5]
     n = model[0].shape[0]
     masks, Ah, force_rows, phi, phi_series, step, count = patterns
     at, path, g, reuse = problems
@@ -265,7 +267,7 @@ def solve(
             (ev_t[e0:], ev_c[e0:], ev_kind[e0:], ev_dir[e0:]),
         )
         last = (y, y, np.zeros(B.shape[0]), 0, 0, 0)
-        J = np.eye(2 * n)
+        J = np.eye(rigid.shape[1])
         # a stuck orbit: the rigid state (without offset) when its forces stay within the limits
         found = rigid_ok[i] and (chain or n_guesses[i] == 0)
         stuck_found = found
@@ -321,7 +323,9 @@ def solve(
         # the recorded period: Newton's last one, or marched from the orbit's state
         y_last, y1, slid, ns, nph, nev = last
         reused = (
-            found and not stuck_found and scaled_norm(y - y_last, n, om) <= reuse[i] * scaled_norm(y, n, om)
+            found
+            and not stuck_found
+            and scaled_norm(y - y_last, n, om, kt) <= reuse[i] * scaled_norm(y, n, om, kt)
         )
         if reused:
             y = y_last
@@ -336,7 +340,7 @@ def solve(
                 found = False
                 ns = nph = nev = 0
                 break
-            res = scaled_norm(y1 - y, n, om) / max(scaled_norm(y, n, om), 1e-300)
+            res = scaled_norm(y1 - y, n, om, kt) / max(scaled_norm(y, n, om, kt), 1e-300)
             if not found or res <= tol or attempt == 1:
                 found = found and res <= tol
                 break

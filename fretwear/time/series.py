@@ -12,6 +12,8 @@ known coefficients:
 * a slipping contact: ``d_j du_r,j/dt`` (its relative velocity keeps the
   slip direction ``d_j``).
 
+The same for Jenkins contacts, whose stuck force is the state entry ``lambda_j``.
+
 **Event location** (:func:`first_crossing`). An event is the first time a
 guard falls below ``-eps`` (``eps = 1e-13`` of the guard's round-off scale),
 located at the zero of the guard at the start of that descent. The search is
@@ -54,7 +56,8 @@ EPS_GUARD = 1e-13  # event threshold of a guard, relative to its round-off scale
 def taylor_series(Ah, X, c, n):
     """``c[k] = (A h)^k X / k!`` for ``k = 0..K``, using the structure of ``A`` (:mod:`.patterns`).
 
-    ``u' = v``; only the velocity rows are full; ``lambda`` and ``1`` are
+    ``u' = v``; only the velocity rows are full; the forces ``lambda`` depend
+    on ``v`` only (zero rows but for stuck Jenkins contacts); ``1`` is
     constant; ``(cos, sin)`` rotate.
     """
     D = X.shape[0]
@@ -64,7 +67,7 @@ def taylor_series(Ah, X, c, n):
         inv = 1.0 / k
         for i in range(n):
             c[k, i] = Ah[i, n + i] * c[k - 1, n + i] * inv
-        hi = D if k == 1 else 2 * n
+        hi = D if k == 1 else i_one  # beyond the first term the constant 1 contributes nothing
         for i in range(n, 2 * n):
             s = 0.0
             for m in range(hi):
@@ -73,8 +76,12 @@ def taylor_series(Ah, X, c, n):
                 for m in range(i_one + 1, D):
                     s += Ah[i, m] * c[k - 1, m]
             c[k, i] = s * inv
-        for i in range(2 * n, i_one + 1):
-            c[k, i] = 0.0
+        for i in range(2 * n, i_one):
+            s = 0.0
+            for m in range(n, 2 * n):
+                s += Ah[i, m] * c[k - 1, m]
+            c[k, i] = s * inv
+        c[k, i_one] = 0.0
         c[k, i_one + 1] = Ah[i_one + 1, i_one + 2] * c[k - 1, i_one + 2] * inv
         c[k, i_one + 2] = Ah[i_one + 2, i_one + 1] * c[k - 1, i_one + 1] * inv
 

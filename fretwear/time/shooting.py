@@ -63,23 +63,25 @@ class ShootingSolution:
     model : Model
     omega : float
         Excitation frequency (rad/s); ``period = 2 pi / omega`` (s).
-    y0 : ndarray, shape (2 n,)
-        Periodic state ``(u, v)`` at ``t = 0`` (also :attr:`unknowns`).
+    y0 : ndarray, shape (2 n,) or (2 n + n_friction,)
+        Periodic state ``(u, v)`` at ``t = 0`` (also :attr:`unknowns`); with
+        Jenkins contacts ``(u, v, lambda)``, their forces (N) included.
     converged : bool
     iterations : int
         Newton iterations (:func:`shooting`, summed over its starts) or
         periods marched (:func:`steady_state`).
     residual : float
         Periodicity residual ``|y(T) - y(0)| / |y(0)|`` with velocities scaled
-        by ``1 / omega`` (dimension of a displacement).
+        by ``1 / omega`` and Jenkins forces by ``1 / kt`` (dimension of a displacement).
     message : str
         Reason of a failure, empty on success.
-    monodromy : ndarray, shape (2 n, 2 n)
+    monodromy : ndarray, shape (len(y0), len(y0))
         ``dy(T)/dy(0)``, exact, including the saltation matrices of the events.
-    floquet_multipliers : ndarray, shape (2 n,)
-        Eigenvalues of ``monodromy``, by decreasing modulus. A contact that
-        sticks during the period annihilates perturbations of its relative
-        velocity (multiplier 0).
+    floquet_multipliers : ndarray, shape (len(y0),)
+        Eigenvalues of ``monodromy``, by decreasing modulus. A rigid contact
+        that sticks during the period annihilates perturbations of its
+        relative velocity, a Jenkins contact that slips those of its force
+        (multiplier 0).
     neutral_multipliers : int
         How many of the multipliers are the neutral ``1`` of a stuck offset:
         each contact stuck during the whole period can stick at any offset (the
@@ -235,10 +237,10 @@ _START_NAMES = {
 }
 
 
-def _scaled_norm(n: int, omega: float, y: np.ndarray) -> float:
-    """``|(u, v / omega)|`` (m)."""
-    u, v = y[:n], y[n:] / omega
-    return math.sqrt(float(u @ u + v @ v))
+def _scaled_norm(n: int, omega: float, y: np.ndarray, kt: np.ndarray) -> float:
+    """``|(u, v / omega, lambda / kt)|`` (m); ``lambda``: the forces of Jenkins contacts (else no ``kt``)."""
+    u, v, f = y[:n], y[n : 2 * n] / omega, y[2 * n :] / kt
+    return math.sqrt(float(u @ u + v @ v + f @ f))
 
 
 def _rigid_states(table: Table, g: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -251,7 +253,7 @@ def _rigid_states(table: Table, g: np.ndarray, at: np.ndarray) -> tuple[np.ndarr
     (``B^T lambda = F - Z(omega) U`` is solved exactly for ``lambda``). What
     does not depend on ``g`` is kept in ``table.rigid`` per set of loaded contacts.
     """
-    states, ok = np.empty((len(at), 2 * table.n)), np.empty(len(at), dtype=np.bool_)
+    states, ok = np.empty((len(at), table.ny)), np.empty(len(at), dtype=np.bool_)
     loaded = g > 0
     for row in np.unique(loaded, axis=0):  # problems with the same loaded contacts
         mine = np.all(loaded == row, axis=1)
@@ -272,6 +274,8 @@ def _rigid_states(table: Table, g: np.ndarray, at: np.ndarray) -> tuple[np.ndarr
 
 def _rigid_response(table: Table, active: list[int]) -> tuple:
     """``(states, |lambda_s|, |Lambda|)`` of :func:`_rigid_states` for the loaded contacts ``active``."""
+    if len(table.kt):
+        return _jenkins_response(table, active)
     N, Kr, Mr, Cr, f, u_static = table.structure.rigid_basis(sum(1 << j for j in active))
     model, w = table.model, table.omegas
     W = len(w)
@@ -295,6 +299,30 @@ def _rigid_response(table: Table, active: list[int]) -> tuple:
     return states, static, amplitude
 
 
+def _jenkins_response(table: Table, active: list[int]) -> tuple:
+    """:func:`_rigid_response` of a Jenkins model: the loaded contacts stuck, their springs ``k_t``.
+
+    The stuck forces are ``lambda = k_t B u`` (the sliders at zero), the state
+    ``(u, v, lambda)``; ``|lambda_s|`` and ``|Lambda|`` of the loaded contacts.
+    """
+    model, w, n = table.model, table.omegas, table.n
+    kt = np.zeros(table.nf)
+    kt[active] = table.kt[active]
+    Ks = model.K + table.B.T @ (kt[:, None] * table.B)
+    Z = Ks - w[:, None, None] ** 2 * model.M + 1j * w[:, None, None] * model.C
+    f = model.force_cos - 1j * model.force_sin
+    try:
+        U = np.linalg.solve(Z, np.broadcast_to(f, (len(w), n))[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # resonance of the stuck structure without damping
+        U = np.array([np.linalg.lstsq(Zi, f, rcond=None)[0] for Zi in Z])
+    u_static = np.linalg.lstsq(Ks, model.force_static, rcond=None)[0]
+    lam_static, Lam = kt * (table.B @ u_static), (kt * (table.B @ U.T).T)
+    states = np.hstack([u_static + U.real, (1j * w[:, None] * U).real, lam_static + Lam.real])
+    if not active:
+        return states, None, True
+    return states, np.abs(lam_static[active]), np.abs(Lam[:, active])
+
+
 def _message(kinds, codes, residuals, tol: float) -> str:
     """Why a solve failed, from its log of Newton starts."""
     tried = []
@@ -316,7 +344,7 @@ def _solution(table: Table, i: int, g, loads, wear, y0, y1, converged: bool, ite
         nan, fnan = np.full(n, np.nan), np.full(nf, np.nan)
         return ShootingSolution(
             model=table.model, omega=omega, y0=y0, converged=False, iterations=int(iterations),
-            residual=np.inf, message=message, monodromy=np.full((2 * n, 2 * n), np.nan),
+            residual=np.inf, message=message, monodromy=np.full((table.ny, table.ny), np.nan),
             neutral_multipliers=0, wear=wear, normal_loads=loads, slip_forces=g, samples=samples,
             first_harmonic=np.full((n, 2), np.nan), half_peak_to_peak=nan, relative_half_peak_to_peak=fnan,
             sliding_distance=fnan, friction_energy=fnan, input_work=np.nan, viscous_dissipation=np.nan,
@@ -324,13 +352,14 @@ def _solution(table: Table, i: int, g, loads, wear, y0, y1, converged: bool, ite
         )  # fmt: skip
     coef = 2 / table.periods[i] * fourier
     hpp = (hi - lo) / 2
+    kt = table.kt
     return ShootingSolution(
         model=table.model,
         omega=omega,
         y0=y0,
         converged=converged,
         iterations=int(iterations),
-        residual=_scaled_norm(n, omega, y1 - y0) / max(_scaled_norm(n, omega, y0), 1e-300),
+        residual=_scaled_norm(n, omega, y1 - y0, kt) / max(_scaled_norm(n, omega, y0, kt), 1e-300),
         message=message,
         monodromy=J,
         neutral_multipliers=int(neutral),
@@ -364,7 +393,7 @@ def _orbits(table: Table, at: np.ndarray, g: np.ndarray, guesses: list, chain: b
     records (``rec``, ``offsets``).
     """
     P, n, nf, D = len(at), table.n, table.nf, table.dim
-    n2 = 2 * n
+    n2 = table.ny  # the size of the state y
     at = np.ascontiguousarray(at, dtype=np.int64)
     g = np.ascontiguousarray(g, dtype=float)
     path = table.omegas[at] if path is None else np.ascontiguousarray(path, dtype=float)
