@@ -87,7 +87,7 @@ BAD = [
     (["figures", "--dpi", "10", "--out", "figs"], "--dpi"),
     (["figures", "--width", "1", "--out", "figs"], "--width"),
     (["figures", "--fontsize", "100", "--out", "figs"], "--fontsize"),
-    (["figures", "--formats", "pdf", "--out", "figs"], "--formats"),
+    (["figures", "--formats", "eps", "--out", "figs"], "--formats"),
     (["figures", "--fmin", "1.3", "--fmax", "1.3", "--out", "figs"], "--fmax"),
     (["study", SPEC, "--workers", "0", "--out", "s.zarr"], "--workers"),
     (["study", SPEC, "--retries", "-1", "--out", "s.zarr"], "--retries"),
@@ -98,7 +98,7 @@ BAD = [
     (["interface", "--window", "1"], "--window"),
     (["interface", "--rtol", "0", "--kw", "1e-14"], "--rtol"),
     # outputs, checked before any work
-    (["map", "--out", "m.pdf"], "--out: must end in .csv, .npz, .png, .svg, .html"),
+    (["map", "--out", "m.eps"], "--out: must end in .csv, .npz, .png, .svg, .pdf, .html"),
     (["frf", "--out", "x.png"], "--out"),
     (["wear", "--f", "0.7", "--out", "w.npz"], "--out"),
     (["frf", "--out", "folder.csv"], "--out: 'folder.csv' is a folder"),
@@ -277,8 +277,11 @@ def _interrupt(tmp_path: Path, argv: list[str], ready=lambda: True, pid=None) ->
     """Start ``fretwear ARGV`` in ``tmp_path``, wait until it runs ``main`` and ``ready()``, send SIGINT;
     the exit status, stderr and the seconds from the signal to the exit (``pid`` receives the process id)."""
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    # SIGINT at its default in the child: a runner started in the background (``cmd &`` without job
+    # control) ignores it, and the child would inherit that and never see Ctrl-C
     proc = subprocess.Popen([sys.executable, "-c", READY, *argv], cwd=tmp_path, env=env, text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)  # fmt: skip
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
     if pid is not None:
         pid.append(proc.pid)
     try:

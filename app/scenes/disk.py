@@ -325,8 +325,11 @@ def disk_tab(scene: DiskScene, export_card: Callable[[Any], Any]) -> list:
         slider = kind(name=label, start=low, end=high, step=step, value=getattr(scene, name), width=170)
         slider.param.watch(partial(lambda n, event: setattr(scene, n, event.new), name), "value_throttled")
         boxes.append(slider)
-    for name, label in (("kw", "k_w (1/N)"), ("seed", "seed"), ("frequency", "f (Hz)"),
-                        ("cycles", "N (cycles)")):  # fmt: skip
+    log_kw = pn.widgets.EditableFloatSlider(name="log10 k_w (1/N)", start=-10.0, end=-5.0, step=0.1,
+                                            value=float(np.log10(scene.kw)), width=170)  # fmt: skip
+    log_kw.param.watch(lambda event: setattr(scene, "kw", float(10**event.new)), "value_throttled")
+    boxes.append(log_kw)
+    for name, label in (("seed", "seed"), ("frequency", "f (Hz)"), ("cycles", "N (cycles)")):
         kind = pn.widgets.IntInput if name == "seed" else pn.widgets.FloatInput
         box = kind(name=label, value=getattr(scene, name), width=110)
         box.link(scene, value=name)

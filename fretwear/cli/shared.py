@@ -522,8 +522,18 @@ def hard_stop_on_interrupt(name: str) -> Callable[[], None] | None:
             os._exit(EXIT_INTERRUPTED)
 
     threading.Thread(target=watch, name="fretwear-interrupt", daemon=True).start()
+    hook = sys.unraisablehook
+
+    def quiet(unraisable) -> None:
+        # Ctrl-C that lands in a finaliser (a weakref callback) is "ignored" with a traceback; the hard
+        # stop ends the process anyway, so the traceback would only alarm
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            hook(unraisable)
+
+    sys.unraisablehook = quiet
 
     def undo() -> None:
+        sys.unraisablehook = hook
         signal.set_wakeup_fd(previous)
         with contextlib.suppress(OSError):
             os.write(write, b"\0")  # wakes the watcher, which ends

@@ -724,3 +724,4 @@ def test_the_bladed_disk_tab_computes_when_shown(open_page):
     assert len(wear["y"]) == 24 and min(wear["y"]) > 0.9
     assert max(wear["y"]) - min(wear["y"]) < 1e-9  # tuned: every contact alike
     assert "one sector" in page.text()
+    assert all(label in page.text() for label in ("EO", "F_ex (N)", "mistuning level", "log10 k_w (1/N)"))
