@@ -2,32 +2,189 @@
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
 from typing import Any
 
 import holoviews as hv
 import panel as pn
 import param
+from panel.custom import JSComponent
 
 from fretwear import figures
 
-__all__ = ["live_pane", "message_list", "run_status"]
+__all__ = ["View", "PageScript", "live_pane", "figure_grid", "control_row", "message_list", "run_status"]
+
+#: width (px) a figure asks for beside another: below twice this the figures stack in one column
+FIGURE_BASIS = 450
+#: the narrowest a figure gets (px): a phone's width less the page's margins
+MIN_WIDTH = 300
+#: height (px) reserved for the progress line
+STATUS_HEIGHT = 30
+#: a window narrower than this (px) folds the sidebar, which is SIDEBAR_WIDTH px wide
+NARROW, SIDEBAR_WIDTH = 1000, 380
+#: a figure narrower than this (px) gets its legend and colour bar below its axes, not beside them
+NARROW_FIGURE = 600
+#: the main area's margins and the gaps around the figures (px)
+PAGE_MARGINS = 60
+#: the element types that draw a colour bar
+COLORBARS = ("Image", "QuadMesh", "HeatMap", "Raster")
+#: presentation mode: font scale and height (px) of the live figures (a projector seen from the back)
+PRESENTATION_FONTSCALE, PRESENTATION_HEIGHT = 1.6, 480
+
+
+class View(param.Parameterized):
+    """How one page shows its figures; one per page (:meth:`current`), shared by every tab."""
+
+    presentation = param.Boolean(False, doc="Larger fonts and figures, for a projector")
+    width = param.Integer(0, bounds=(0, None), doc="Width of the browser's window (px); 0 before it is known")
+    narrow = param.Boolean(False, doc="Figures narrower than NARROW_FIGURE px: legends below them")
+
+    _pages: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+    @classmethod
+    def current(cls) -> View:
+        """The view of the page being built (``pn.state.curdoc``), or a fresh one outside a server."""
+        doc = pn.state.curdoc
+        if doc is None:
+            return cls()
+        return cls._pages.setdefault(doc, cls())
+
+    @param.depends("width", watch=True)
+    def _narrow(self) -> None:
+        main = self.width - (SIDEBAR_WIDTH if self.width >= NARROW else 0) - PAGE_MARGINS
+        columns = 2 if main >= 2 * FIGURE_BASIS else 1  # as the figure grid wraps
+        self.narrow = 0 < self.width and main / columns < NARROW_FIGURE
+
+    def styled(self, figure: Any, presentation: bool, narrow: bool) -> Any:
+        """``figure`` (a Bokeh overlay or element) with the view's sizes: larger in presentation mode, its
+        legend below on a narrow window (beside, it would leave the curves a few pixels)."""
+        options = {}
+        if presentation:
+            options |= {"fontscale": PRESENTATION_FONTSCALE, "height": PRESENTATION_HEIGHT}
+        if narrow and isinstance(figure, hv.Overlay):
+            options |= {"legend_position": "bottom", "legend_cols": 1}
+        if not options or not isinstance(figure, (hv.Overlay, hv.Element)):
+            return figure
+        figure = figure.opts(backend="bokeh", **options)
+        if narrow:  # colour bars below too
+            figure = figure.opts(
+                *(getattr(hv.opts, kind)(colorbar_position="bottom", backend="bokeh") for kind in COLORBARS)
+            )
+        return figure
+
+
+class PageScript(JSComponent):
+    """The page's own code in the browser: reports the window's width to ``width`` (on load, and once a
+    resize settles), folds the sidebar on a window narrower than ``NARROW`` px (its toggle button
+    unfolds it), and makes the tab headers keyboard tabs: ``role="tab"`` in a ``role="tablist"``,
+    ``aria-selected``, focusable, Enter or Space opens one, the arrow keys, Home and End move between
+    them, and the focus is outlined."""
+
+    width = param.Integer(0)
+    _esm = f"""
+    const OUTLINE = "3px solid #f0a202";
+    function tabs(root, out) {{
+      for (const el of root.querySelectorAll("*")) {{
+        if (el.classList.contains("bk-tab")) out.push(el);
+        if (el.shadowRoot) tabs(el.shadowRoot, out);
+      }}
+      return out;
+    }}
+    // Bokeh draws the tab headers again when the active tab changes: the focus follows the keyboard
+    let refocus = 0;
+    function label() {{
+      for (const tab of tabs(document, [])) {{
+        const list = tab.parentElement;
+        const all = Array.from(list.querySelectorAll(":scope > .bk-tab"));
+        list.setAttribute("role", "tablist");
+        tab.setAttribute("role", "tab");
+        const active = tab.classList.contains("bk-active");
+        tab.setAttribute("aria-selected", active ? "true" : "false");
+        tab.tabIndex = active ? 0 : -1;
+        if (active && Date.now() - refocus < 2000 && tab.getRootNode().activeElement !== tab) tab.focus();
+        if (tab.dataset.keys) continue;
+        tab.dataset.keys = "1";
+        tab.addEventListener("focus", () => {{ tab.style.outline = OUTLINE; }});
+        tab.addEventListener("blur", () => {{ tab.style.outline = ""; }});
+        tab.addEventListener("keydown", (event) => {{
+          const i = all.indexOf(tab), last = all.length - 1;
+          const to = {{ArrowRight: i + 1, ArrowDown: i + 1, ArrowLeft: i - 1, ArrowUp: i - 1, Home: 0,
+                      End: last}}[event.key];
+          if (event.key === "Enter" || event.key === " ") {{
+            tab.click();
+          }} else if (to !== undefined) {{
+            const next = all[(to + all.length) % all.length];
+            next.click();
+            next.focus();
+          }} else {{
+            return;
+          }}
+          event.preventDefault();
+          refocus = Date.now();
+          setTimeout(label, 50);
+        }});
+      }}
+    }}
+    export function render({{ model }}) {{
+      model.width = window.innerWidth;
+      if (window.innerWidth < {NARROW}) {{
+        const side = document.getElementById("sidebar");
+        const button = document.getElementById("sidebar-toggle");
+        if (side) side.classList.remove("show");
+        if (button) button.setAttribute("aria-expanded", "false");
+      }}
+      let timer = null;
+      window.addEventListener("resize", () => {{
+        clearTimeout(timer);
+        timer = setTimeout(() => {{ model.width = window.innerWidth; }}, 300);
+      }});
+      // tabs appear as the page renders and when a tab is built: label them as they come
+      setInterval(label, 500);
+      document.addEventListener("click", () => setTimeout(label, 50), true);
+      return document.createElement("span");
+    }}
+    """
 
 
 def live_pane(draw: Callable[..., Any], streams: list) -> pn.pane.HoloViews:
-    """A Bokeh pane of ``hv.DynamicMap(draw, streams=streams)``, full width.
+    """A Bokeh pane of ``hv.DynamicMap(draw, streams=streams)``, sized by the page's :class:`View`.
 
     ``draw`` builds its figure with the Bokeh options only (``figures.styling_for``):
     the server also loads Matplotlib for the exports, whose options would double
     the cost of every redraw. An export builds its figure again, for its backend.
     """
+    view = View.current()
 
     def bokeh_only(**values: Any) -> Any:
         with figures.styling_for("bokeh"):
-            return draw(**values)
+            return view.styled(draw(**values), view.presentation, view.narrow)
 
-    dmap = hv.DynamicMap(bokeh_only, streams=streams)
-    return pn.pane.HoloViews(dmap, backend="bokeh", sizing_mode="stretch_width", linked_axes=False)
+    pane = pn.pane.HoloViews(
+        hv.DynamicMap(bokeh_only, streams=streams),
+        backend="bokeh",
+        sizing_mode="stretch_width",
+        linked_axes=False,
+        min_width=MIN_WIDTH,
+        styles={"flex": f"1 1 {FIGURE_BASIS}px"},
+    )
+
+    def resized(*_events: Any) -> None:
+        # a new plot, not an update: Bokeh places colour bars and sizes a plot when it makes it
+        pane.object = hv.DynamicMap(bokeh_only, streams=streams)
+
+    view.param.watch(resized, ["presentation", "narrow"])
+    return pane
+
+
+def figure_grid(panes: list) -> pn.FlexBox:
+    """Figures side by side while each gets ``FIGURE_BASIS`` px, in one column on a narrower window."""
+    return pn.FlexBox(*panes, flex_wrap="wrap", sizing_mode="stretch_width")
+
+
+def control_row(*widgets: Any) -> pn.FlexBox:
+    """Controls in a row that wraps on a narrow window rather than clipping its last ones."""
+    return pn.FlexBox(*widgets, flex_wrap="wrap", align_items="flex-end", sizing_mode="stretch_width")
 
 
 def message_list(obj: param.Parameterized, name: str, alert_type: str = "warning") -> pn.pane.Alert:
@@ -48,9 +205,8 @@ def message_list(obj: param.Parameterized, name: str, alert_type: str = "warning
 def run_status(runner: param.Parameterized) -> pn.Column:
     """The error, notice (when ``runner`` has one), progress bar and progress line of a
     :class:`~app.session.Runner`, following it."""
-    bar = pn.indicators.Progress(
-        value=0, max=100, sizing_mode="stretch_width", visible=False, bar_color="info"
-    )
+    # the line keeps its place when idle: nothing below it moves when a computation starts
+    bar = pn.indicators.Progress(value=0, max=100, sizing_mode="stretch_width", bar_color="info")
     text = pn.pane.Markdown("", margin=(0, 10))
     alerts = {"error": "danger", **({"notice": "info"} if "notice" in runner.param else {})}
     panes = {
@@ -59,7 +215,7 @@ def run_status(runner: param.Parameterized) -> pn.Column:
     }
 
     def update(*_events: Any) -> None:
-        bar.visible = runner.busy
+        bar.styles = {"visibility": "visible" if runner.busy else "hidden"}
         bar.value = runner.progress
         text.object = f"{runner.status} ({runner.progress} %)" if runner.busy else ""
         for name, pane in panes.items():
@@ -68,5 +224,7 @@ def run_status(runner: param.Parameterized) -> pn.Column:
     runner.param.watch(update, ["busy", "progress", "status", *alerts])
     update()
     return pn.Column(
-        *panes.values(), pn.Row(bar, text, sizing_mode="stretch_width"), sizing_mode="stretch_width"
+        *panes.values(),
+        pn.Row(bar, text, height=STATUS_HEIGHT, sizing_mode="stretch_width"),
+        sizing_mode="stretch_width",
     )

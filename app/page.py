@@ -33,7 +33,16 @@ from fretwear import figures
 from fretwear.figures.record import parse_settings, settings_json
 
 from .glossary import glossary_markdown, help_mark, term
-from .live import live_pane, message_list, run_status
+from .live import (
+    SIDEBAR_WIDTH,
+    PageScript,
+    View,
+    control_row,
+    figure_grid,
+    live_pane,
+    message_list,
+    run_status,
+)
 from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, CycleScene, Scene
 from .session import Session
 from .state import CUSTOM, LADDERS, METHODS, NUMBERS, PRESETS, number_text, parse_number
@@ -42,6 +51,23 @@ __all__ = ["build_page", "document_dispatch", "ExportSettings", "NumberInput"]
 
 log = logging.getLogger(__name__)
 
+#: the page's own CSS (the template's, outside the components): a title that wraps on a narrow window,
+#: larger text in presentation mode
+PAGE_CSS = """
+@media (max-width: 1100px) { #header .title { font-size: 1.05rem; white-space: normal; } }
+body.presentation { font-size: 125%; }
+"""
+#: presentation mode on the page's side: full screen (where the browser allows it), sidebar folded
+PRESENTATION_JS = """
+const on = cb_obj.active;
+document.body.classList.toggle("presentation", on);
+const side = document.getElementById("sidebar");
+if (side) side.classList.toggle("show", !on);
+try {
+  if (on && !document.fullscreenElement) document.documentElement.requestFullscreen().catch(() => {});
+  if (!on && document.fullscreenElement) document.exitFullscreen().catch(() => {});
+} catch (e) {}
+"""
 #: period of the animation's frames (ms): one period of the response in about 8 s
 FRAME_PERIOD_MS = 250
 
@@ -488,8 +514,8 @@ def _export_widgets(scene: Scene, settings: ExportSettings) -> list:
         settings.param.watch(lambda e, b=box: setattr(b, "value", str(e.new)), name)
         boxes.append(box)
     return [
-        pn.Row(figure, *(buttons[f] for f in figures.FIGURE_FORMATS), *boxes),
-        pn.Row(dataset, buttons["csv"]),
+        control_row(figure, *(buttons[f] for f in figures.FIGURE_FORMATS), *boxes),
+        control_row(dataset, buttons["csv"]),
         message,
     ]
 
@@ -581,12 +607,12 @@ def _cycle_controls(scene: CycleScene) -> pn.Row:
 
     scene.param.watch(show, "version")
     show()
-    return pn.Row(play, instant, summary, sizing_mode="stretch_width")
+    return control_row(play, instant, summary)
 
 
 def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
     panes = [_figure_pane(scene, name, session) for name in scene.figure_names]
-    grid = pn.GridBox(*panes, ncols=min(2, len(panes)), sizing_mode="stretch_width")
+    grid = figure_grid(panes)
     notes, findings = message_list(scene, "notes"), message_list(scene, "findings", "info")
     explanation = pn.pane.Markdown(scene.explanation.strip(), sizing_mode="stretch_width")
     controls = []
@@ -656,10 +682,24 @@ def build_page(session: Session, location=None, extra: tuple = ()) -> pn.templat
     tabs.param.watch(shown, "active")
     session.param.watch(follow, "scene")
     _address(session, location)
-    return pn.template.BootstrapTemplate(
+    view = View.current()
+    script = PageScript(width=view.width, height=0, width_policy="fixed", margin=0)
+    script.link(view, width="width")
+    template = pn.template.BootstrapTemplate(
         title=TITLE,
         # one root per area: every root costs Bokeh a pass over all the document's models
         sidebar=[pn.Column(pn.pane.Markdown(INTRO), *_sidebar(session), sizing_mode="stretch_width")],
         main=[pn.Column(run_status(session), tabs, sizing_mode="stretch_width")],
-        sidebar_width=380,
+        header=[_presentation_toggle(view), script],
+        sidebar_width=SIDEBAR_WIDTH,
+        raw_css=[PAGE_CSS],
     )
+    return template
+
+
+def _presentation_toggle(view: View) -> pn.widgets.Toggle:
+    """The header's presentation switch: larger figures and fonts, full screen, the sidebar folded."""
+    toggle = pn.widgets.Toggle(name="Presentation", value=view.presentation, button_type="light", width=130)
+    toggle.link(view, value="presentation")
+    toggle.jscallback(value=PRESENTATION_JS)
+    return toggle

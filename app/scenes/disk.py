@@ -35,7 +35,7 @@ from fretwear.figures.record import version
 from fretwear.model import DiskSector
 
 from ..backend import DiskSpec, Failure, Grid
-from ..live import live_pane, message_list, run_status
+from ..live import control_row, figure_grid, live_pane, message_list, run_status
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter
 from .base import Exports, OwnSettings
@@ -357,10 +357,10 @@ def disk_tab(scene: DiskScene, export_card: Callable[[Any], Any]) -> list:
     scene.activate()
     return [
         explanation,
-        pn.Row(*boxes, sizing_mode="stretch_width"),
+        control_row(*boxes),
         phase,
         status,
-        pn.GridBox(*panes, ncols=2, sizing_mode="stretch_width"),
+        figure_grid(panes),
         notes,
         export_card(scene),
     ]

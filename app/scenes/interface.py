@@ -37,7 +37,7 @@ from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
 
 from ..backend import Failure, Grid, InterfaceModel
-from ..live import live_pane, message_list, run_status
+from ..live import control_row, figure_grid, live_pane, message_list, run_status
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp
 from .base import Exports, OwnSettings
@@ -435,9 +435,9 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
     scene.activate()
     return [
         explanation,
-        pn.Row(model, nodes, *boxes, sizing_mode="stretch_width"),
+        control_row(model, nodes, *boxes),
         status,
-        pn.GridBox(*panes, ncols=2, sizing_mode="stretch_width"),
+        figure_grid(panes),
         notes,
         export_card(scene),
     ]

@@ -29,7 +29,7 @@ from fretwear.studies.compute import STATUS
 from fretwear.studies.summary import magnification_summary, wear_life_summary
 
 from ..backend import Failure, shared_backend, shared_cache
-from ..live import live_pane, message_list
+from ..live import control_row, figure_grid, live_pane, message_list
 from ..session import Runner
 from ..state import Tasks, file_stamp
 from .base import Exports
@@ -496,5 +496,4 @@ def study_tab(scene: StudyScene, export_card: Callable[[Any], Any]) -> list:
         for name in scene.figure_names
     ]
     notes = message_list(scene, "notes")
-    grid = pn.GridBox(*panes, ncols=min(2, len(panes)), sizing_mode="stretch_width")
-    return [intro, pn.Row(*_selectors(scene), sizing_mode="stretch_width"), grid, notes, export_card(scene)]
+    return [intro, control_row(*_selectors(scene)), figure_grid(panes), notes, export_card(scene)]

@@ -118,7 +118,7 @@ PLOT_JS = """
         }
       }
       const all = [...(m.renderers ?? []), ...(m.center ?? [])];
-      const bars = [...(m.right ?? []), ...(m.center ?? [])].filter(c => c.color_mapper);
+      const bars = [...(m.right ?? []), ...(m.below ?? []), ...(m.center ?? [])].filter(c => c.color_mapper);
       return {title: m.title.text, x: [m.x_range.start, m.x_range.end], y: [m.y_range.start, m.y_range.end],
               legends, glyphs: (m.renderers ?? []).filter(r => r.data_source).map(data),
               color: bars.map(b => [b.color_mapper.low, b.color_mapper.high]),
@@ -205,9 +205,11 @@ def browser():
 class Page:
     """A page of the dashboard that records its requests and its uncaught errors."""
 
-    def __init__(self, browser, url: str, query: str = "", first: str = "FRF of mass 1, Fₑₓ = 10 N") -> None:
+    def __init__(
+        self, browser, url: str, query: str = "", first: str = "FRF of mass 1, Fₑₓ = 10 N", width: int = 1500
+    ) -> None:
         self.base, self.requests, self.failed, self.errors = url, [], [], []
-        self.context = browser.new_context(viewport={"width": 1500, "height": 1300}, accept_downloads=True)
+        self.context = browser.new_context(viewport={"width": width, "height": 1300}, accept_downloads=True)
         self.context.grant_permissions(["clipboard-read", "clipboard-write"], origin=url.rsplit("/", 1)[0])
         self.page = self.context.new_page()
         self.page.set_default_timeout(TIMEOUT)
@@ -301,8 +303,8 @@ class Page:
 def open_page(browser, server):
     pages = []
 
-    def make(query: str = "", first: str = "FRF of mass 1, Fₑₓ = 10 N") -> Page:
-        pages.append(Page(browser, server, query, first))
+    def make(query: str = "", first: str = "FRF of mass 1, Fₑₓ = 10 N", width: int = 1500) -> Page:
+        pages.append(Page(browser, server, query, first, width))
         return pages[-1]
 
     yield make
@@ -372,6 +374,119 @@ def test_first_page_and_the_excitation_slider(open_page):
         handle.press("ArrowRight")
     shown = until(lambda: page.box("mu").input_value() if page.box("mu").input_value() != "1" else None)
     assert re.fullmatch(r"1\.0\d", shown), shown  # "1.07", never "1.0699999999999998"
+
+
+# -- layout on every screen (issue 26) ------------------------------------------------------------------
+
+#: every visible plot: title, canvas rectangle, plot frame width, title font size, legend places
+LAYOUT_JS = """
+() => {
+  const out = [], seen = new Set(), stack = Object.values(Bokeh.index);
+  while (stack.length) {
+    const v = stack.pop();
+    if (!v || seen.has(v)) continue;
+    seen.add(v);
+    const m = v.model;
+    if (m && m.title && typeof m.title.text === "string" && v.frame) {
+      const r = v.canvas_view.el.getBoundingClientRect();
+      if (r.width > 0) {
+        const legends = [];
+        for (const [place, items] of [["center", m.center], ["right", m.right], ["below", m.below]])
+          for (const l of items ?? []) if (l.items && l.items.length) legends.push(place);
+        out.push({title: m.title.text, left: r.left, right: r.right, top: r.top, bottom: r.bottom,
+                  frame: v.frame.bbox.width, font: m.title.text_font_size, legends});
+      }
+    }
+    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
+  }
+  const side = document.getElementById("sidebar").getBoundingClientRect();
+  return {plots: out, inner: window.innerWidth, sidebar: side.width,
+          presentation: document.body.classList.contains("presentation")};
+}
+"""
+
+
+def layout(page: Page, *prefixes: str, legends: list | None = None, folded: bool | None = None) -> dict:
+    """The page's layout (``LAYOUT_JS``) once a plot starting with each of ``prefixes`` is drawn (with its
+    legends at ``legends``: the page draws its figures again once it knows the window's width) and the
+    sidebar is ``folded`` (None: either), plus a moment for the figures to follow."""
+
+    def ready():
+        info = page.page.evaluate(LAYOUT_JS)
+        found = [next((p for p in info["plots"] if p["title"].startswith(x)), None) for x in prefixes]
+        if not all(found) or (legends is not None and any(p["legends"] != legends for p in found)):
+            return None
+        return None if folded is not None and (info["sidebar"] < 5) != folded else True
+
+    until(ready)
+    time.sleep(1.0)  # Bokeh resizes a plot on the next frame after its container changes
+    info = page.page.evaluate(LAYOUT_JS)
+    return info, [next(p for p in info["plots"] if p["title"].startswith(x)) for x in prefixes]
+
+
+@pytest.mark.parametrize("width", [390, 900, 1400, 1920])
+def test_the_page_fits_phone_tablet_laptop_and_desktop_windows(open_page, width):
+    """Defects: at 900 px the FRF plot was about 30 px wide; at 390 px the page was unusable (the sidebar
+    filled the screen, the legend left the curves a few pixels); the figures did not reflow."""
+    page = open_page(width=width)
+    # beside the axes where a figure has the room (a column of 840 px, or two of 740), else below
+    legends = {390: ["below"], 900: ["right"], 1400: ["below"], 1920: ["right"]}[width]
+    info, (frf, regimes) = layout(
+        page, "FRF of mass 1", "Stick/slip regimes", legends=legends, folded=width < 1000
+    )
+    for plot in (frf, regimes):  # inside the window, with room for the data
+        assert plot["left"] >= 0 and plot["right"] <= width + 1, plot
+        assert plot["frame"] >= 200, plot  # was 30 px at 900
+    if width < 1000:  # the sidebar folds, the figures stack in one column
+        assert info["sidebar"] < 5
+        assert regimes["top"] >= frf["bottom"] - 1
+    else:  # the sidebar stays, the figures side by side
+        assert info["sidebar"] > 300
+        assert abs(regimes["top"] - frf["top"]) < 5 and regimes["left"] >= frf["right"] - 1
+    button = page.page.get_by_role("button", name="Presentation").bounding_box()
+    assert button["x"] >= 0 and button["x"] + button["width"] <= width + 1
+    if width == 900:  # the sidebar unfolds from its button
+        page.page.locator("#sidebar-toggle").click()
+        until(lambda: True if page.page.evaluate(LAYOUT_JS)["sidebar"] > 300 else None)
+
+
+def test_the_progress_line_keeps_its_place_and_presentation_mode_enlarges(open_page):
+    """Defect: the progress bar was inserted above the tabs on each computation and pushed every figure
+    down about 50 px. Feature: presentation mode (larger figures and fonts, the sidebar folded)."""
+    page = open_page(width=1920)
+    bar = page.page.locator("progress").first
+    assert bar.evaluate("e => getComputedStyle(e).visibility") == "hidden"  # idle: hidden, in place
+    assert bar.bounding_box()["height"] > 0
+    before, (frf,) = layout(page, "FRF of mass 1")
+    assert not before["presentation"] and before["sidebar"] > 300
+    page.page.get_by_role("button", name="Presentation").click()
+
+    def larger():
+        info = page.page.evaluate(LAYOUT_JS)
+        big = next((p for p in info["plots"] if p["title"].startswith("FRF of mass 1")), None)
+        return (info, big) if big and float(big["font"][:-2]) > float(frf["font"][:-2]) else None
+
+    info, big = until(larger)
+    assert info["presentation"] and info["sidebar"] < 5
+    assert big["bottom"] - big["top"] > frf["bottom"] - frf["top"] + 50
+
+
+def test_the_scene_tabs_work_from_the_keyboard(open_page):
+    """Defect: the scene tabs did not react to Enter or the arrow keys and had no ARIA role."""
+    page = open_page(width=1400)
+    tabs = page.page.locator("[role=tab]")
+    until(lambda: True if tabs.count() >= 9 else None)
+    assert page.page.locator("[role=tablist]").count() >= 1
+    first = tabs.first
+    assert first.get_attribute("aria-selected") == "true" and first.get_attribute("tabindex") == "0"
+    first.focus()
+    first.press("ArrowRight")
+    page.wait_title("Wear map (")
+    second = page.page.locator("[role=tab][aria-selected=true]")
+    until(lambda: True if second.count() == 1 and "Wear map" in second.first.inner_text() else None)
+    until(lambda: True if second.first.evaluate("e => e === e.getRootNode().activeElement") else None)
+    second.first.press("Home")
+    page.wait_title("Stick/slip regimes")
 
 
 # -- defects ------------------------------------------------------------------------------------------
