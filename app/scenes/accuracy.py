@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import html
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -9,6 +11,7 @@ import param
 
 import fretwear
 from fretwear import figures
+from fretwear.figures.record import caption
 from fretwear.hbm.harmonics import default_samples
 from fretwear.studies.accuracy import QUANTITIES, CostStudy, Rung
 
@@ -219,6 +222,21 @@ single runs on a server that works for every session: compare them within one la
         s = self.settings
         out = {"fex": s.model.fex, "mu": s.model.mu, "fn": s.model.normal_load, "f": self.selection.frequency}
         return out | ({"kw": s.kw, "cycles": s.horizon} if self.wear else {})
+
+    def _measured(self) -> str:
+        """What the figure measures and marks, for its caption and CSV: the error, the target, the ladder
+        and the current settings the ring marks."""
+        s = self.settings
+        return (f"error on {QUANTITY_LABELS[self.quantity]}, target {self.target:g}, ladder {self.ladder}; "
+                f"ring: the current settings, Nh = {s.harmonics}, {s.label()}")  # fmt: skip
+
+    def caption(self) -> Callable[[str], str]:
+        record, measured = self.record(), self._measured()
+        return lambda markup: (f"{caption(record, markup=markup)}; "
+                               f"{html.escape(measured) if markup == 'html' else measured}")  # fmt: skip
+
+    def csv_header(self) -> str:
+        return super().csv_header() + f"# {self._measured()}\n"
 
     def _notes(self) -> list[str]:
         study = self.study()

@@ -61,6 +61,8 @@ MODELS = {
 PROFILES = 4
 #: slow-time step tolerance of the wear history (``rtol`` of :func:`fretwear.wear_history`)
 RTOL = 3e-2
+#: the contact states of the stick/slip map, by their codes there
+STATE_NAMES = {0: "stick", 1: "slip", 2: "open"}
 
 
 @dataclass(frozen=True)
@@ -317,7 +319,7 @@ class InterfaceScene(OwnSettings, Exports, Runner):
             state = np.asarray(r["state"][-1], dtype=float)
             x = r["position"] * 1e3
             phase = np.arange(state.shape[1]) / state.shape[1] * 360.0
-            title = f"Interface: stick (0) / slip (1) / open (2) at N = {r['cycles'][-1]:.3g}"
+            title = f"Interface: stick / slip / open at N = {r['cycles'][-1]:.3g}"
         else:
             state, x, phase, title = (
                 np.zeros((2, 2)),
@@ -339,9 +341,11 @@ class InterfaceScene(OwnSettings, Exports, Runner):
                 "colorbar": True,
                 "framewise": True,
             },
-            {"tools": ["hover"]},
-            {},
-        )
+            # three states, three colours: the colour bar names them at their colours' middles
+            {"tools": ["hover"], "color_levels": 3, "cticks": list(STATE_NAMES),
+             "colorbar_opts": {"major_label_overrides": STATE_NAMES}},
+            {"color_levels": 3, "cbar_ticks": list(STATE_NAMES.items())},
+        )  # fmt: skip
         return overlay_options(
             hv.Overlay([mesh]), title, "phase of the cycle (°)", "x (mm)", False, False, False
         )

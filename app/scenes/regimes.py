@@ -73,6 +73,8 @@ the line crosses the stick boundary. Raise {term("Nh")} to sharpen the stick-sli
             cmap="magma",
             curves={"stick boundary": boundary},
             hline=s.model.r,
+            level_label="slip fraction 0.5",
+            hline_label=f"current r = {s.model.r:.3g}",
             title=f"Stick/slip regimes (current r = {s.model.r:.3g})",
         )
 

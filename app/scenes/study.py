@@ -433,11 +433,13 @@ class StudyScene(Exports, Runner):
         return out
 
     def csv_header(self) -> str:
-        """``#`` lines of a CSV export: the study, its path, the selected point and the version."""
+        """``#`` lines of a CSV export: the study, its path, the selected point, the quantity and the
+        version."""
         lines = [
             f"study: {self.ds.attrs.get('title', '')}",
             f"store: {Path(self.path).name}",
             f"point: {self._where() or '-'}",
+            f"quantity: {self.quantity} = {self._label()}",  # which fraction (or depth) a life is to
             f"fretwear {self.ds.attrs.get('fretwear_version', '?')}",
         ]
         return "".join(f"# {line}\n" for line in lines)

@@ -92,8 +92,9 @@ Change {term("Nh")} and watch the finding below: what more harmonics buy, and wh
         reference = None if exact is None else exact.wear_fraction[:, :, 0]
         title = f"Wear map ({s.label()}, wear coefficient {s.kw:.3g} 1/N)"
         return figures.wear_map_figure(
-            f, cycles, z, title=title, point=(sel.frequency, sel.cycles), reference=reference
-        )
+            f, cycles, z, title=title, point=(sel.frequency, sel.cycles), reference=reference,
+            label=f"w/u₀ = 0.1, 0.5, 0.9 ({s.label()})",
+        )  # fmt: skip
 
     def _history(self):
         wm = self._map()

@@ -41,6 +41,8 @@ __all__ = [
 XY = tuple[Any, Any]
 
 _MPL_SIZE = {"fig_inches": (7.0, 4.0), "aspect": "auto"}
+#: legend background of maps (white contour lines must show on it)
+LEGEND_GREY = "#b0b0b0"
 
 #: the backends whose options :func:`styled` sets (``None``: every loaded backend); per thread and task
 _STYLED_FOR: ContextVar[tuple[str, ...] | None] = ContextVar("fretwear_styled_for", default=None)
@@ -233,6 +235,9 @@ def map_figure(
     hline: float | None = None,
     point: tuple[float, float] | None = None,
     reference: np.ndarray | None = None,
+    level_label: str | None = None,
+    reference_label: str = "reference",
+    hline_label: str | None = None,
 ) -> hv.Overlay:
     """Image of ``z`` (shape ``(len(y), len(x))``) over uniform grids ``x`` and ``y``.
 
@@ -240,7 +245,9 @@ def map_figure(
     array like ``z``, dashed red, e.g. an exact answer under an approximate
     one: the layer is there, empty, without it), curves ``label -> (x, y)``
     drawn on top (e.g. a boundary), a horizontal marker at ``hline`` and a
-    marker ``point``.
+    marker ``point``. Every line has a legend entry: ``level_label`` (default
+    the levels), ``reference_label``, ``hline_label`` (default "y = hline");
+    the legend's background is grey, for the white lines to show.
     """
     hv = holoviews()
     ensure_backend()
@@ -274,15 +281,26 @@ def map_figure(
             {"line_width": 2, "line_dash": "dashed", "tools": []},
             {"linewidth": 1.5, "linestyle": "--"},
         )
-        for data, (common, bokeh, mpl) in ((z, solid), (reference, dashed)):
-            layers.append(styled(contours(data), {**common, "show_legend": False}, bokeh, mpl))
+        if level_label is None:
+            level_label = f"{zlabel} = {', '.join(f'{v:g}' for v in levels)}"
+        for data, label, (common, bokeh, mpl) in (
+            (z, level_label, solid),
+            (reference, reference_label, dashed),
+        ):
+            if data is not None or reference is None:  # the empty layer keeps no legend entry
+                layers.append(
+                    styled(contours(data).relabel(label if data is not None else ""), common, bokeh, mpl)
+                )
+            else:
+                layers.append(styled(contours(data), common, bokeh, mpl))
     for label, (cx, cy) in (curves or {}).items():
         curve = hv.Curve((np.asarray(cx, dtype=float), np.asarray(cy, dtype=float)), xd, yd, label=label)
         layers.append(styled(curve, {"color": "red"}, {"line_width": 2.5}, {"linewidth": 2}))
-    if hline is not None:
+    if hline is not None:  # a curve across the map, not an annotation: it takes a legend entry
+        label = hline_label or f"{ylabel} = {hline:.3g}"
         layers.append(
             styled(
-                hv.HLine(float(hline)),
+                hv.Curve(([float(x.min()), float(x.max())], [float(hline)] * 2), xd, yd, label=label),
                 {"color": "white"},
                 {"line_dash": "dashed", "line_width": 2},
                 {"linestyle": "--", "linewidth": 1.5},
@@ -295,8 +313,10 @@ def map_figure(
                 pts, {"color": "red"}, {"size": 14, "marker": "x", "line_width": 3}, {"s": 100, "marker": "X"}
             )
         )
-    overlay = hv.Overlay(layers)
-    return overlay_options(overlay, title, xlabel, ylabel, False, False, bool(curves))
+    overlay = overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, True)
+    # a grey legend background: the white lines' entries would not show on white
+    return styled(overlay, None, {"legend_opts": {"background_fill_color": LEGEND_GREY}},
+                  {"legend_opts": {"facecolor": LEGEND_GREY}})  # fmt: skip
 
 
 def wear_map_figure(
@@ -307,10 +327,13 @@ def wear_map_figure(
     title: str = "",
     point: tuple[float, float] | None = None,
     reference=None,
+    label: str | None = None,
+    reference_label: str = "exact (same levels)",
 ) -> hv.Overlay:
     """Wear map ``w / u0`` over frequency (Hz) x log10 cycles (paper Fig. 7, 12), contours at 0.1/0.5/0.9.
 
     ``reference``: another map on the same grids (e.g. the exact one) whose contours are drawn dashed.
+    ``label``, ``reference_label``: the legend entries of the two sets of contours.
 
     The colour scale runs from 0 to 1, or to the largest value when a method
     overshoots ``u0`` (never clipped: values above 1 stay visible).
@@ -327,6 +350,7 @@ def wear_map_figure(
         clim=(0, max(1.0, top)), levels=(0.1, 0.5, 0.9), title=title,
         point=None if point is None else (point[0], np.log10(point[1])),
         reference=None if reference is None else np.asarray(reference, dtype=float)[:, 1:].T,
+        level_label=label, reference_label=reference_label,
     )  # fmt: skip
 
 

@@ -10,7 +10,7 @@ import pytest
 from test_state import calls, new_session, rows_of
 
 from app.backend import Backend
-from app.scenes import TARGETS, sidebar_equivalent
+from app.scenes import QUANTITY_LABELS, TARGETS, sidebar_equivalent
 from app.state import LADDERS
 from fretwear.hbm.harmonics import default_samples
 from fretwear.studies import CostStudy, Rung
@@ -122,6 +122,12 @@ def test_pareto_figure_and_csv_show_every_rung(ladder_session):
     assert rows[0]["quantity"] == "x1_h1" and float(rows[0]["target"]) == 0.05
     reference = rows_of(scene.export_csv("reference"))
     assert reference[0]["description"] == "fake reference" and float(reference[1]["value"]) == 1e-3
+    # the caption says what is measured and what the ring marks (it lacked the quantity, target and Nh)
+    text = scene.caption()("unicode")
+    label = scene.settings.label()
+    assert f"error on {QUANTITY_LABELS['x1_h1']}, target 0.05, ladder " in text
+    assert f"ring: the current settings, Nh = 3, {label}" in text
+    assert f"# error on {QUANTITY_LABELS['x1_h1']}, target 0.05" in scene.export_csv("ladder")
 
 
 def test_apply_sets_the_sidebar_in_one_click_without_recomputing(ladder_session):

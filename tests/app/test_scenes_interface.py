@@ -145,6 +145,11 @@ def test_stick_slip_map_and_frf(run):
     assert rows[0].startswith("# interface model: benchmark, gross slip")
     assert len([x for x in rows if not x.startswith("#")]) == 1 + r["wear"].size
     assert scene.export_figure("stick_slip", "png")[:8] == b"\x89PNG\r\n\x1a\n"
+    # three discrete colours named on the colour bar (it was a continuous scale from -0.5 to 2.5)
+    hv = figures.holoviews()
+    bar = hv.renderer("bokeh").get_plot(scene.figure("stick_slip")).state.right[0]
+    assert len(bar.color_mapper.palette) == 3 and list(bar.ticker.ticks) == [0, 1, 2]
+    assert bar.major_label_overrides == {0: "stick", 1: "slip", 2: "open"}
 
 
 def test_bad_input_and_a_bad_model_file_are_messages(run, tmp_path):

@@ -222,6 +222,7 @@ def test_random_samples_histogram_quantiles_and_invalid_draws(stores, no_solver)
     assert any(f"{n_bad} invalid" in note for note in scene.notes), scene.notes
     rows = scene.export_csv("samples").splitlines()
     assert rows[0].startswith("# study: random")
+    assert "# quantity: cycles_to = cycles to w = 0.5 u₀ (cycles)" in rows  # which fraction the life is to
     body = [r.split(",") for r in rows if not r.startswith("#")]
     header, body = body[0], body[1:]
     assert len(body) == ds.sizes["sample"]

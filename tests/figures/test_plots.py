@@ -1,4 +1,4 @@
-"""Tests of fretwear.figures.plots: which backends' options a figure gets."""
+"""Tests of fretwear.figures.plots: which backends' options a figure gets, what its legends name."""
 
 import threading
 
@@ -36,3 +36,35 @@ def test_styling_for_sets_the_options_of_the_backends_named_only():
     with pytest.raises(ValueError, match="backends must be 'bokeh' or 'matplotlib', got \\['plotly'\\]"):
         with figures.styling_for("plotly"):
             pass
+
+
+@pytest.mark.parametrize("backend", ["bokeh", "matplotlib"])
+def test_every_line_of_a_map_has_a_legend_entry_on_a_grey_background(backend):
+    """Defect: the wear map's white (method) and red dashed (exact) contours and the regime map's marker
+    line had no legend entry, while the text referred to them."""
+    for name in ("matplotlib", "bokeh"):
+        figures.load_backend(name)
+    hv = figures.holoviews()
+    f, cycles = np.linspace(0.3, 1.3, 11), np.r_[0, np.logspace(1, 5, 12)]
+    z = np.clip(np.outer(f, np.log10(cycles + 1)) / 6, 0, 1)
+    wear = figures.wear_map_figure(f, cycles, z, reference=1.1 * z, label="w/u0 (stepping)")
+    regimes = figures.map_figure(f, np.linspace(0, 2, 5), np.random.default_rng(0).random((5, 11)),
+                                 xlabel="f", ylabel="r", zlabel="slip", levels=(0.5,), hline=1.0,
+                                 curves={"stick boundary": (f, f)})  # fmt: skip
+    expected = [["w/u0 (stepping)", "exact (same levels)"], ["slip = 0.5", "stick boundary", "r = 1"]]
+    for fig, names in zip((wear, regimes), expected, strict=True):
+        plot = hv.renderer(backend).get_plot(fig).state
+        if backend == "bokeh":
+            legend = next(x for x in plot.right + plot.center if getattr(x, "items", None))
+            labels = [item.label.value for item in legend.items]
+            assert legend.background_fill_color == figures.plots.LEGEND_GREY
+        else:
+            legend = plot.axes[0].get_legend()
+            labels = [t.get_text() for t in legend.get_texts()]
+            assert legend.get_frame().get_facecolor()[:3] == pytest.approx((176 / 255,) * 3)
+        assert labels == names
+    # without a reference, the empty layer has no entry
+    alone = hv.renderer(backend).get_plot(figures.wear_map_figure(f, cycles, z)).state
+    if backend == "bokeh":
+        items = [i for x in alone.right + alone.center for i in getattr(x, "items", [])]
+        assert [i.label.value for i in items] == ["w / u₀ = 0.1, 0.5, 0.9"]
