@@ -20,6 +20,7 @@ import io
 import logging
 import math
 import threading
+import zipfile
 from collections.abc import Callable
 from functools import partial
 from typing import Any
@@ -47,7 +48,7 @@ from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, C
 from .session import Session
 from .state import CUSTOM, LADDERS, METHODS, NUMBERS, PRESETS, number_text, parse_number
 
-__all__ = ["build_page", "document_dispatch", "ExportSettings", "NumberInput"]
+__all__ = ["build_page", "bundle", "document_dispatch", "ExportSettings", "NumberInput"]
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +69,8 @@ try {
   if (!on && document.fullscreenElement) document.exitFullscreen().catch(() => {});
 } catch (e) {}
 """
+#: the formats of each figure in the zip of every export
+BUNDLE_FORMATS = ("png", "svg", "pdf")
 #: period of the animation's frames (ms): one period of the response in about 8 s
 FRAME_PERIOD_MS = 250
 
@@ -300,10 +303,13 @@ class ExportSettings(param.Parameterized):
     dpi = param.Parameter("150", doc="Resolution of PNG files (dots per inch)")
     fontsize = param.Parameter("10", doc="Font size of the axis labels (pt)")
 
-    def options(self) -> figures.ExportOptions:
-        """The :class:`~fretwear.figures.ExportOptions` typed (``ValueError`` naming the bad one)."""
+    def options(self, fmt: str = "png") -> figures.ExportOptions:
+        """The :class:`~fretwear.figures.ExportOptions` typed for format ``fmt`` (``ValueError`` naming the
+        bad one); the resolution applies to PNG only, and is neither read nor checked for the others."""
         values = {}
         for name in ("width", "height", "dpi", "fontsize"):
+            if name == "dpi" and fmt != "png":
+                continue
             text = str(getattr(self, name))
             number = parse_number(text)
             if number is None:
@@ -463,15 +469,53 @@ def _figure_pane(scene: Scene, name: str, session: Session) -> pn.pane.HoloViews
     return live_pane(partial(_draw, scene, name), streams)
 
 
-def _export_card(scene: Scene, settings: ExportSettings) -> pn.Card:
+def _export_card(
+    scene: Scene, settings: ExportSettings, view: Callable[[], dict[str, Any]] | None = None
+) -> pn.Card:
     """Downloads of the scene's figures and datasets, with the export options (built when expanded)."""
     return _lazy_card(
-        "Export: figures as PNG, SVG (Matplotlib) or HTML, data as CSV, each with its parameters",
-        partial(_export_widgets, scene, settings),
+        "Export: figures as PNG, SVG, PDF (Matplotlib) or HTML, data as CSV, each with its parameters",
+        partial(_export_widgets, scene, settings, view),
     )
 
 
-def _export_widgets(scene: Scene, settings: ExportSettings) -> list:
+def bundle(
+    scene: Any, options: Callable[[str], figures.ExportOptions], view: Callable[[], dict] | None = None
+) -> bytes:
+    """Every figure (PNG, SVG, PDF) and data set (CSV) of ``scene`` in one zip, with the settings file of
+    the page's ``view()`` (``settings.json``, which ``fretwear COMMAND --settings`` and the sidebar read)
+    or, for a tab with settings of its own, its parameters (``parameters.txt``); what could not be
+    exported yet (not computed) is listed in ``missing.txt``. ``options(fmt)``: the export options of
+    each format.
+    ``ValueError`` when nothing could be exported."""
+    buffer, missing, done = io.BytesIO(), [], 0
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
+        items = [(n, f) for n in scene.figure_names for f in BUNDLE_FORMATS]
+        items += [(n, "csv") for n in scene.dataset_names]
+        for name, fmt in items:
+            try:
+                data = (
+                    scene.export_csv(name).encode()
+                    if fmt == "csv"
+                    else scene.export_figure(name, fmt, options(fmt))
+                )
+            except ValueError as exc:  # not computed yet, or nothing to draw: listed, not fatal
+                missing.append(f"{scene.filename(name, fmt)}: {' '.join(str(exc).split())}")
+                continue
+            archive.writestr(scene.filename(name, fmt), data)
+            done += 1
+        if not done:
+            raise ValueError(f"nothing to export yet: {missing[0] if missing else 'no figure or data set'}")
+        if view is not None:
+            archive.writestr("settings.json", settings_json(view()))
+        else:
+            archive.writestr("parameters.txt", scene.csv_header())
+        if missing:
+            archive.writestr("missing.txt", "\n".join(missing) + "\n")
+    return buffer.getvalue()
+
+
+def _export_widgets(scene: Scene, settings: ExportSettings, view: Callable[[], dict] | None) -> list:
     figure = pn.widgets.Select(label="Figure", options=list(scene.figure_names), width=200)
     dataset = pn.widgets.Select(label="Dataset", options=list(scene.dataset_names), width=200)
     message = pn.pane.Alert("", alert_type="danger", visible=False, sizing_mode="stretch_width")
@@ -483,10 +527,10 @@ def _export_widgets(scene: Scene, settings: ExportSettings) -> list:
     def make(select: pn.widgets.Select, fmt: str) -> bytes:
         if fmt == "csv":
             return scene.export_csv(select.value).encode()
-        return scene.export_figure(select.value, fmt, settings.options())
+        return scene.export_figure(select.value, fmt, settings.options(fmt))
 
     buttons = {}
-    for select, fmt in [(figure, f) for f in figures.FIGURE_FORMATS] + [(dataset, "csv")]:
+    for select, fmt in [(figure, f) for f in figures.EXPORT_FORMATS] + [(dataset, "csv")]:
         buttons[fmt] = SafeDownload(
             partial(make, select, fmt),
             failed,
@@ -502,6 +546,15 @@ def _export_widgets(scene: Scene, settings: ExportSettings) -> list:
         for fmt, button in buttons.items():
             button.filename = scene.filename((dataset if fmt == "csv" else figure).value, fmt)
 
+    everything = SafeDownload(
+        lambda: bundle(scene, settings.options, view),
+        failed,
+        label="Download all (zip)",
+        filename=f"fretwear_{scene.key}.zip",
+        color="primary",
+        width=170,
+        align="end",
+    )
     figure.param.watch(rename, "value")
     dataset.param.watch(rename, "value")
     boxes = []
@@ -514,8 +567,8 @@ def _export_widgets(scene: Scene, settings: ExportSettings) -> list:
         settings.param.watch(lambda e, b=box: setattr(b, "value", str(e.new)), name)
         boxes.append(box)
     return [
-        control_row(figure, *(buttons[f] for f in figures.FIGURE_FORMATS), *boxes),
-        control_row(dataset, buttons["csv"]),
+        control_row(figure, *(buttons[f] for f in figures.EXPORT_FORMATS), *boxes),
+        control_row(dataset, buttons["csv"], everything),
         message,
     ]
 
@@ -620,7 +673,7 @@ def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
         controls = [_accuracy_controls(scene, session)]
     elif isinstance(scene, CycleScene):
         controls = [_cycle_controls(scene)]
-    return [explanation, *controls, grid, notes, findings, _export_card(scene, export)]
+    return [explanation, *controls, grid, notes, findings, _export_card(scene, export, session.record)]
 
 
 def _address(session: Session, location) -> None:

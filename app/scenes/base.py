@@ -128,8 +128,8 @@ class Exports:
     def export_figure(self, name: str, fmt: str, options: figures.ExportOptions | None = None) -> bytes:
         """Figure ``name`` as ``png``, ``svg`` or standalone ``html`` bytes, captioned with its
         parameters; ``options``: size, resolution, font size."""
-        if fmt not in figures.FIGURE_FORMATS:
-            raise ValueError(f"fmt must be one of {figures.FIGURE_FORMATS}, got {fmt!r}")
+        if fmt not in figures.EXPORT_FORMATS:
+            raise ValueError(f"fmt must be one of {figures.EXPORT_FORMATS}, got {fmt!r}")
         self._check_export(name)
         figures.load_backend("bokeh" if fmt == "html" else "matplotlib")
         return figures.figure_bytes(

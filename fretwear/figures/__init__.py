@@ -12,7 +12,6 @@ writes the settings files of the dashboard and the CLI,
 
 from .export import (
     EXPORT_FORMATS,
-    FIGURE_FORMATS,
     SIZES,
     ExportOptions,
     csv_text,
@@ -45,7 +44,6 @@ from .study import wear_life_figure
 
 __all__ = [
     "EXPORT_FORMATS",
-    "FIGURE_FORMATS",
     "SIZES",
     "ExportOptions",
     "figure_title",

@@ -30,7 +30,6 @@ if TYPE_CHECKING:
     import holoviews as hv
 
 __all__ = [
-    "FIGURE_FORMATS",
     "EXPORT_FORMATS",
     "SIZES",
     "ExportOptions",
@@ -44,9 +43,7 @@ __all__ = [
     "save_csv",
 ]
 
-#: formats of the dashboard's downloads
-FIGURE_FORMATS = ("png", "svg", "html")
-#: formats of :func:`figure_bytes` (:data:`FIGURE_FORMATS` and PDF, for a journal)
+#: formats of :func:`figure_bytes` and of the dashboard's downloads
 EXPORT_FORMATS = ("png", "svg", "pdf", "html")
 FigureFormat = Literal["png", "svg", "pdf", "html"]
 #: named sizes: width and height (in) and font size of the axis labels (pt); one journal column, a page

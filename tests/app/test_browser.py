@@ -17,6 +17,7 @@ Each test names the defect or feature of issue 12 it covers.
 """
 
 import csv
+import io
 import json
 import math
 import os
@@ -25,6 +26,7 @@ import struct
 import subprocess
 import sys
 import time
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -653,6 +655,17 @@ def test_export_downloads_with_options_and_records_and_failures_as_messages(open
     assert len(rows) == 11 * 12 and float(rows[0]["f_hz"]) == pytest.approx(0.3)
     name, data = download(page, "HTML")
     assert data.startswith(b"<!DOCTYPE html>") and b"<script src=" not in data and b"1e-11 1/N" in data
+    name, data = download(page, "PDF")
+    assert name == "fretwear_wearmap_history.pdf" and data.startswith(b"%PDF")
+    # every figure and data set of the scene in one zip, with the settings file
+    name, data = download(page, "Download all (zip)")
+    with zipfile.ZipFile(io.BytesIO(data)) as archive:
+        names = set(archive.namelist())
+        settings = json.loads(archive.read("settings.json"))
+    assert name == "fretwear_wearmap.zip"
+    for figure in ("wear_map", "history", "pseudo_frf"):
+        assert {f"fretwear_wearmap_{figure}.{x}" for x in ("png", "svg", "pdf", "csv")} <= names
+    assert settings["kw"] == 1e-11 and settings["scene"] == "wearmap"
     page.type("dpi", "5000")  # an export that fails: a message, and nothing downloads
     downloads = []
     page.page.on("download", lambda d: downloads.append(d))
@@ -662,6 +675,8 @@ def test_export_downloads_with_options_and_records_and_failures_as_messages(open
     ).wait_for()
     time.sleep(1)
     assert downloads == []
+    name, data = download(page, "SVG")  # defect: dpi 5000 refused SVG and HTML, where dpi does not apply
+    assert name == "fretwear_wearmap_history.svg" and b"<svg" in data
 
 
 def test_presets_each_open_one_lesson_without_a_warning(open_page):
