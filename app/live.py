@@ -13,12 +13,26 @@ from panel.custom import JSComponent
 
 from fretwear import figures
 
-__all__ = ["View", "PageScript", "live_pane", "figure_grid", "control_row", "message_list", "run_status"]
+from .state import number_text, type_text
+
+__all__ = [
+    "View",
+    "PageScript",
+    "live_pane",
+    "figure_grid",
+    "control_row",
+    "message_list",
+    "run_status",
+    "typed_box",
+    "STALE_CSS",
+]
 
 #: width (px) a figure asks for beside another: below twice this the figures stack in one column
 FIGURE_BASIS = 450
 #: the narrowest a figure gets (px): a phone's width less the page's margins
 MIN_WIDTH = 300
+#: a text box whose value the figures do not show (not a number, or out of range): outlined red
+STALE_CSS = ":host(.stale) input { border: 2px solid #d62728; background: #fff4f4; }"
 #: height (px) reserved for the progress line
 STATUS_HEIGHT = 30
 #: a window narrower than this (px) folds the sidebar, which is SIDEBAR_WIDTH px wide
@@ -185,6 +199,30 @@ def figure_grid(panes: list) -> pn.FlexBox:
 def control_row(*widgets: Any) -> pn.FlexBox:
     """Controls in a row that wraps on a narrow window rather than clipping its last ones."""
     return pn.FlexBox(*widgets, flex_wrap="wrap", align_items="flex-end", sizing_mode="stretch_width")
+
+
+def typed_box(obj: param.Parameterized, name: str, label: str, width: int = 120) -> pn.widgets.TextInput:
+    """A text box for number ``name`` of ``obj`` (a tab with a ``typed`` parameter), both ways: what is
+    typed goes through :func:`app.state.type_text` (a text that is not a number is kept, outlined red,
+    and named by the tab's message with the valid range), and the box follows the value (e.g. the
+    defaults of a newly chosen model)."""
+    box = pn.widgets.TextInput(
+        name=label,
+        value=number_text(getattr(obj, name)),
+        width=width,
+        placeholder=name,
+        stylesheets=[STALE_CSS],
+    )
+    box.param.watch(lambda event: type_text(obj, name, event.new), "value")
+
+    def pull(*_events: Any) -> None:
+        typed = name in obj.typed
+        if not typed:
+            box.value = number_text(getattr(obj, name))
+        box.css_classes = ["stale"] if typed else []
+
+    obj.param.watch(pull, [name, "typed"])
+    return box
 
 
 def message_list(obj: param.Parameterized, name: str, alert_type: str = "warning") -> pn.pane.Alert:

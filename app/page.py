@@ -36,6 +36,7 @@ from fretwear.figures.record import parse_settings, settings_json
 from .glossary import glossary_markdown, help_mark, term
 from .live import (
     SIDEBAR_WIDTH,
+    STALE_CSS,
     PageScript,
     View,
     control_row,
@@ -151,7 +152,9 @@ class NumberInput(pn.Column):
 
     ``typer(name, text)`` takes the box's text (``Controls.type_text``); the
     box shows the value with 12 significant digits at most, or what was typed
-    while it is not a number. With ``log``, the slider runs over ``log10``.
+    while it is not a number. With ``log``, the slider runs over ``log10``. A
+    value that is not a number, or not ``valid``, is *stale*: the figures keep
+    the last valid one, so the slider stays there and the box is outlined red.
     """
 
     def __init__(
@@ -170,8 +173,9 @@ class NumberInput(pn.Column):
         log: bool = False,
         slider: bool = True,
         placeholder: str | None = None,
+        valid: Callable[[Any], bool] = lambda _value: True,
     ) -> None:
-        self._obj, self._name, self._log, self._typed = obj, name, log, typed
+        self._obj, self._name, self._log, self._typed, self._valid = obj, name, log, typed, valid
         self._start, self._end = start, end
         value = getattr(obj, name)
         self._integer = integer and not log
@@ -190,6 +194,7 @@ class NumberInput(pn.Column):
         self._box = pn.widgets.TextInput(
             value=number_text(value), width=110 if slider else None, margin=(0, 10, 4, 0),
             sizing_mode=None if slider else "stretch_width", placeholder=placeholder or name,
+            stylesheets=[STALE_CSS],
         )  # fmt: skip
         super().__init__(
             _label(label, glossary),
@@ -221,10 +226,13 @@ class NumberInput(pn.Column):
 
     def _pull(self, *_events) -> None:
         value = getattr(self._obj, self._name)
-        if self._name not in self._typed():
+        typed = self._name in self._typed()
+        if not typed:
             self._box.value = number_text(value)
+        stale = typed or not self._valid(value)
+        self._box.css_classes = ["stale"] if stale else []
         position = self._position(value)
-        if position is not None:
+        if position is not None and not stale:
             self._slider.value = position
 
 
@@ -363,7 +371,7 @@ def _sidebar(session: Session) -> list:
         p = NUMBERS[name]
         label = p.html + (", slider over log<sub>10</sub>" if p.log else "")
         return NumberInput(c, name, label, p.glossary, *p.slider, c.type_text, lambda: c.typed,
-                           integer=p.integer, log=p.log)  # fmt: skip
+                           integer=p.integer, log=p.log, valid=p.valid)  # fmt: skip
 
     def selected(name, label, glossary):
         return NumberInput(session, name, label, glossary, 0, 1, 1, session.type_text,

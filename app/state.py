@@ -213,10 +213,20 @@ def parse_number(text: str) -> float | None:
     return float(f"{value:.12g}") if math.isfinite(value) else value
 
 
+def whole(value: Any, low: int, high: int) -> bool:
+    """Whether ``value`` is a whole number (not a bool, not a text) in ``[low, high]``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return False
+    return float(value).is_integer() and low <= value <= high
+
+
 def type_text(owner: param.Parameterized, name: str, text: str) -> None:
-    """Set number ``name`` of ``owner`` from the text of its box; text that is no number stays in
-    ``owner.typed`` (for the message naming it) until a number replaces it."""
+    """Set number ``name`` of ``owner`` from the text of its box; text that is no number (or not a whole
+    number, for an integer parameter) stays in ``owner.typed`` (for the message naming it) until a
+    number replaces it."""
     value = parse_number(text)
+    if value is not None and isinstance(owner.param[name], param.Integer):  # 2.5 harmonics: typed, named
+        value = int(value) if float(value).is_integer() else None
     typed = {k: v for k, v in owner.typed.items() if k != name}
     if value is None:
         owner.typed = {**typed, name: text}

@@ -236,7 +236,8 @@ single runs on a server that works for every session: compare them within one la
                                f"{html.escape(measured) if markup == 'html' else measured}")  # fmt: skip
 
     def csv_header(self) -> str:
-        return super().csv_header() + f"# {self._measured()}\n"
+        lines = super().csv_header().splitlines(keepends=True)  # the version stays last
+        return "".join([*lines[:-1], f"# {self._measured()}\n", lines[-1]])
 
     def _notes(self) -> list[str]:
         study = self.study()

@@ -10,6 +10,7 @@ their parameter record (:meth:`Scene.record`).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -152,7 +153,8 @@ class OwnSettings:
     """A tab with settings of its own (Interface, Bladed disk), on the session's machinery
     (:class:`~app.session.Runner`): nothing computes until :meth:`activate`; then :meth:`refresh` shows
     the results of ``settings()`` from the cache or runs its ``tasks()``, after naming its ``problems()``.
-    The tab provides ``settings()`` and ``_publish_results``.
+    The tab provides ``settings()``, ``_publish_results`` and a ``typed`` parameter (texts of its boxes
+    that are not numbers, by setting: :func:`app.state.type_text`), and refreshes when it changes.
 
     Parameters
     ----------
@@ -188,7 +190,8 @@ class OwnSettings:
         if not self.active:
             return
         generation = self.new_request()
-        s = self.settings()
+        # a text that is not a number stands in for its setting: problems() names it with its range
+        s = dataclasses.replace(self.settings(), **self.typed)
         problems = s.problems()
         if problems:
             self.invalid(problems)

@@ -35,9 +35,9 @@ from fretwear.figures.record import version
 from fretwear.model import DiskSector
 
 from ..backend import DiskSpec, Failure, Grid
-from ..live import control_row, figure_grid, live_pane, message_list, run_status
+from ..live import control_row, figure_grid, live_pane, message_list, run_status, typed_box
 from ..session import Runner
-from ..state import ResultOf, Task, Tasks, WearAfter
+from ..state import ResultOf, Task, Tasks, WearAfter, whole
 from .base import Exports, OwnSettings
 
 __all__ = ["DiskScene", "DiskSettings", "disk_tab", "PROFILES"]
@@ -88,13 +88,13 @@ class DiskSettings:
             out.append(
                 f"level must be a number in [0, 0.5] (the blades' standard deviation), got {self.level!r}"
             )
-        if not 0 <= self.engine_order <= self.sectors // 2:
+        if not whole(self.engine_order, 0, self.sectors // 2):
             out.append(
                 f"engine_order must be an integer in [0, {self.sectors // 2}], got {self.engine_order!r}"
             )
-        if not 1 <= self.harmonics <= 15:
+        if not whole(self.harmonics, 1, 15):
             out.append(f"harmonics must be an integer in [1, 15], got {self.harmonics!r}")
-        if not 0 <= self.seed < 2**32:
+        if not whole(self.seed, 0, 2**32 - 1):
             out.append(f"seed must be an integer in [0, 2^32), got {self.seed!r}")
         return out
 
@@ -144,13 +144,14 @@ class DiskScene(OwnSettings, Exports, Runner):
     frequency = param.Number(205.0, doc="Frequency of the wear history (Hz)")
     cycles = param.Number(1e6, doc="Wear horizon (cycles)")
     phase = param.Number(0.0, bounds=(0.0, 360.0), doc="Phase of the cycle drawn (degrees)")
+    typed = param.Dict({}, doc="Texts typed into the boxes that are not numbers, by setting")
     notes = param.List([])
     version = param.Integer(0)
 
     def __init__(self, **options: Any) -> None:
         super().__init__(**options)
         self.param.watch(
-            self.refresh, ["engine_order", "fex", "mu", "kw", "level", "seed", "frequency", "cycles"]
+            self.refresh, ["engine_order", "fex", "mu", "kw", "level", "seed", "frequency", "cycles", "typed"]
         )
 
     def settings(self) -> DiskSettings:
@@ -329,11 +330,8 @@ def disk_tab(scene: DiskScene, export_card: Callable[[Any], Any]) -> list:
                                             value=float(np.log10(scene.kw)), width=170)  # fmt: skip
     log_kw.param.watch(lambda event: setattr(scene, "kw", float(10**event.new)), "value_throttled")
     boxes.append(log_kw)
-    for name, label in (("seed", "seed"), ("frequency", "f (Hz)"), ("cycles", "N (cycles)")):
-        kind = pn.widgets.IntInput if name == "seed" else pn.widgets.FloatInput
-        box = kind(name=label, value=getattr(scene, name), width=110)
-        box.link(scene, value=name)
-        boxes.append(box)
+    boxes += [typed_box(scene, name, label) for name, label in (("seed", "seed"), ("frequency", "f (Hz)"),
+                                                                ("cycles", "N (cycles)"))]  # fmt: skip
     phase = pn.widgets.Player(name="phase (°)", start=0, end=350, step=10, value=0, interval=60,
                               loop_policy="loop", width=300)  # fmt: skip
     phase.link(scene, value="phase")

@@ -37,9 +37,9 @@ from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
 
 from ..backend import Failure, Grid, InterfaceModel
-from ..live import control_row, figure_grid, live_pane, message_list, run_status
+from ..live import control_row, figure_grid, live_pane, message_list, run_status, typed_box
 from ..session import Runner
-from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp
+from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp, whole
 from .base import Exports, OwnSettings
 
 __all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "MODELS", "PAPER", "RTOL"]
@@ -101,7 +101,7 @@ class InterfaceSettings:
                     break  # the FRF band follows the frequency: one message
         if not out and self.fmin >= self.fmax:
             out.append(f"fmin must be below fmax, got {self.fmin:g} >= {self.fmax:g} Hz")
-        if not 1 <= self.harmonics <= 15:
+        if not whole(self.harmonics, 1, 15):
             out.append(f"harmonics must be an integer in [1, 15], got {self.harmonics!r}")
         if not 3 <= self.n_frequencies <= 50:
             out.append(f"n_frequencies must be an integer in [3, 50], got {self.n_frequencies!r}")
@@ -180,6 +180,7 @@ class InterfaceScene(OwnSettings, Exports, Runner):
     harmonics = param.Integer(5, doc="Harmonics Nh")
     kw = param.Number(1e-14, doc="Archard coefficient (1/Pa)")
     cycles = param.Number(3e4, doc="Wear horizon (cycles)")
+    typed = param.Dict({}, doc="Texts typed into the boxes that are not numbers, by setting")
     notes = param.List([])
     version = param.Integer(0)
 
@@ -189,12 +190,14 @@ class InterfaceScene(OwnSettings, Exports, Runner):
         if self.path is not None:
             self.param.model.objects = [GROSS, PARTIAL, PAPER, FILE]
         self.param.watch(self._defaults, ["model"])  # first: the run below sees the model's settings
-        self.param.watch(self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles"])
+        self.param.watch(
+            self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles", "typed"]
+        )
 
     def _defaults(self, event: param.parameterized.Event) -> None:
         """A new model starts from its own frequency, wear coefficient and horizon (a file keeps them)."""
         if event.new in DEFAULTS and DEFAULTS.get(event.old) != DEFAULTS[event.new]:
-            self.param.update(**DEFAULTS[event.new])
+            self.param.update(typed={}, **DEFAULTS[event.new])
 
     def settings(self) -> InterfaceSettings:
         """The settings of the controls (a model file's DOF is its first named one, or DOF 0)."""
@@ -412,17 +415,15 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         label="pairs (benchmark)", options=[16, 32], value=scene.contact_nodes, width=130
     )
     nodes.link(scene, value="contact_nodes")
-    boxes = []
-    for name, label in (
-        ("frequency", "f (Hz)"),
-        ("harmonics", "Nh"),
-        ("kw", "K_w (1/Pa)"),
-        ("cycles", "N (cycles)"),
-    ):
-        kind = pn.widgets.IntInput if name == "harmonics" else pn.widgets.FloatInput
-        box = kind(label=label, value=getattr(scene, name), width=120)
-        box.link(scene, value=name)
-        boxes.append(box)
+    boxes = [
+        typed_box(scene, name, label)
+        for name, label in (
+            ("frequency", "f (Hz)"),
+            ("harmonics", "Nh"),
+            ("kw", "K_w (1/Pa)"),
+            ("cycles", "N (cycles)"),
+        )
+    ]
     status, notes = run_status(scene), message_list(scene, "notes")
     panes = [
         live_pane(partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])])

@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 from app.backend import Backend, ResultCache
+from app.live import typed_box
 from app.scenes.interface import FILE, GROSS, MODELS, PROFILES, RTOL, InterfaceScene
 from app.state import Tasks
 from fretwear import figures
@@ -158,6 +159,22 @@ def test_bad_input_and_a_bad_model_file_are_messages(run, tmp_path):
     assert scene.error == "Invalid input: frequency must be a number > 0 and <= 100000 Hz, got -1.0"
     scene.frequency = 50.0
     assert scene.error == "" and scene.version >= 2  # the same settings again: from the cache
+    # the boxes: what is typed is named with the valid range (it reverted silently; an empty f put a
+    # traceback in the server log), kept and outlined red, and the box follows the scene
+    boxes = {name: typed_box(scene, name, name) for name in ("frequency", "harmonics")}
+    for name, text, message in (
+        ("frequency", "abc", "frequency must be a number > 0 and <= 100000 Hz, got 'abc'"),
+        ("frequency", "", "frequency must be a number > 0 and <= 100000 Hz, got ''"),
+        ("harmonics", "2.5", "harmonics must be an integer in [1, 15], got '2.5'"),
+    ):
+        boxes[name].value = text
+        assert scene.error == f"Invalid input: {message}" and boxes[name].css_classes == ["stale"]
+        assert boxes[name].value == text and scene.frequency == 50.0 and scene.harmonics == 5
+        boxes[name].value = {"frequency": "50", "harmonics": "5"}[name]
+        assert scene.error == "" and boxes[name].css_classes == []
+    scene.frequency = 60.0
+    assert boxes["frequency"].value == "60"
+    scene.frequency = 50.0
     bad = tmp_path / "bad.toml"
     bad.write_text('title = "x"\n[matrices]\nM = "missing.mtx"\n')
     other = InterfaceScene(bad, tasks=Tasks(Backend(), ResultCache()))
@@ -178,8 +195,10 @@ def test_the_papers_two_dof_model_is_a_choice_and_wears_like_the_single_contact(
 
     scene = InterfaceScene(tasks=Tasks(Backend(), ResultCache()))
     scene.activate()
+    boxes = [typed_box(scene, name, name) for name in ("frequency", "kw", "cycles")]
     scene.model = PAPER  # its own settings: the paper's case at 0.7 Hz
     assert (scene.frequency, scene.kw, scene.cycles) == (0.7, 1e-11, 2e4)
+    assert [b.value for b in boxes] == ["0.7", "1e-11", "20000"]  # the boxes follow (they kept 50 Hz)
     r = scene.results
     assert scene.error == "" and r["dof_name"] == "x1" and r["wear"].shape[1] == 1
     # the one pair's wear follows the single-contact exact load path at the same Nh (slow-time error)
