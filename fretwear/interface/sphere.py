@@ -125,7 +125,7 @@ class SphereOnFlat:
     damping_ratio: float = 0.01
     damping_frequency: float = 20000.0
     divisions: int = 18
-    window: float = 1.2
+    window: float = 1.25
     size: float = 6.0
     growth: float = 1.4
 
