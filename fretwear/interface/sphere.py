@@ -49,17 +49,20 @@ from ..model import ContactPairs, Model
 from .fe import effective_modulus
 from .reduction import ContactCondensation
 from .sphere_mesh import SphereOnFlatMesh, assemble_boxes, nested_dissection, sphere_on_flat_mesh
-from .static import check_q_ratio, static_anchors
+from .static import check_q_ratio, solve_static, static_anchors
 
 __all__ = [
     "MAX_DIVISIONS",
     "SphereOnFlat",
     "hertz_radius",
     "hertz_sphere_peak_pressure",
+    "mindlin_deresiewicz_dissipation",
     "mindlin_stick_radius",
+    "sphere_cyclic_dissipation",
     "sphere_on_flat",
     "sphere_static_benchmark",
     "sphere_static_model",
+    "tangential_modulus",
 ]
 
 #: largest ``divisions``: 40 spacings across the window radius are ~2 600 pairs and 400 000 DOFs per body;
@@ -420,3 +423,77 @@ def sphere_static_benchmark(
         static_anchors(condensation, q_ratio, mirrored, theory, "radius", scale, info["symmetry_factor"])
     )
     return out
+
+
+def tangential_modulus(young: float, poisson: float) -> float:
+    """``G*`` of Mindlin's compliance for two identical bodies (Pa).
+
+    ``1 / G* = (2 - nu1) / G1 + (2 - nu2) / G2`` (Johnson, sec. 7.2), so ``G* = G /
+    (2 (2 - nu))`` with ``G = E / (2 (1 + nu))``: the tangential displacement of
+    the holder is ``delta = 3 mu P / (16 a G*) [1 - (1 - Q / (mu P))^(2/3)]``.
+    """
+    return young / (2.0 * (1.0 + poisson)) / (2.0 * (2.0 - poisson))
+
+
+def mindlin_deresiewicz_dissipation(
+    normal_load: float, mu: float, contact_radius: float, g_star: float, q_amplitude: float
+) -> float:
+    """Energy dissipated per cycle of tangential load ``+-Q*`` at constant ``P`` (J; Johnson, sec. 7.4).
+
+    ``W = 9 mu^2 P^2 / (10 a G*) [1 - (1 - x)^(5/3) - 5 x / 6 (1 + (1 - x)^(2/3))]``, ``x = Q* / (mu P)
+    < 1``: the area of the Masing loop ``4 Q* d(Q*) - 8 int_0^Q* d(u) du`` of the compliance ``d(Q) = 3 mu
+    P / (16 a G*) [1 - (1 - Q / (mu P))^(2/3)]`` (:func:`tangential_modulus`).
+    """
+    x = q_amplitude / (mu * normal_load)
+    if not 0 <= x < 1:
+        raise ValueError(f"q_amplitude / (mu P) must be in [0, 1) (partial slip), got {x!r}")
+    bracket = 1 - (1 - x) ** (5 / 3) - 5 * x / 6 * (1 + (1 - x) ** (2 / 3))
+    return float(9 * mu**2 * normal_load**2 / (10 * contact_radius * g_star) * bracket)
+
+
+def sphere_cyclic_dissipation(
+    q_ratio: float,
+    params: SphereOnFlat | None = None,
+    condensation: ContactCondensation | None = None,
+    steps: int = 24,
+    **changes,
+) -> dict:
+    """Friction work per cycle of the tangential load ``0 -> Q* -> -Q* -> Q*`` against Mindlin-Deresiewicz.
+
+    The quasi-static path of :func:`~fretwear.interface.static.solve_static`
+    with ``steps`` increments a leg; the work of the contact forces on the
+    pairs' tangential displacements over the last two legs (a closed cycle: the
+    elastic energy returns), ``W = sum_k sum_i (lambda_T,i^k + lambda_T,i^(k-1))
+    / 2 (u_T,i^k - u_T,i^(k-1))``, twice the half model's.
+
+    Returns
+    -------
+    dict
+        ``dissipation`` (J), ``mindlin_deresiewicz`` (J), ``error_dissipation``
+        (-), ``q_ratio``, ``converged``, ``message``.
+    """
+    check_q_ratio(q_ratio)
+    if condensation is None:
+        condensation = ContactCondensation(
+            sphere_static_model(params, **{**changes, "q_ratio": max(q_ratio, 1e-3)})
+        )
+    info = condensation.full.info
+    P, mu = info["normal_load"], info["mu"]
+    s = q_ratio * mu * P / info["tangential_load"]
+    res = solve_static(condensation, tangential_scale=(s, -s, s), tangential_steps=steps)
+    theory = mindlin_deresiewicz_dissipation(
+        P, mu, hertz_radius(P, info["radius"], info["effective_modulus"]),
+        tangential_modulus(info["young"], info["poisson"]), q_ratio * mu * P,
+    )  # fmt: skip
+    out = dict(q_ratio=q_ratio, mindlin_deresiewicz=theory, converged=res.converged, message=res.message)
+    if not res.converged:
+        return dict(out, dissipation=None, error_dissipation=None)
+    load = np.array([st.tangential_force.sum() for st in res.states])
+    first = int(np.argmax(load >= (1 - 1e-9) * load.max()))  # Q* reached the first time
+    cycle = res.states[first:]
+    work = sum(
+        0.5 * (b.tangential_force + a.tangential_force) @ (b.q[0::2] - a.q[0::2])
+        for a, b in zip(cycle[:-1], cycle[1:], strict=True)
+    )
+    w = info["symmetry_factor"] * float(work)
+    return dict(out, dissipation=w, error_dissipation=(w - theory) / theory)

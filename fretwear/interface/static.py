@@ -33,6 +33,7 @@ zone, ``mu p0 (c / a) sqrt(1 - x^2 / c^2)`` per unit length in the stick zone).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -178,7 +179,7 @@ def _increment(x0, Z, F, eps, gap, mu, X_prev, tol, max_iter):
 
 def solve_static(
     condensation: ContactCondensation,
-    tangential_scale: float = 1.0,
+    tangential_scale: float | Sequence[float] = 1.0,
     normal_steps: int = 4,
     tangential_steps: int = 8,
     wear: np.ndarray | None = None,
@@ -191,11 +192,13 @@ def solve_static(
     Parameters
     ----------
     condensation : ContactCondensation
-    tangential_scale : float
+    tangential_scale : float or sequence of float
         Final multiple of the excitation pattern ``force_cos`` applied
-        statically after the static load (-); 0 for the normal load alone.
+        statically after the static load (-); 0 for the normal load alone. A
+        sequence is a load path visited in turn from 0, e.g. ``(s, -s, s)``:
+        a cycle of tangential load after the first loading.
     normal_steps, tangential_steps : int
-        Increments of each stage, >= 1.
+        Increments of each stage (of each leg of a path), >= 1.
     wear : ndarray, shape (nc,), optional
         Worn depth per pair (m), added to the initial gaps.
     eps : ndarray, shape (2 nc,), optional
@@ -219,8 +222,15 @@ def solve_static(
     X = np.zeros(nc)
     states = []
     path = [(s / normal_steps, 0.0) for s in range(1, normal_steps + 1)]
-    if tangential_scale != 0:
-        path += [(1.0, tangential_scale * s / tangential_steps) for s in range(1, tangential_steps + 1)]
+    legs = np.atleast_1d(np.asarray(tangential_scale, dtype=float))
+    if not (legs.ndim == 1 and np.all(np.isfinite(legs))):
+        raise ValueError(
+            f"tangential_scale must be a finite number or sequence of numbers, got {tangential_scale!r}"
+        )
+    start = 0.0
+    for end in legs[legs != 0] if len(legs) == 1 else legs:
+        path += [(1.0, start + (end - start) * s / tangential_steps) for s in range(1, tangential_steps + 1)]
+        start = end
     done = (0.0, 0.0)
     targets = path[::-1]  # a stack: failed increments are halved
     while targets:
