@@ -47,7 +47,7 @@ def row(divisions: int) -> tuple[list, dict]:
             errors.update(a=abs(d["error_contact_radius"]), p0=abs(d["error_peak_pressure"]))
         else:
             errors[f"c({q})"] = abs(d["error_stick_radius"])
-    dofs = int(2 * 3 * model.info["nodes"] / 2)
+    dofs = int(3 * model.info["nodes"])
     return [
         divisions, model.pairs.count, dofs, f"{t_build:.3g}", f"{t_cond + t_z:.3g}",
         f"{max(solves):.3g}", f"{peak_memory_gb():.2f}",

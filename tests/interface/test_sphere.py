@@ -15,12 +15,15 @@ from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.sphere import (
     SphereOnFlat,
     _contact_schur,
+    mindlin_deresiewicz_dissipation,
+    sphere_cyclic_dissipation,
     sphere_on_flat,
     sphere_static_benchmark,
     sphere_static_model,
+    tangential_modulus,
 )
 from fretwear.interface.sphere_mesh import assemble_boxes, nested_dissection
-from fretwear.interface.static import second_moment_half_width, second_moment_radius
+from fretwear.interface.static import second_moment_half_width, second_moment_radius, solve_static
 
 CHEAP = dict(divisions=6, size=4.0)  # 63 pairs, 7 000 DOFs a body: a second to build
 
@@ -172,3 +175,38 @@ def test_anchors_on_the_default_mesh_of_500_pairs():
     assert abs(hertz["error_contact_radius"]) < 0.03 and abs(hertz["error_peak_pressure"]) < 0.03
     for q in (0.3, 0.5, 0.8):
         assert abs(sphere_static_benchmark(q, condensation=cond)["error_stick_radius"]) < 0.05
+
+
+def test_mindlin_deresiewicz_formula_is_the_masing_loop_area():
+    """The closed form against the loop integrated from Mindlin's compliance (Masing's rule)."""
+    P, mu, a, g = 100.0, 0.6, 2e-4, 30e9
+    for x in (0.3, 0.6, 0.9):
+        q_star = x * mu * P
+
+        def d(u):
+            return 3 * mu * P / (16 * a * g) * (1 - (1 - u / (mu * P)) ** (2 / 3))
+
+        u = np.linspace(0.0, q_star, 20001)
+        area = 4 * q_star * d(q_star) - 8 * np.trapezoid(d(u), u)
+        assert mindlin_deresiewicz_dissipation(P, mu, a, g, q_star) == pytest.approx(area, rel=1e-6)
+    assert tangential_modulus(200e9, 0.3) == pytest.approx(200e9 / 2.6 / 3.4)
+    with pytest.raises(ValueError, match="q_amplitude"):
+        mindlin_deresiewicz_dissipation(P, mu, a, g, mu * P)
+
+
+@pytest.mark.parametrize("q", [0.6, 0.9])
+def test_dissipation_per_cycle(cond, q):
+    """Friction work of a cycle +-Q* on the cheap mesh (0.3 needs the default mesh: the slow test)."""
+    d = sphere_cyclic_dissipation(q, condensation=cond)
+    assert d["converged"] and abs(d["error_dissipation"]) < 0.05
+
+
+def test_a_load_cycle_returns_to_the_state_of_first_loading(cond):
+    """Masing: unloading to -Q* and reloading to Q* gives back the tractions of the first loading."""
+    s = 0.7 / 0.5  # the model's q_ratio is 0.5
+    first = solve_static(cond, tangential_scale=s, tangential_steps=12).final
+    cycled = solve_static(cond, tangential_scale=(s, -s, s), tangential_steps=12).final
+    scale = first.normal_force.max()
+    assert np.abs(cycled.tangential_force - first.tangential_force).max() < 1e-6 * scale
+    with pytest.raises(ValueError, match="tangential_scale"):
+        solve_static(cond, tangential_scale=(s, np.nan))
