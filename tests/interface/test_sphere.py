@@ -1,6 +1,7 @@
 """The 3-D sphere-on-flat benchmark: assembly, static condensation, Hertz and Mindlin anchors, CLI."""
 
 import argparse
+import dataclasses
 import json
 
 import numpy as np
@@ -24,6 +25,7 @@ from fretwear.interface.sphere import (
 )
 from fretwear.interface.sphere_mesh import assemble_boxes, nested_dissection
 from fretwear.interface.static import second_moment_half_width, second_moment_radius, solve_static
+from fretwear.model import ContactPairs, craig_bampton
 
 CHEAP = dict(divisions=6, size=4.0)  # 63 pairs, 7 000 DOFs a body: a second to build
 
@@ -210,3 +212,22 @@ def test_a_load_cycle_returns_to_the_state_of_first_loading(cond):
     assert np.abs(cycled.tangential_force - first.tangential_force).max() < 1e-6 * scale
     with pytest.raises(ValueError, match="tangential_scale"):
         solve_static(cond, tangential_scale=(s, np.nan))
+
+
+def test_craig_bampton_of_the_3d_pairs_equals_the_static_model():
+    """The full model (3-D pairs, binormal free, none on the symmetry plane) reduced by Craig-Bampton and
+    condensed on its contact coordinates has the static stiffness and loads of the static model."""
+    p = dict(divisions=3, size=2.5)
+    via_cb = ContactCondensation(craig_bampton(sphere_on_flat(**p), 0.0)).static
+    direct = ContactCondensation(sphere_static_model(**p)).static
+    for x, y in zip(via_cb, direct, strict=True):
+        assert np.abs(x - y).max() < 1e-11 * np.abs(y).max()
+
+
+def test_a_pair_fixed_on_both_nodes_only_along_its_binormal():
+    m = sphere_on_flat(divisions=3, size=2.5)
+    c = m.pairs
+    bad = ContactPairs(dofs_a=c.dofs_a, dofs_b=c.dofs_b, normal=c.normal, area=c.area, mu=c.mu,
+                       tangent=np.tile([0.0, 1.0, 0.0], (c.count, 1)))  # fmt: skip
+    with pytest.raises(ValueError, match="binormal component"):
+        ContactCondensation(craig_bampton(dataclasses.replace(m, pairs=bad), 0.0))
