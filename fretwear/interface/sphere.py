@@ -42,6 +42,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -59,6 +60,7 @@ __all__ = [
     "mindlin_deresiewicz_dissipation",
     "mindlin_stick_radius",
     "sphere_cyclic_dissipation",
+    "sphere_fretting_loop",
     "sphere_on_flat",
     "sphere_static_benchmark",
     "sphere_static_model",
@@ -96,7 +98,14 @@ class SphereOnFlat:
     normal_load : float
         Normal load ``P`` (N), > 0.
     q_ratio : float
-        Tangential load ``Q / (mu P)`` (-), >= 0, along ``x``.
+        Tangential load ``Q / (mu P)`` (-), >= 0, along ``x`` (force control).
+    drive_displacement : float or None
+        With a loading arm (``arm_stiffness > 0``): amplitude ``delta0`` of the
+        arm end's motion along ``x`` (m), which replaces the force ``Q``
+        (displacement control: the contact may slip as a whole).
+    arm_stiffness : float
+        Stiffness ``k_a`` of the loading arm between the holder and its driven
+        end (N/m), >= 0.
     young, poisson, density : float
         Material of sphere and flat (Pa, -, kg/m^3).
     mu : float
@@ -120,6 +129,8 @@ class SphereOnFlat:
     radius: float = 0.01
     normal_load: float = 100.0
     q_ratio: float = 0.5
+    drive_displacement: float | None = None
+    arm_stiffness: float = 0.0
     young: float = 200e9
     poisson: float = 0.3
     density: float = 7800.0
@@ -135,7 +146,8 @@ class SphereOnFlat:
     def __post_init__(self) -> None:
         for name, low, strict in (
             ("radius", 0.0, True), ("normal_load", 0.0, True), ("q_ratio", 0.0, False),
-            ("young", 0.0, True), ("density", 0.0, True), ("mu", 0.0, False), ("holder_mass", 0.0, False),
+            ("arm_stiffness", 0.0, False), ("young", 0.0, True), ("density", 0.0, True), ("mu", 0.0, False),
+            ("holder_mass", 0.0, False),
             ("damping_ratio", 0.0, False), ("damping_frequency", 0.0, True), ("window", 1.0, True),
         ):  # fmt: skip
             v = getattr(self, name)
@@ -143,6 +155,13 @@ class SphereOnFlat:
                 v <= low if strict else v < low
             ):
                 raise ValueError(f"{name} must be a finite number {'>' if strict else '>='} {low}, got {v!r}")
+        if self.drive_displacement is not None and not (
+            np.isfinite(self.drive_displacement) and self.arm_stiffness > 0
+        ):
+            raise ValueError(
+                "drive_displacement (m) must be finite and needs arm_stiffness > 0 N/m, "
+                f"got drive_displacement={self.drive_displacement!r}, arm_stiffness={self.arm_stiffness!r}"
+            )
         n = self.divisions
         if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and 2 <= n <= MAX_DIVISIONS):
             raise ValueError(
@@ -178,7 +197,9 @@ class SphereOnFlat:
 
     @property
     def tangential_load(self) -> float:
-        """Tangential load ``Q = q_ratio mu P`` (N)."""
+        """Tangential load on the holder, ``Q = q_ratio mu P`` or ``k_a delta0`` with the arm held (N)."""
+        if self.drive_displacement is not None:
+            return self.arm_stiffness * self.drive_displacement
         return self.q_ratio * self.mu * self.normal_load
 
     def mesh(self) -> SphereOnFlatMesh:
@@ -190,7 +211,7 @@ class SphereOnFlat:
 
     def info(self, mesh: SphereOnFlatMesh) -> dict:
         """The model's ``info``: the parameters, Hertz's values and the pairs' ``(x, y)`` (SI)."""
-        info = {k: float(v) for k, v in asdict(self).items()}
+        info = {k: float(v) for k, v in asdict(self).items() if v is not None}
         info.update(
             effective_modulus=self.effective_modulus, hertz_radius=self.contact_radius,
             hertz_peak_pressure=self.peak_pressure, tangential_load=self.tangential_load,
@@ -224,7 +245,8 @@ def sphere_on_flat(params: SphereOnFlat | None = None, **changes) -> Model:
     Model
         Sparse matrices (CSR). DOFs: the free DOFs of the sphere, then of the
         flat, then the holder's ``pad_x``, ``pad_z`` (named). Static load ``-P /
-        2`` on ``pad_z``, ``Q / 2 cos(omega t)`` on ``pad_x``. The pairs join
+        2`` on ``pad_z``, ``Q / 2 cos(omega t)`` on ``pad_x`` (with the arm: its
+        stiffness ``k_a / 2`` on ``pad_x`` and ``Q = k_a delta0``). The pairs join
         the flat's surface nodes (``A``) to the sphere's (``B``), normal ``+z``,
         tangent ``+x``, initial gap ``R - sqrt(R^2 - r^2)``, ``position`` the
         ``x`` of each pair; a ``y`` component is ``-1`` (fixed) on the symmetry
@@ -258,6 +280,8 @@ def sphere_on_flat(params: SphereOnFlat | None = None, **changes) -> Model:
     M = (T.T @ M_full @ T).tocsr()
     half_mass = 0.5 * p.holder_mass
     M = (M + sp.csr_matrix(([half_mass] * 2, ([pad_x, pad_z], [pad_x, pad_z])), shape=(n, n))).tocsr()
+    if p.arm_stiffness > 0:
+        K = (K + sp.csr_matrix(([0.5 * p.arm_stiffness], ([pad_x], [pad_x])), shape=(n, n))).tocsr()
     K, M = 0.5 * (K + K.T), 0.5 * (M + M.T)
     C = (2 * p.damping_ratio / (2 * np.pi * p.damping_frequency)) * K
     nc = len(mesh.contact)
@@ -343,6 +367,7 @@ def sphere_static_model(params: SphereOnFlat | None = None, **changes) -> Model:
     K[pad, 4 * nc :] = -S_pad @ R
     K[4 * nc :, pad] = -R.T @ S_pad
     K[4 * nc :, 4 * nc :] = R.T @ S_pad @ R
+    K[n - 2, n - 2] += 0.5 * p.arm_stiffness  # the half model's share of the loading arm
     idx = np.arange(nc)
     contact = ContactPairs(
         dofs_a=np.column_stack([idx, nc + idx]), dofs_b=np.column_stack([2 * nc + idx, 3 * nc + idx]),
@@ -451,6 +476,60 @@ def mindlin_deresiewicz_dissipation(
     return float(9 * mu**2 * normal_load**2 / (10 * contact_radius * g_star) * bracket)
 
 
+def sphere_fretting_loop(condensation: ContactCondensation, scale: float, steps: int = 24) -> dict:
+    """The fretting loop of a quasi-static load cycle ``0 -> s -> -s -> s`` of the ``cos`` pattern.
+
+    Parameters
+    ----------
+    condensation : ContactCondensation
+        Of a :func:`sphere_static_model` (force or, with an arm, displacement control).
+    scale : float
+        Amplitude ``s`` as a multiple of the model's ``cos`` pattern (-).
+    steps : int
+        Increments per leg of the path.
+
+    Returns
+    -------
+    dict
+        Over the closed cycle (the last two legs, from the first ``+s``):
+        ``tangential_force`` (N, the whole contact's ``sum lambda_T``, which
+        the holder transmits), ``displacement`` (m, the holder's ``x``),
+        ``drive`` (the load factors), ``loop_work = oint Q d(delta)`` (J) and
+        ``friction_work`` (J, the contact forces' work on the pairs'
+        tangential displacements, trapezoidal); ``converged``, ``message``.
+        The two works agree: over a closed cycle the elastic energy returns
+        (the arm's too).
+    """
+    res = solve_static(condensation, tangential_scale=(scale, -scale, scale), tangential_steps=steps)
+    out = dict(converged=res.converged, message=res.message)
+    if not res.converged:
+        return out
+    c, nq = condensation, condensation.n_q
+    info = c.full.info
+    first = next(k for k, st in enumerate(res.states) if st.load[1] == scale)
+    cycle = res.states[first:]
+    K_ss = sla.lu_factor(c.K[nq:, nq:])
+    pad_x = c.model.names["pad_x"]
+
+    def holder(st) -> float:
+        F = st.load[0] * c.force_static + st.load[1] * c.force_harmonic.real
+        z_s = sla.lu_solve(K_ss, F[nq:] - c.K[nq:, :nq] @ st.q)
+        return float(c.T[pad_x] @ np.concatenate([st.q, z_s]))
+
+    sym = info["symmetry_factor"]
+    Q = sym * np.array([st.tangential_force.sum() for st in cycle])
+    delta = np.array([holder(st) for st in cycle])
+    friction = sum(
+        0.5 * (b.tangential_force + a.tangential_force) @ (b.q[0::2] - a.q[0::2])
+        for a, b in zip(cycle[:-1], cycle[1:], strict=True)
+    )
+    out.update(
+        tangential_force=Q, displacement=delta, drive=np.array([st.load[1] for st in cycle]),
+        loop_work=float(np.sum(0.5 * (Q[1:] + Q[:-1]) * np.diff(delta))), friction_work=sym * float(friction),
+    )  # fmt: skip
+    return out
+
+
 def sphere_cyclic_dissipation(
     q_ratio: float,
     params: SphereOnFlat | None = None,
@@ -460,11 +539,11 @@ def sphere_cyclic_dissipation(
 ) -> dict:
     """Friction work per cycle of the tangential load ``0 -> Q* -> -Q* -> Q*`` against Mindlin-Deresiewicz.
 
-    The quasi-static path of :func:`~fretwear.interface.static.solve_static`
-    with ``steps`` increments a leg; the work of the contact forces on the
-    pairs' tangential displacements over the last two legs (a closed cycle: the
-    elastic energy returns), ``W = sum_k sum_i (lambda_T,i^k + lambda_T,i^(k-1))
-    / 2 (u_T,i^k - u_T,i^(k-1))``, twice the half model's.
+    The quasi-static path of :func:`sphere_fretting_loop` (force control) with
+    ``steps`` increments a leg; the work of the contact forces on the pairs'
+    tangential displacements over the closed cycle, ``W = sum_k sum_i
+    (lambda_T,i^k + lambda_T,i^(k-1)) / 2 (u_T,i^k - u_T,i^(k-1))``, twice the
+    half model's.
 
     Returns
     -------
@@ -478,22 +557,18 @@ def sphere_cyclic_dissipation(
             sphere_static_model(params, **{**changes, "q_ratio": max(q_ratio, 1e-3)})
         )
     info = condensation.full.info
+    if info.get("arm_stiffness", 0.0) > 0:
+        raise ValueError("sphere_cyclic_dissipation needs force control (a model without a loading arm)")
     P, mu = info["normal_load"], info["mu"]
-    s = q_ratio * mu * P / info["tangential_load"]
-    res = solve_static(condensation, tangential_scale=(s, -s, s), tangential_steps=steps)
+    loop = sphere_fretting_loop(condensation, q_ratio * mu * P / info["tangential_load"], steps)
     theory = mindlin_deresiewicz_dissipation(
         P, mu, hertz_radius(P, info["radius"], info["effective_modulus"]),
         tangential_modulus(info["young"], info["poisson"]), q_ratio * mu * P,
     )  # fmt: skip
-    out = dict(q_ratio=q_ratio, mindlin_deresiewicz=theory, converged=res.converged, message=res.message)
-    if not res.converged:
-        return dict(out, dissipation=None, error_dissipation=None)
-    load = np.array([st.tangential_force.sum() for st in res.states])
-    first = int(np.argmax(load >= (1 - 1e-9) * load.max()))  # Q* reached the first time
-    cycle = res.states[first:]
-    work = sum(
-        0.5 * (b.tangential_force + a.tangential_force) @ (b.q[0::2] - a.q[0::2])
-        for a, b in zip(cycle[:-1], cycle[1:], strict=True)
+    out = dict(
+        q_ratio=q_ratio, mindlin_deresiewicz=theory, converged=loop["converged"], message=loop["message"]
     )
-    w = info["symmetry_factor"] * float(work)
+    if not loop["converged"]:
+        return dict(out, dissipation=None, error_dissipation=None)
+    w = loop["friction_work"]
     return dict(out, dissipation=w, error_dissipation=(w - theory) / theory)

@@ -73,6 +73,9 @@ class StaticState:
     iterations : int
     residual : float
         Final ``max |R|`` relative to the load scale.
+    load : tuple of float
+        The increment's load factors ``(static, tangential)`` (-): multiples of
+        the static load and of the ``cos`` pattern.
     """
 
     q: np.ndarray
@@ -82,6 +85,7 @@ class StaticState:
     state: np.ndarray
     iterations: int
     residual: float
+    load: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass
@@ -250,6 +254,7 @@ def solve_static(
             return StaticResult(states, False, msg, False)
         targets.pop()
         done = (sn, st)
+        state.load = (sn, st)
         states.append(state)
         x, X = state.q, state.slip_variable
     return StaticResult(states, True, "", False)

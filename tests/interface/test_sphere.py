@@ -18,6 +18,7 @@ from fretwear.interface.sphere import (
     _contact_schur,
     mindlin_deresiewicz_dissipation,
     sphere_cyclic_dissipation,
+    sphere_fretting_loop,
     sphere_on_flat,
     sphere_static_benchmark,
     sphere_static_model,
@@ -133,6 +134,7 @@ def test_gross_slip_above_mu_p(cond):
         (dict(size=60.0), "size"),  # the block wider than the sphere
         (dict(growth=2.5), "growth"),
         (dict(mu=float("nan")), "mu"),
+        (dict(drive_displacement=1e-6), "drive_displacement"),
     ],
 )
 def test_bad_parameters_are_refused_by_name(change, name):
@@ -235,3 +237,21 @@ def test_a_pair_fixed_on_both_nodes_only_along_its_binormal():
                        tangent=np.tile([0.0, 1.0, 0.0], (c.count, 1)))  # fmt: skip
     with pytest.raises(ValueError, match="binormal component"):
         ContactCondensation(craig_bampton(dataclasses.replace(m, pairs=bad), 0.0))
+
+
+def test_gross_slip_loop_is_a_parallelogram_with_mindlin_corners():
+    """Displacement control through an arm beyond gross slip: the loop's long sides lie at Q = +-mu P exactly
+    (every pair slips), the loop is point-symmetric, and its area is the friction work."""
+    m = sphere_static_model(**CHEAP, arm_stiffness=2e7, drive_displacement=1.0)
+    loop = sphere_fretting_loop(ContactCondensation(m), 1.5e-5)  # the arm's end moves +-15 um
+    assert loop["converged"]
+    Q, d = loop["tangential_force"], loop["displacement"]
+    mu_p = m.info["mu"] * m.info["normal_load"]
+    plateau = np.abs(np.abs(Q) - mu_p) < 1e-9 * mu_p
+    assert plateau.sum() >= 20 and np.any(Q[plateau] > 0) and np.any(Q[plateau] < 0)
+    assert np.all(np.abs(Q) <= mu_p * (1 + 1e-9))
+    half = len(Q) // 2
+    assert np.allclose(Q[half:], -Q[: half + 1], atol=1e-9 * mu_p)
+    assert np.allclose(d[half:], -d[: half + 1], atol=1e-9 * np.abs(d).max())
+    assert loop["loop_work"] == pytest.approx(loop["friction_work"], rel=1e-9)
+    assert 0.5 < loop["loop_work"] / (4 * mu_p * np.abs(d).max()) < 1  # a parallelogram's area, corners cut
