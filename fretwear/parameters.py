@@ -274,7 +274,7 @@ _ROWS = (
      dict(default=32)),
     ("divisions", "window divisions", "", 2, 40, "i", "grid spacings across the contact window radius of "
      "the sphere-on-flat benchmark (about pi d^2 / 2 pairs)", "fretwear.interface.sphere.MAX_DIVISIONS: 18 "
-     "are 523 pairs and a 26-40 s build, 40 about 2 550 pairs and ~25x the time (extrapolated)",
+     "are 523 pairs and an 18-30 s build, 40 about 2 550 pairs and ~25x the time (extrapolated)",
      dict(default=18)),
     ("interface_kw", "K_w", "1/Pa", 0.0, 1e-4, "<", "Archard wear coefficient of an interface "
      "(dw/dN = K_w p s, p the contact pressure)", "as the lumped k_w", dict(flag="--kw")),

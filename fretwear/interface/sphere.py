@@ -67,8 +67,8 @@ __all__ = [
     "tangential_modulus",
 ]
 
-#: largest ``divisions``: 18 are 523 pairs, 138 600 DOFs, a 26-40 s build and 2.1 GB (measured); 40 would be
-#: ~2 550 pairs and ~700 000 DOFs, a factorization ~25x longer (extrapolated: it grows like DOFs^2).
+#: largest ``divisions``: 18 are 523 pairs, 103 428 DOFs, an 18-30 s build and 1.5 GB (measured); 40 would
+#: be ~2 550 pairs and ~500 000 DOFs, a factorization ~25x longer (extrapolated: it grows like DOFs^2).
 MAX_DIVISIONS = 40
 
 
@@ -140,8 +140,8 @@ class SphereOnFlat:
     damping_frequency: float = 20000.0
     divisions: int = 18
     window: float = 1.25
-    size: float = 6.0
-    growth: float = 1.4
+    size: float = 5.0
+    growth: float = 1.5
 
     def __post_init__(self) -> None:
         for name, low, strict in (
@@ -476,7 +476,7 @@ def mindlin_deresiewicz_dissipation(
     return float(9 * mu**2 * normal_load**2 / (10 * contact_radius * g_star) * bracket)
 
 
-def sphere_fretting_loop(condensation: ContactCondensation, scale: float, steps: int = 24) -> dict:
+def sphere_fretting_loop(condensation: ContactCondensation, scale: float, steps: int = 12) -> dict:
     """The fretting loop of a quasi-static load cycle ``0 -> s -> -s -> s`` of the ``cos`` pattern.
 
     Parameters
@@ -534,7 +534,7 @@ def sphere_cyclic_dissipation(
     q_ratio: float,
     params: SphereOnFlat | None = None,
     condensation: ContactCondensation | None = None,
-    steps: int = 24,
+    steps: int = 12,
     **changes,
 ) -> dict:
     """Friction work per cycle of the tangential load ``0 -> Q* -> -Q* -> Q*`` against Mindlin-Deresiewicz.

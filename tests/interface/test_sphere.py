@@ -248,7 +248,7 @@ def test_gross_slip_loop_is_a_parallelogram_with_mindlin_corners():
     Q, d = loop["tangential_force"], loop["displacement"]
     mu_p = m.info["mu"] * m.info["normal_load"]
     plateau = np.abs(np.abs(Q) - mu_p) < 1e-9 * mu_p
-    assert plateau.sum() >= 20 and np.any(Q[plateau] > 0) and np.any(Q[plateau] < 0)
+    assert plateau.sum() > len(Q) / 2 and np.any(Q[plateau] > 0) and np.any(Q[plateau] < 0)
     assert np.all(np.abs(Q) <= mu_p * (1 + 1e-9))
     half = len(Q) // 2
     assert np.allclose(Q[half:], -Q[: half + 1], atol=1e-9 * mu_p)
