@@ -272,6 +272,10 @@ _ROWS = (
      "fretwear.interface.fe.MAX_CONTACT_NODES: 128 pairs are 66 282 DOFs, Craig-Bampton 42 s and 42 s a "
      "solve; 256 pairs are 199 730 DOFs and 0.85 GB to build; 100 000 ran out of memory",
      dict(default=32)),
+    ("divisions", "window divisions", "", 2, 40, "i", "grid spacings across the contact window radius of "
+     "the sphere-on-flat benchmark (about pi d^2 / 2 pairs)", "fretwear.interface.sphere.MAX_DIVISIONS: 18 "
+     "are 523 pairs and an 18-30 s build, 40 about 2 550 pairs and ~25x the time (extrapolated)",
+     dict(default=18)),
     ("interface_kw", "K_w", "1/Pa", 0.0, 1e-4, "<", "Archard wear coefficient of an interface "
      "(dw/dN = K_w p s, p the contact pressure)", "as the lumped k_w", dict(flag="--kw")),
     ("q_ratio", "Q0 / (mu P)", "", 0.0, 2.0, "", "tangential load ratio of the benchmark",

@@ -11,7 +11,10 @@ interrupted by Ctrl-C: one line, no output file). Three modes:
   same keys) (SI units): ``contact_half_width``,
   ``stick_half_width``, ``peak_pressure``, ``normal_load_per_length``,
   ``tangential_load_per_length``, ``radius``, ``effective_modulus``, ``mu``,
-  the Hertz and Mindlin values and the relative errors;
+  the Hertz and Mindlin values and the relative errors; ``--geometry sphere``: the 3-D
+  sphere on flat (:mod:`fretwear.interface.sphere`), ``contact_radius``, ``stick_radius``,
+  ``peak_pressure``, ``normal_load``, ``tangential_load`` (N), ``radius``,
+  ``effective_modulus``, ``mu``, ``pairs`` and the errors against Hertz and Mindlin;
 * ``--kw K --cycles N``: a wear history at ``--f`` (``--method stepping`` or
   ``polynomial --degree D``), one CSV row per (record, pair): ``cycles, x, w,
   pressure, slip, state_fraction_stick``;
@@ -64,14 +67,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "benchmark")  # fmt: skip
     parser.add_argument("--static", action="store_true", help="quasi-static limit: normal load, then the "
                         "tangential load; JSON on stdout")  # fmt: skip
+    parser.add_argument("--geometry", choices=("cylinder", "sphere"), default="cylinder",
+                        help="benchmark: the 2-D cylinder on flat (default) or the 3-D sphere on flat (half "
+                        "model, --static only)")  # fmt: skip
     option(parser, "--q-ratio", "benchmark tangential load Q0 / (mu P) (-), >= 0, < 1 with --static; "
            "default 0.5", default=0.5, metavar="Q")  # fmt: skip
     option(parser, "--contact-nodes", "benchmark pairs across the contact window (-); default 32", default=32,
            metavar="NC")  # fmt: skip
-    option(parser, "--window", "benchmark contact window half-width / Hertz a (-); default 1.25",
+    option(parser, "--divisions", "sphere benchmark: grid spacings across the contact window radius (-); "
+           "default 18 (523 pairs)", metavar="D")  # fmt: skip
+    option(parser, "--window", "benchmark contact window half-width (radius) / Hertz a (-); default 1.25",
            default=1.25)  # fmt: skip
-    option(parser, "--normal-load", "benchmark normal load per unit length (N/m); default 2e5",
-           name="line_load", default=2.0e5, metavar="P")  # fmt: skip
+    option(parser, "--normal-load", "benchmark normal load: per unit length for the cylinder (N/m, default "
+           "2e5), the whole load for the sphere (N, default 100)", name="line_load", metavar="P")  # fmt: skip
     option(parser, "--mu", "benchmark friction coefficient; default 0.6", name="interface_mu", default=0.6)
     option(parser, "--drive", "benchmark displacement control: amplitude of the loading arm's end (m), with "
            "--arm-stiffness (replaces --q-ratio)", metavar="DELTA")  # fmt: skip
@@ -107,7 +115,7 @@ def _model(args: argparse.Namespace):
     changes = dict(
         contact_nodes=args.contact_nodes,
         window=args.window,
-        normal_load=args.normal_load,
+        normal_load=2.0e5 if args.normal_load is None else args.normal_load,
         mu=args.mu,
         q_ratio=max(args.q_ratio, 1e-3),
     )
@@ -167,6 +175,38 @@ def _write_static(path: str | None, out: dict) -> None:
         fh.write(json.dumps(out, indent=2) + "\n")
 
 
+def _run_sphere(args: argparse.Namespace) -> int:
+    """``--geometry sphere --static``: the 3-D sphere-on-flat benchmark's quasi-static test, JSON."""
+    from ..interface.interrupt import catch_interrupt
+    from ..interface.reduction import ContactCondensation
+    from ..interface.sphere import sphere_static_benchmark, sphere_static_model
+
+    if not args.static or args.model:
+        raise ValueError(
+            "--geometry sphere runs with --static only and without --model (the quasi-static test)"
+        )
+    if args.q_ratio >= 1:
+        raise ValueError(
+            f"argument --q-ratio: must be in [0, 1) with --static (Q >= mu P has no static equilibrium: "
+            f"gross slip), got {args.q_ratio:g}"
+        )
+    if args.out not in (None, "-") and not args.out.lower().endswith((".json", ".csv")):
+        raise ValueError(f"argument --out: with --static, a .json or .csv file or '-', got {args.out!r}")
+    model = sphere_static_model(
+        divisions=18 if args.divisions is None else int(args.divisions), window=args.window,
+        normal_load=100.0 if args.normal_load is None else args.normal_load, mu=args.mu,
+        q_ratio=max(args.q_ratio, 1e-3),
+    )  # fmt: skip
+    with catch_interrupt():
+        out = sphere_static_benchmark(args.q_ratio, condensation=ContactCondensation(model))
+    _write_static(args.out, out)
+    if not out.get("converged"):
+        message = " ".join(str(out.get("message") or "did not converge").split())
+        print(f"fretwear interface: no static equilibrium: {message}", file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    return EXIT_OK
+
+
 def run(args: argparse.Namespace) -> int:
     """Execute ``fretwear interface`` with parsed ``args``; returns the exit status."""
     from ..interface.contact import STICK
@@ -179,6 +219,12 @@ def run(args: argparse.Namespace) -> int:
 
     compile_notice("interface", kernel_needs(args))
     try:
+        if args.geometry == "sphere":
+            return _run_sphere(args)
+        if args.divisions is not None:
+            raise ValueError(
+                "--divisions applies to --geometry sphere only (the cylinder's is --contact-nodes)"
+            )
         if args.static and not args.model and args.q_ratio >= 1:
             raise ValueError(
                 f"argument --q-ratio: must be in [0, 1) with --static (Q0 >= mu P has no static equilibrium: "

@@ -8,6 +8,11 @@ Layers, bottom up:
 * :mod:`~fretwear.interface.mesh`, :mod:`~fretwear.interface.fe`: the
   cylinder-on-flat fretting benchmark in plane strain, meshed and assembled
   with scikit-fem (:func:`cylinder_on_flat`);
+* :mod:`~fretwear.interface.sphere_mesh`, :mod:`~fretwear.interface.sphere`: the
+  3-D sphere-on-flat benchmark (half model, hexahedra; :func:`sphere_on_flat`),
+  its exact static condensation on the contact (:func:`sphere_static_model`)
+  and its Hertz, Mindlin and Mindlin-Deresiewicz anchors
+  (:func:`sphere_static_benchmark`, :func:`sphere_cyclic_dissipation`);
 * :mod:`~fretwear.interface.paper`: the paper's 2-DOF example as a one-pair
   interface (:func:`paper_interface`);
 * :mod:`~fretwear.interface.modelfile`: matrices exported from another FE code
@@ -53,6 +58,11 @@ _EXPORTS = {
     "paper_interface": "paper",
     "solve_interface": "periodic",
     "solve_static": "static",
+    "SphereOnFlat": "sphere",
+    "sphere_cyclic_dissipation": "sphere",
+    "sphere_on_flat": "sphere",
+    "sphere_static_benchmark": "sphere",
+    "sphere_static_model": "sphere",
     "sweep_interface": "wear",
     "static_benchmark": "static",
     "wear_interface": "wear",

@@ -32,13 +32,26 @@ def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, 
     """Transformation ``T`` (size, size) with ``coords = T z``, ``z = (q, slaves)``; returns ``(T, n_q)``.
 
     ``q`` holds ``(u_T, u_N)`` per pair (pair-major); in 3-D the binormal
-    relative displacements come next; then every coordinate not replaced.
+    relative displacements come next; then every coordinate not replaced. A
+    component fixed on both nodes of a 3-D pair (``-1`` in both: a symmetry
+    plane through the pair) must be the binormal's; the pair then has no
+    binormal coordinate.
     """
     nc, dim = contact.count, contact.dim
     replaced, rel = [], []  # replaced coordinate, and its sign convention (+1: node B, -1: node A)
+    has_binormal = np.full(nc, dim == 3)
     for i in range(nc):
         a, b = contact.dofs_a[i], contact.dofs_b[i]
-        if np.all(b >= 0):
+        held = (a < 0) & (b < 0)
+        if held.any():
+            in_plane = np.abs(contact.tangent[i, held]).max() + np.abs(contact.normal[i, held]).max()
+            if dim < 3 or held.sum() > 1 or in_plane > 1e-12:
+                raise ValueError(
+                    f"contact pair {i}: only the binormal component of a 3-D pair may be fixed on both "
+                    f"nodes, got dofs_a={a.tolist()}, dofs_b={b.tolist()}"
+                )
+            has_binormal[i] = False
+        if np.all(b[~held] >= 0):
             replaced.append(b)
             rel.append((1.0, a))
         elif np.all(b < 0) and np.all(a >= 0):
@@ -50,6 +63,7 @@ def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, 
                 f"free), got dofs_a={a.tolist()}, dofs_b={b.tolist()}"
             )
     rep = np.concatenate(replaced)
+    rep = rep[rep >= 0]
     if len(np.unique(rep)) != len(rep):
         raise ValueError("contact pairs share a node: each node B may belong to one pair only")
     others_ref = np.concatenate([r[1][r[1] >= 0] for r in rel])
@@ -57,7 +71,8 @@ def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, 
         raise ValueError("a node is node B of one pair and node A of another; pairs must not chain")
     binormal = np.cross(contact.normal, contact.tangent) if dim == 3 else None
     n_q = 2 * nc
-    n_rel = n_q + (nc if dim == 3 else 0)
+    b_col = n_q + np.cumsum(has_binormal) - 1  # column of pair i's binormal coordinate
+    n_rel = n_q + int(has_binormal.sum())
     rest = np.setdiff1d(np.arange(size), rep)
     pos = np.full(size, -1)
     pos[rest] = n_rel + np.arange(len(rest))
@@ -66,12 +81,14 @@ def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, 
     for i, ((sign, other), dofs) in enumerate(zip(rel, replaced, strict=True)):
         for k in range(dim):
             r = dofs[k]
+            if r < 0:  # fixed on both nodes
+                continue
             if other[k] >= 0:
                 T[r, pos[other[k]]] = 1.0
             T[r, 2 * i] = sign * contact.tangent[i, k]
             T[r, 2 * i + 1] = -sign * contact.normal[i, k]
-            if binormal is not None:
-                T[r, n_q + i] = sign * binormal[i, k]
+            if has_binormal[i]:
+                T[r, b_col[i]] = sign * binormal[i, k]
     return T, n_q
 
 

@@ -33,6 +33,7 @@ zone, ``mu p0 (c / a) sqrt(1 - x^2 / c^2)`` per unit length in the stick zone).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,7 +48,10 @@ __all__ = [
     "StaticState",
     "StaticResult",
     "solve_static",
+    "check_q_ratio",
     "second_moment_half_width",
+    "second_moment_radius",
+    "static_anchors",
     "static_benchmark",
 ]
 
@@ -69,6 +73,9 @@ class StaticState:
     iterations : int
     residual : float
         Final ``max |R|`` relative to the load scale.
+    load : tuple of float
+        The increment's load factors ``(static, tangential)`` (-): multiples of
+        the static load and of the ``cos`` pattern.
     """
 
     q: np.ndarray
@@ -78,6 +85,7 @@ class StaticState:
     state: np.ndarray
     iterations: int
     residual: float
+    load: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass
@@ -175,7 +183,7 @@ def _increment(x0, Z, F, eps, gap, mu, X_prev, tol, max_iter):
 
 def solve_static(
     condensation: ContactCondensation,
-    tangential_scale: float = 1.0,
+    tangential_scale: float | Sequence[float] = 1.0,
     normal_steps: int = 4,
     tangential_steps: int = 8,
     wear: np.ndarray | None = None,
@@ -188,11 +196,13 @@ def solve_static(
     Parameters
     ----------
     condensation : ContactCondensation
-    tangential_scale : float
+    tangential_scale : float or sequence of float
         Final multiple of the excitation pattern ``force_cos`` applied
-        statically after the static load (-); 0 for the normal load alone.
+        statically after the static load (-); 0 for the normal load alone. A
+        sequence is a load path visited in turn from 0, e.g. ``(s, -s, s)``:
+        a cycle of tangential load after the first loading.
     normal_steps, tangential_steps : int
-        Increments of each stage, >= 1.
+        Increments of each stage (of each leg of a path), >= 1.
     wear : ndarray, shape (nc,), optional
         Worn depth per pair (m), added to the initial gaps.
     eps : ndarray, shape (2 nc,), optional
@@ -216,8 +226,15 @@ def solve_static(
     X = np.zeros(nc)
     states = []
     path = [(s / normal_steps, 0.0) for s in range(1, normal_steps + 1)]
-    if tangential_scale != 0:
-        path += [(1.0, tangential_scale * s / tangential_steps) for s in range(1, tangential_steps + 1)]
+    legs = np.atleast_1d(np.asarray(tangential_scale, dtype=float))
+    if not (legs.ndim == 1 and np.all(np.isfinite(legs))):
+        raise ValueError(
+            f"tangential_scale must be a finite number or sequence of numbers, got {tangential_scale!r}"
+        )
+    start = 0.0
+    for end in legs[legs != 0] if len(legs) == 1 else legs:
+        path += [(1.0, start + (end - start) * s / tangential_steps) for s in range(1, tangential_steps + 1)]
+        start = end
     done = (0.0, 0.0)
     targets = path[::-1]  # a stack: failed increments are halved
     while targets:
@@ -237,9 +254,37 @@ def solve_static(
             return StaticResult(states, False, msg, False)
         targets.pop()
         done = (sn, st)
+        state.load = (sn, st)
         states.append(state)
         x, X = state.q, state.slip_variable
     return StaticResult(states, True, "", False)
+
+
+def second_moment_radius(points: np.ndarray, weights: np.ndarray) -> float:
+    """Radius of a semi-ellipsoidal distribution from its second moment (m).
+
+    For ``w(p) = sqrt(1 - |p - pbar|^2 / a^2)`` over a ball of ``d`` dimensions,
+    ``<|p - pbar|^2>_w = d a^2 / (d + 3)`` (``a^2 / 4`` on a line, ``2 a^2 / 5``
+    on a disk: ``int_0^1 u sqrt(1 - u) du / int_0^1 sqrt(1 - u) du = 2 / 5``
+    with ``u = r^2 / a^2``), so this returns ``sqrt((d + 3) / d <|p - pbar|^2>_w)``;
+    0 for no weight.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n,) or (n, d)
+        Positions (m).
+    weights : ndarray, shape (n,)
+        Non-negative weights (negative ones count as 0), e.g. nodal forces (N).
+    """
+    p = np.asarray(points, dtype=float)
+    p = p[:, None] if p.ndim == 1 else p
+    w = np.clip(weights, 0.0, None)
+    total = w.sum()
+    if total <= 0:
+        return 0.0
+    pbar = w @ p / total
+    d = p.shape[1]
+    return float(np.sqrt((d + 3) / d * np.sum(w * np.sum((p - pbar) ** 2, axis=1)) / total))
 
 
 def second_moment_half_width(x: np.ndarray, weights: np.ndarray) -> float:
@@ -247,12 +292,92 @@ def second_moment_half_width(x: np.ndarray, weights: np.ndarray) -> float:
 
     For ``w(x) = sqrt(1 - (x - xbar)^2 / a^2)`` this is exactly ``a``; 0 for no weight.
     """
-    w = np.clip(weights, 0.0, None)
-    total = w.sum()
-    if total <= 0:
-        return 0.0
-    xbar = np.sum(w * x) / total
-    return float(2.0 * np.sqrt(np.sum(w * (x - xbar) ** 2) / total))
+    return second_moment_radius(x, weights)
+
+
+def static_anchors(
+    cond: ContactCondensation,
+    q_ratio: float,
+    points: np.ndarray,
+    theory: dict,
+    size: str,
+    tangential_scale: float,
+    symmetry_factor: float = 1.0,
+) -> dict:
+    """Solve the quasi-static test at ``Q / (mu P) = q_ratio`` and measure its contact and stick sizes.
+
+    The part shared by the cylinder's and the sphere's benchmarks.
+
+    Parameters
+    ----------
+    cond : ContactCondensation
+    q_ratio : float
+        ``Q / (mu P)`` (-), >= 0 (its sign gives the direction of the stick-zone deficit).
+    points : ndarray, shape (nc,) or (m nc, d)
+        Pair positions for :func:`second_moment_radius` (m); ``m`` copies of the
+        pairs (a model mirrored by its symmetry planes) repeat their forces.
+    theory : dict
+        ``contact``, ``peak`` and ``stick`` of the theory (m, Pa, m).
+    size : str
+        Name of the sizes in the keys, ``"half_width"`` or ``"radius"``.
+    tangential_scale : float
+        Multiple of the model's ``cos`` pattern applied statically (-).
+    symmetry_factor : float
+        The whole contact's forces over the model's (2 for a half model).
+
+    Returns
+    -------
+    dict
+        ``converged``, ``message``, ``regime``, ``contact_<size>``,
+        ``stick_<size>``, ``peak_pressure``, the relative errors
+        ``error_contact_<size>``, ``error_stick_<size>``, ``error_peak_pressure``
+        and the force sums ``normal_force_sum``, ``tangential_force_sum`` of
+        the whole contact (N).
+    """
+    res = solve_static(cond, tangential_scale=tangential_scale)
+    contact = cond.model.pairs
+    copies = len(points) // contact.count
+
+    def measure(weights: np.ndarray) -> float:
+        return second_moment_radius(points, np.tile(weights, copies))
+
+    a_h, p0_h, c_h = theory["contact"], theory["peak"], theory["stick"]
+    out = dict(converged=res.converged, message=res.message)
+    if res.gross_slip:
+        last = res.states[-1]
+        out.update(regime="gross slip", **{f"stick_{size}": 0.0, f"error_stick_{size}": None})
+    elif not res.converged:
+        out.update(
+            regime="not converged", **{f"contact_{size}": None, f"stick_{size}": None}, peak_pressure=None
+        )
+        return out
+    else:
+        last = res.final
+        stick = last.state == STICK
+        deficit = np.where(
+            stick, contact.mu * last.normal_force - np.sign(q_ratio or 1.0) * last.tangential_force, 0.0
+        )
+        c = measure(deficit) if q_ratio > 0 else None
+        regime = "stick" if q_ratio == 0 else ("partial slip" if np.any(stick) else "gross slip")
+        error = None if c is None or c_h == 0 else (c - c_h) / c_h
+        out.update(regime=regime, **{f"stick_{size}": c, f"error_stick_{size}": error})
+    a = measure(last.normal_force)
+    p_peak = float(np.max(last.normal_force / contact.area))
+    out[f"contact_{size}"] = a
+    out["peak_pressure"] = p_peak
+    out[f"error_contact_{size}"] = (a - a_h) / a_h
+    out.update(
+        error_peak_pressure=(p_peak - p0_h) / p0_h,
+        normal_force_sum=symmetry_factor * float(last.normal_force.sum()),
+        tangential_force_sum=symmetry_factor * float(last.tangential_force.sum()),
+    )
+    return out
+
+
+def check_q_ratio(q_ratio: float) -> None:
+    """``ValueError`` unless ``q_ratio`` is a finite number >= 0."""
+    if not (np.isfinite(q_ratio) and q_ratio >= 0):
+        raise ValueError(f"q_ratio must be a finite number >= 0, got {q_ratio!r}")
 
 
 def static_benchmark(
@@ -293,8 +418,7 @@ def static_benchmark(
         ``error_stick_half_width`` (-), ``contact_nodes``, ``node_spacing`` (m),
         ``converged`` and ``message``.
     """
-    if not (np.isfinite(q_ratio) and q_ratio >= 0):
-        raise ValueError(f"q_ratio must be a finite number >= 0, got {q_ratio!r}")
+    check_q_ratio(q_ratio)
     if condensation is not None:
         model = condensation.full
     elif model is None:
@@ -305,9 +429,7 @@ def static_benchmark(
     P, R, e_star, mu = info["normal_load"], info["radius"], info["effective_modulus"], info["mu"]
     q_model = info["tangential_load"] / (mu * P)
     cond = condensation or ContactCondensation(craig_bampton(model, 0.0))
-    res = solve_static(cond, tangential_scale=q_ratio / q_model if q_ratio else 0.0)
     contact = model.pairs
-    x = contact.position
     a_h = hertz_half_width(P, R, e_star)
     p0_h = hertz_peak_pressure(P, a_h)
     c_h = a_h * np.sqrt(max(1.0 - q_ratio, 0.0))
@@ -315,29 +437,8 @@ def static_benchmark(
         normal_load_per_length=P, tangential_load_per_length=q_ratio * mu * P, radius=R,
         effective_modulus=e_star, mu=mu, q_ratio=q_ratio, hertz_half_width=a_h, hertz_peak_pressure=p0_h,
         mindlin_stick_half_width=c_h, contact_nodes=contact.count, node_spacing=float(np.min(contact.area)),
-        converged=res.converged, message=res.message,
     )  # fmt: skip
-    if res.gross_slip:
-        last = res.states[-1]
-        out.update(regime="gross slip", stick_half_width=0.0, error_stick_half_width=None)
-    elif not res.converged:
-        out.update(regime="not converged", contact_half_width=None, stick_half_width=None, peak_pressure=None)
-        return out
-    else:
-        last = res.final
-        stick = last.state == STICK
-        deficit = np.where(
-            stick, mu * last.normal_force - np.sign(q_ratio or 1.0) * last.tangential_force, 0.0
-        )
-        c = second_moment_half_width(x, deficit) if q_ratio > 0 else None
-        regime = "stick" if q_ratio == 0 else ("partial slip" if np.any(stick) else "gross slip")
-        error = None if c is None or c_h == 0 else (c - c_h) / c_h
-        out.update(regime=regime, stick_half_width=c, error_stick_half_width=error)
-    a = second_moment_half_width(x, last.normal_force)
-    p_peak = float(np.max(last.normal_force / contact.area))
-    out.update(
-        contact_half_width=a, peak_pressure=p_peak, error_contact_half_width=(a - a_h) / a_h,
-        error_peak_pressure=(p_peak - p0_h) / p0_h, normal_force_sum=float(last.normal_force.sum()),
-        tangential_force_sum=float(last.tangential_force.sum()),
-    )  # fmt: skip
+    theory = dict(contact=a_h, peak=p0_h, stick=c_h)
+    scale = q_ratio / q_model if q_ratio else 0.0
+    out.update(static_anchors(cond, q_ratio, contact.position, theory, "half_width", scale))
     return out
