@@ -444,7 +444,8 @@ def _share_widgets(session: Session) -> list:
             return
         name = load.filename or "settings"
         try:
-            record = parse_settings(event.new.decode("utf-8", errors="replace"), f"settings file {name!r}")
+            text = event.new.decode("utf-8", errors="replace")
+            record = parse_settings(text, f"settings file {name!r}", ranges=True)
         except ValueError as exc:
             failed(str(exc))
             return

@@ -137,12 +137,14 @@ def _check(key: str, value: Any, source: str) -> Any:
     return int(value) if kind is int else value
 
 
-def parse_settings(text: str, source: str = "settings") -> dict[str, Any]:
-    """The settings record in the JSON ``text`` (``ValueError`` naming the key and what it must be).
+def parse_settings(text: str, source: str = "settings", ranges: bool = False) -> dict[str, Any]:
+    """The settings record in the JSON ``text`` (``ValueError`` naming every bad key and what it must be).
 
     The object may hold any of :data:`SETTINGS_KEYS` and the ``"fretwear"``
-    version that wrote it; ranges are checked by whoever applies the values
-    (the dashboard's controls, the CLI's options).
+    version that wrote it. With ``ranges``, the numbers of
+    :data:`fretwear.parameters.PARAMETERS` are checked against their ranges
+    too (the dashboard's loader: every problem of a file at once); without,
+    by whoever applies them (the CLI's options name themselves).
     """
     try:
         data = json.loads(text)
@@ -151,10 +153,21 @@ def parse_settings(text: str, source: str = "settings") -> dict[str, Any]:
     if not isinstance(data, dict):
         raise ValueError(f"{source}: must be a JSON object of settings, got {type(data).__name__}")
     data.pop("fretwear", None)
+    problems, record = [], {}
     unknown = sorted(set(data) - set(SETTINGS_KEYS))
     if unknown:
-        raise ValueError(f"{source}: unknown keys {unknown}; known: {', '.join(SETTINGS_KEYS)}")
-    return {k: _check(k, data[k], source) for k in SETTINGS_KEYS if k in data}
+        problems.append(f"{source}: unknown keys {unknown}; known: {', '.join(SETTINGS_KEYS)}")
+    for key in SETTINGS_KEYS:
+        if key in data:
+            try:
+                record[key] = _check(key, data[key], source)
+                if ranges and key in PARAMETERS:
+                    PARAMETERS[key].check(record[key], f"{source}: {key!r}")
+            except ValueError as exc:  # every bad value is named, not only the first
+                problems.append(str(exc))
+    if problems:
+        raise ValueError("; ".join(problems))
+    return record
 
 
 def read_settings(path: str | Path) -> dict[str, Any]:

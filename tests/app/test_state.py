@@ -473,6 +473,15 @@ def test_settings_file_round_trip(session):
         parse_settings('{"fex": "x"}')
     with pytest.raises(ValueError, match=r"unknown keys \['color'\]"):
         parse_settings('{"color": 1}')
+    # defect: a bad file reported only its unknown key; every bad value is named, then the ranges
+    with pytest.raises(ValueError) as info:
+        parse_settings('{"color": 1, "mu": "abc", "harmonics": 2.5}')
+    assert "unknown keys ['color']" in str(info.value) and "'mu'" in str(info.value)
+    assert "'harmonics'" in str(info.value) and "got 2.5" in str(info.value)
+    with pytest.raises(ValueError) as info:
+        parse_settings('{"color": 1, "fex": -3}', ranges=True)
+    assert "unknown keys ['color']" in str(info.value) and "'fex' must be" in str(info.value)
+    assert "got -3" in str(info.value)
 
 
 # -- what the scenes draw and export --------------------------------------------------------------
