@@ -422,6 +422,7 @@ class Session(Runner):
                     self.controls.type_text(
                         names[key], value if isinstance(value, str) else number_text(value)
                     )
+            self.controls.recognise_preset()
         return problems
 
     def type_text(self, name: str, text: str) -> None:

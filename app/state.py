@@ -286,6 +286,17 @@ class Controls(param.Parameterized):
         finally:
             self._applying = False
 
+    def recognise_preset(self) -> None:
+        """Name the preset whose settings the controls hold, the others at their defaults (a preset's
+        link or settings file opens with its lesson, not as "custom")."""
+        if self.typed:
+            return
+        defaults = {k: self.param[k].default for k in CONTROL_KEYS}
+        for name, preset in PRESETS.items():
+            if all(getattr(self, k) == v for k, v in {**defaults, **preset.controls}.items()):
+                self.preset = name
+                return
+
     def _edited(self, *_events) -> None:
         if not self._applying and self.preset != CUSTOM:
             values = PRESETS[self.preset].controls

@@ -284,6 +284,14 @@ def test_presets_each_show_one_lesson(session):
         assert controls.problems() == [] and preset.lesson.endswith(".") and preset.scene in session.scenes
         views.add(tuple(sorted(controls.record().items())))
     assert len(views) == len(PRESETS)  # no two presets set the same controls (the scenes open in a browser)
+    # defect: a preset's link opened as "custom", without its lesson
+    for name in PRESETS:
+        source = Session(controls=Controls(), backend=session.backend, cache=session.cache, start=False)
+        source.apply_preset(name)
+        opened = Session(controls=Controls(), backend=session.backend, cache=session.cache, start=False)
+        assert opened.apply_query(source.query()) == [] and opened.controls.preset == name
+    opened.apply_query("fex=13.5")
+    assert opened.controls.preset == CUSTOM
 
 
 def test_a_failing_method_is_a_message_not_a_traceback():
