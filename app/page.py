@@ -353,6 +353,15 @@ def _sidebar(session: Session) -> list:
     preset = pn.widgets.Select(options=[CUSTOM, *PRESETS], value=c.preset, sizing_mode="stretch_width",
                                margin=(0, 10))  # fmt: skip
     lesson = pn.pane.Markdown("", sizing_mode="stretch_width", margin=(0, 10))
+    # lesson mode: the preset's guided tour, one step at a time (buttons: keyboard-operable)
+    back, do, forward = (
+        pn.widgets.Button(name=name, button_type="primary", button_style="outline", width=width,
+                          description=description)
+        for name, width, description in (("◀ Back", 80, "The tour's previous step"),
+                                         ("Do it", 80, "Apply this step's change"),
+                                         ("Next ▶", 80, "The tour's next step"))
+    )  # fmt: skip
+    steps = pn.Row(back, do, forward, margin=(0, 5))
 
     def chosen(event):
         if event.new != c.preset:
@@ -360,11 +369,26 @@ def _sidebar(session: Session) -> list:
 
     def show_preset(*_events):
         preset.value = c.preset
-        lesson.object = f"*What to look at:* {PRESETS[c.preset].lesson}" if c.preset in PRESETS else ""
+
+    def show_step(*_events):
+        tour = session.tour()
+        steps.visible = len(tour) > 1
+        if not tour:
+            lesson.object = ""
+            return
+        step = tour[session.step]
+        where = f"Step {session.step + 1} of {len(tour)}" if len(tour) > 1 else "What to look at"
+        lesson.object = f"*{where}* ({session.lesson}): {step.text}"
+        back.disabled, forward.disabled = session.step == 0, session.step == len(tour) - 1
+        do.disabled = not step.change
 
     preset.param.watch(chosen, "value")
     c.param.watch(show_preset, "preset")
-    show_preset()
+    session.param.watch(show_step, ["lesson", "step"])
+    back.on_click(lambda _event: session.move(-1))
+    forward.on_click(lambda _event: session.move(1))
+    do.on_click(lambda _event: session.do_step())  # every step's change is valid (tests/app/test_state.py)
+    show_step()
 
     def number(name):
         """The control ``name`` as the parameter table declares it: label, glossary note and slider."""
@@ -394,9 +418,10 @@ def _sidebar(session: Session) -> list:
         lambda: [number(name) for name in ("normal_load", "tol", "n_frequencies", "n_cycles")],
     )
     return [
-        _label("<b>Preset</b>: one lesson each", None),
+        _label("<b>Preset</b>: one lesson each, a guided tour", None),
         preset,
         lesson,
+        steps,
         number("fex"),
         number("mu"),
         number("kw"),

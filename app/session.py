@@ -46,6 +46,7 @@ from .state import (
     Controls,
     Job,
     Settings,
+    Step,
     Task,
     Tasks,
     number_text,
@@ -246,6 +247,8 @@ class Session(Runner):
     cycles = param.Number(1e4, allow_None=True, doc="Selected cycle count N")
     notice = param.String("", doc="What the dashboard changed by itself (e.g. moved the selected point)")
     typed = param.Dict({}, doc="Texts typed into the selection's boxes that are not numbers")
+    lesson = param.String("", doc="The preset whose guided tour is shown (lesson mode); '' for none")
+    step = param.Integer(0, bounds=(0, None), doc="The tour's current step")
 
     def __init__(
         self,
@@ -265,6 +268,8 @@ class Session(Runner):
         self._shown: dict[str, tuple] = {}
         self._held, self._pending, self._moving = 0, False, False
         self.controls.param.watch(self.refresh, [p for p in self.controls.param if p != "name"])
+        self.controls.param.watch(self._lesson, "preset")
+        self._lesson()
         self.param.watch(self.refresh, ["scene", "frequency", "cycles", "typed"])
         for scene in self.scenes.values():
             if scene.inputs:
@@ -316,14 +321,35 @@ class Session(Runner):
             self.refresh()
 
     def apply_preset(self, name: str) -> None:
-        """Preset ``name``: its controls, scene and selected point in one request."""
+        """Preset ``name``: its controls, scene and selected point in one request; its tour starts."""
         if name == CUSTOM:
             self.controls.preset = CUSTOM
             return
         preset = PRESETS[name]
         with self.one_request():
             self.controls.apply_preset(name)
-            self.param.update(scene=preset.scene, frequency=preset.frequency, cycles=preset.cycles, typed={})
+            self.param.update(scene=preset.scene, frequency=preset.frequency, cycles=preset.cycles, typed={},
+                              lesson=name, step=0)  # fmt: skip
+
+    # -- lesson mode: a preset's guided tour ----------------------------------------------------
+    def _lesson(self, *_events: Any) -> None:
+        """A preset chosen or recognised starts its tour; editing the controls ("custom") keeps it."""
+        preset = self.controls.preset
+        if preset in PRESETS and preset != self.lesson:
+            self.param.update(lesson=preset, step=0)
+
+    def tour(self) -> tuple[Step, ...]:
+        """The steps of the current lesson's tour (none without a lesson)."""
+        return PRESETS[self.lesson].tour() if self.lesson in PRESETS else ()
+
+    def move(self, by: int) -> None:
+        """Go ``by`` steps forward (or back) in the tour, within its ends."""
+        self.step = int(np.clip(self.step + by, 0, max(len(self.tour()) - 1, 0)))
+
+    def do_step(self) -> list[str]:
+        """Apply the current step's change (its controls, scene or point) in one request; the problems."""
+        tour = self.tour()
+        return self.apply_record(dict(tour[self.step].change), recognise=False) if tour else []
 
     # -- the view as a settings record (URL query, settings file) -----------------------------
     def record(self) -> dict[str, Any]:
@@ -384,8 +410,13 @@ class Session(Runner):
                 record[key] = text  # typed as into a box: checked with the controls
         return problems + self.apply_record(record, source="address")
 
-    def apply_record(self, record: dict[str, Any], source: str = "settings") -> list[str]:
+    def apply_record(
+        self, record: dict[str, Any], source: str = "settings", recognise: bool = True
+    ) -> list[str]:
         """Apply a settings record (values or their texts) in one request; the problems met.
+
+        ``recognise``: name the preset the controls then hold (a link, a settings file; not a tour's step,
+        which keeps its tour).
 
         Control values go through the controls' checks (an invalid one is shown
         as typed, with its valid range); the scene, the method and the accuracy
@@ -422,7 +453,8 @@ class Session(Runner):
                     self.controls.type_text(
                         names[key], value if isinstance(value, str) else number_text(value)
                     )
-            self.controls.recognise_preset()
+            if recognise:
+                self.controls.recognise_preset()
         return problems
 
     def type_text(self, name: str, text: str) -> None:

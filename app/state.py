@@ -90,6 +90,15 @@ LADDERS: dict[str, dict[str, Any]] = {
 
 
 @dataclass(frozen=True)
+class Step:
+    """One step of a preset's guided tour: ``text`` says what to change and what to look at; ``change``
+    (a settings record: control keys, ``scene``, ``f``, ``N``) is what **Do it** applies."""
+
+    text: str
+    change: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
 class Preset:
     """Settings that show one lesson: control values, the scene to open, the point and what to look at.
 
@@ -102,7 +111,9 @@ class Preset:
     frequency, cycles : float
         Selected point (Hz, cycles).
     lesson : str
-        One sentence on what to look at.
+        One sentence on what to look at: the tour's first step.
+    steps : tuple of Step
+        The tour's next steps (lesson mode): what to change, what to look at.
     """
 
     controls: dict[str, Any]
@@ -110,6 +121,11 @@ class Preset:
     frequency: float
     cycles: float
     lesson: str
+    steps: tuple[Step, ...] = ()
+
+    def tour(self) -> tuple[Step, ...]:
+        """Every step of the guided tour, the lesson first."""
+        return (Step(self.lesson), *self.steps)
 
 
 _PAPER = {"fex": 10.0, "mu": 1.0, "normal_load": 10.0, "kw": 1e-11, "horizon": 1e5, "fmin": 0.3, "fmax": 1.3}
@@ -122,6 +138,22 @@ PRESETS: dict[str, Preset] = {
         1e4,
         "Without wear the response of mass 1 follows the stuck curve away from 1 Hz and leaves it where "
         "the dashed line r = 1 enters the region where the contact slips.",
+        (
+            Step(
+                "Raise Fₑₓ to 14 N: the dashed line r = Fₑₓ / (μ Fₙ) rises to 1.4 and the nonlinear FRF "
+                "leaves the stuck curve over a wider band.",
+                {"fex": 14.0},
+            ),
+            Step(
+                "Raise Nₕ to 21: the corners of the FRF where stick gives way to slip sharpen; elsewhere "
+                "the curve hardly moves (the harmonic balance has converged there).",
+                {"harmonics": 21},
+            ),
+            Step(
+                "Open the wear map: the contact wears only where it slips, the band the regime map showed.",
+                {"scene": "wearmap"},
+            ),
+        ),  # fmt: skip
     ),
     "Paper, Fₑₓ = 6 N: wear opens the contact": Preset(
         {**_PAPER, "fex": 6.0},
@@ -130,6 +162,16 @@ PRESETS: dict[str, Preset] = {
         1e4,
         "Only where the contact slips, between 0.85 and 1.1 Hz, does it wear: there the response falls "
         "from the stuck curve onto the open one as the cycles go by.",
+        (
+            Step(
+                "Open the wear map: the worn band is the slipping band; outside it the depth stays zero.",
+                {"scene": "wearmap"},
+            ),
+            Step(
+                "Raise Fₑₓ to 10 N: the contact slips over a wider band, so a wider band wears.",
+                {"fex": 10.0},
+            ),
+        ),  # fmt: skip
     ),
     "Paper, Fₑₓ = 14 N: the worn band": Preset(
         {**_PAPER, "fex": 14.0, "kw": 2e-12, "horizon": 5e5},
@@ -138,6 +180,18 @@ PRESETS: dict[str, Preset] = {
         5e4,
         "Wear starts near 0.5 Hz, where the contact slips most, and the worn band spreads to higher "
         "frequencies as the normal load relaxes.",
+        (
+            Step(
+                "Select 0.9 Hz: its wear history starts later than at 0.6 Hz and rises once the band "
+                "reaches it (the wear rate can rise before it falls).",
+                {"f": 0.9},
+            ),
+            Step(
+                "Switch the slow-time method to polynomial: the map becomes the paper's approximation; the "
+                "dashed red contours stay the exact answer and the notes give the method's error.",
+                {"method": "polynomial"},
+            ),
+        ),  # fmt: skip
     ),
     "Resonance moves down (Fₑₓ = 10 N, 1e6 cycles)": Preset(
         {**_PAPER, "kw": 1e-12, "horizon": 1e6},
@@ -145,6 +199,13 @@ PRESETS: dict[str, Preset] = {
         0.7,
         1e5,
         "As the contact wears, the resonance moves from the stuck one near 1 Hz to the free one at 0.5 Hz.",
+        (
+            Step(
+                "Open the wear map: the worn band follows the resonance down in frequency.",
+                {"scene": "wearmap"},
+            ),
+            Step("Lower the cycle horizon to 1e5: the resonance has not moved far yet.", {"cycles": 1e5}),
+        ),  # fmt: skip
     ),
     "All stick (r = 0.2)": Preset(
         {**_PAPER, "fex": 2.0, "fmax": 0.8},
@@ -153,6 +214,17 @@ PRESETS: dict[str, Preset] = {
         1e4,
         "Below the red stick boundary the contact never slips: the nonlinear FRF lies on the stuck linear "
         "FRF and nothing wears.",
+        (
+            Step(
+                "Raise Fₑₓ to 8 N: the dashed line r = 0.8 crosses the red boundary near the stuck "
+                "resonance, and there the nonlinear FRF leaves the stuck curve.",
+                {"fex": 8.0},
+            ),
+            Step(
+                "Raise μ to 3: the friction limit triples, r falls to 0.27 and the contact sticks again.",
+                {"mu": 3.0},
+            ),
+        ),  # fmt: skip
     ),
     "Stick-slip inside one cycle (r = 0.8)": Preset(
         {**_PAPER, "fex": 8.0},
@@ -161,6 +233,18 @@ PRESETS: dict[str, Preset] = {
         0.0,
         "Press play: the interface turns red while the masses slide at the friction limit and green "
         "while they move together; the flat parts of the loop are the slips.",
+        (
+            Step(
+                "Raise Fₑₓ to 25 N: the contact slips almost all the period and the loop becomes nearly a "
+                "rectangle between ±μ Fₙ.",
+                {"fex": 25.0},
+            ),
+            Step(
+                "Lower Fₑₓ to 2 N: the contact sticks all the period; the loop closes to a line, no energy "
+                "is dissipated by friction.",
+                {"fex": 2.0},
+            ),
+        ),  # fmt: skip
     ),
     "Gross slip (r = 2.5)": Preset(
         {**_PAPER, "fex": 25.0},
@@ -169,6 +253,16 @@ PRESETS: dict[str, Preset] = {
         0.0,
         "The contact slips almost all the period: the friction force sits at ±μ F_N and the loop is "
         "nearly a rectangle.",
+        (
+            Step(
+                "Lower μ to 0.5: the friction limit halves, and so does the loop's height (±5 N).",
+                {"mu": 0.5},
+            ),
+            Step(
+                "Open the regime map: r = 5 lies far above the red stick boundary at every frequency.",
+                {"scene": "regimes"},
+            ),
+        ),  # fmt: skip
     ),
     "Worn through (Fₑₓ = 12 N)": Preset(
         {**_PAPER, "fex": 12.0},
@@ -177,6 +271,16 @@ PRESETS: dict[str, Preset] = {
         1e5,
         "Worn to 0.99 u0, the contact has lost 99 % of its normal load: the friction limit and the loop "
         "shrink a hundredfold and the masses slide past each other.",
+        (
+            Step(
+                "Select N = 0: the fresh contact, at its full normal load: the loop is a hundred times "
+                "taller.",
+                {"N": 0.0},
+            ),
+            Step(
+                "Open the wear map: at 0.7 Hz the depth reaches u₀ within the horizon.", {"scene": "wearmap"}
+            ),
+        ),  # fmt: skip
     ),
 }
 CUSTOM = "custom"

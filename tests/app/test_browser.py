@@ -704,6 +704,25 @@ def test_presets_each_open_one_lesson_without_a_warning(open_page):
     assert len(seen) == len(PRESETS)
 
 
+def test_lesson_mode_tours_a_preset_from_the_keyboard(open_page):
+    """Feature: a preset's guided tour (step, what to change, what to look at, the next step), operated
+    from the keyboard with visible focus."""
+    page = open_page()
+    page.page.wait_for_function(f"() => ({TEXT_JS})().includes('Step 1 of 4')", timeout=TIMEOUT)
+    forward = page.page.get_by_role("button", name="Next ▶")
+    forward.focus()
+    assert forward.evaluate("e => getComputedStyle(e).outlineStyle !== 'none' || "
+                            "getComputedStyle(e).boxShadow !== 'none'")  # fmt: skip
+    forward.press("Enter")
+    page.page.wait_for_function(f"() => ({TEXT_JS})().includes('Step 2 of 4')", timeout=TIMEOUT)
+    assert "Raise Fₑₓ to 14 N" in page.text()
+    page.page.get_by_role("button", name="Do it").press("Enter")
+    page.wait_title("FRF of mass 1, Fₑₓ = 14 N")
+    assert "Step 2 of 4" in page.text()  # the tour stays while the controls are "custom"
+    page.page.get_by_role("button", name="◀ Back").press("Enter")
+    page.page.wait_for_function(f"() => ({TEXT_JS})().includes('Step 1 of 4')", timeout=TIMEOUT)
+
+
 # -- features -----------------------------------------------------------------------------------------
 
 

@@ -38,6 +38,7 @@ from app.scenes import (  # noqa: E402
 from app.session import Session  # noqa: E402
 from app.state import (  # noqa: E402  # noqa: E402
     CUSTOM,
+    DEFAULT_PRESET,
     EXACT,
     EXACT_MAP,
     EXACT_POINT,
@@ -292,6 +293,29 @@ def test_presets_each_show_one_lesson(session):
         assert opened.apply_query(source.query()) == [] and opened.controls.preset == name
     opened.apply_query("fex=13.5")
     assert opened.controls.preset == CUSTOM
+
+
+def test_each_preset_has_a_guided_tour_whose_steps_apply(session):
+    """Lesson mode: the lesson, then steps that each change something (Do it) and say what to look at."""
+    for name, preset in PRESETS.items():
+        tour = preset.tour()
+        assert len(tour) >= 3 and tour[0].text == preset.lesson and all(s.change for s in tour[1:])
+        tourist = Session(controls=Controls(), backend=session.backend, cache=session.cache, start=False)
+        tourist.apply_preset(name)
+        assert (tourist.lesson, tourist.step) == (name, 0)
+        tourist.move(-1)
+        assert tourist.step == 0  # the ends hold
+        for k in range(1, len(tour)):
+            tourist.move(1)
+            assert tourist.step == k and tourist.do_step() == []
+            record = tourist.record()
+            for key, value in tour[k].change.items():  # the step's change is what the view now holds
+                assert record[key] == value, (name, k, key)
+            assert tourist.controls.problems() == []
+        tourist.move(1)
+        assert tourist.step == len(tour) - 1 and tourist.lesson == name  # editing keeps the tour
+    tourist.controls.apply_preset(DEFAULT_PRESET)  # another preset starts its own tour
+    assert (tourist.lesson, tourist.step) == (DEFAULT_PRESET, 0)
 
 
 def test_a_failing_method_is_a_message_not_a_traceback():
