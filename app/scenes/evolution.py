@@ -101,11 +101,16 @@ curves leave the dashed ones."""
             f"{key} exact": f"N = {n:.3g}, exact"
             for key, n in zip(self._keys[1:], self._snapshots(), strict=True)
         }
+        # the axis spans the worn responses, not the linear peaks (they squeezed the curves to the bottom)
+        worn = [np.asarray(y, dtype=float) for key, (_x, y) in curves.items() if "linear" not in key]
+        values = np.concatenate([y[np.isfinite(y) & (y > 0)] for y in worn]) if worn else np.zeros(0)
+        ylim = (values.min() / 2, values.max() * 3) if values.size else None
         return figures.line_figure(
             curves,
             xlabel=HZ,
             ylabel=X1,
             logy=True,
+            ylim=ylim,
             dashed=[*list(curves)[:2], *(f"{key} exact" for key in self._keys[1:])],
             legend_labels=shown,
             colors=colors,

@@ -171,6 +171,7 @@ def line_figure(
     legend_labels: Mapping[str, str] | None = None,
     extra: Sequence = (),
     colors: Mapping[str, str] | None = None,
+    ylim: tuple[float, float] | None = None,
 ) -> hv.Overlay:
     """Curves ``label -> (x, y)`` on common axes, one legend entry each.
 
@@ -185,6 +186,8 @@ def line_figure(
     be an axis label: HoloViews would read it as that axis's values.
     ``colors``: label -> colour for some curves (e.g. a dashed reference in the
     colour of the curve it belongs to); the others take the default cycle.
+    ``ylim``: the y range (default: all the data), e.g. the curves of interest when a reference peaks
+    far above them.
     """
     hv = holoviews()
     ensure_backend()
@@ -216,6 +219,8 @@ def line_figure(
         )
     layers += list(extra)
     overlay = overlay_options(hv.Overlay(layers), title, xlabel, ylabel, logx, logy, len(curves) > 1, padding)
+    if ylim is not None:
+        overlay = styled(overlay, {"ylim": tuple(float(v) for v in ylim)})
     return styled(overlay, {"legend_labels": dict(legend_labels)}) if legend_labels else overlay
 
 

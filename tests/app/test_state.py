@@ -665,6 +665,10 @@ def test_every_wear_scene_shows_the_exact_answer_and_the_error_against_it(sessio
     worst = f"{err[i, k]:.1%} off" if err[i, k] < 1 else f"{p[i, k] / q[i, k]:.3g} times"
     assert f"up to {worst} the exact answer" in scene.findings[0]
     assert any(name.endswith("_exact") for name in scene.datasets()["pseudo_frfs"])
+    # the axis spans the worn responses (the linear peaks near 1e2 m squeezed them into its bottom quarter)
+    low, high = fretwear.figures.holoviews().Store.lookup_options("bokeh", fig, "plot").kwargs["ylim"]
+    worn = np.concatenate([p.ravel(), q.ravel()])
+    assert high == pytest.approx(3 * np.nanmax(worn)) and low <= np.nanmin(worn[worn > 0])
 
     session.scene = "cycle"  # the exact orbit, worn as the exact history says at N
     scene = session.current
