@@ -243,6 +243,7 @@ def map_figure(
     level_label: str | None = None,
     reference_label: str = "reference",
     hline_label: str | None = None,
+    hover: Mapping[str, np.ndarray] | None = None,
 ) -> hv.Overlay:
     """Image of ``z`` (shape ``(len(y), len(x))``) over uniform grids ``x`` and ``y``.
 
@@ -252,14 +253,20 @@ def map_figure(
     drawn on top (e.g. a boundary), a horizontal marker at ``hline`` and a
     marker ``point``. Every line has a legend entry: ``level_label`` (default
     the levels), ``reference_label``, ``hline_label`` (default "y = hline");
-    the legend's background is grey, for the white lines to show.
+    the legend's background is grey, for the white lines to show. ``hover``:
+    more values shown on hover, ``label -> array like z`` (e.g. N where the
+    axis shows log10 N).
     """
     hv = holoviews()
     ensure_backend()
     xd, yd = hv.Dimension("x", label=xlabel), hv.Dimension("y", label=ylabel)
     zd = hv.Dimension("z", label=zlabel)
     x, y, z = np.asarray(x, dtype=float), np.asarray(y, dtype=float), np.asarray(z, dtype=float)
-    image = hv.Image((x, y, z), [xd, yd], [zd], rtol=1e-6)
+    extra = {
+        label: np.broadcast_to(np.asarray(v, dtype=float), z.shape) for label, v in (hover or {}).items()
+    }
+    vdims = [zd, *(hv.Dimension(f"hover{i}", label=label) for i, label in enumerate(extra))]
+    image = hv.Image((x, y, z, *extra.values()), [xd, yd], vdims, rtol=1e-6)
     image = styled(
         image,
         {"cmap": cmap, "colorbar": True, "clim": clim or (np.nan, np.nan), "framewise": True},
@@ -356,6 +363,7 @@ def wear_map_figure(
         point=None if point is None else (point[0], np.log10(point[1])),
         reference=None if reference is None else np.asarray(reference, dtype=float)[:, 1:].T,
         level_label=label, reference_label=reference_label,
+        hover={"N (cycles)": np.broadcast_to(10.0 ** logn[:, None], z.shape)},  # the axis shows log10 N
     )  # fmt: skip
 
 

@@ -68,3 +68,16 @@ def test_every_line_of_a_map_has_a_legend_entry_on_a_grey_background(backend):
     if backend == "bokeh":
         items = [i for x in alone.right + alone.center for i in getattr(x, "items", [])]
         assert [i.label.value for i in items] == ["w / u₀ = 0.1, 0.5, 0.9"]
+
+
+def test_the_wear_maps_hover_shows_n_not_only_its_logarithm():
+    """Defect: hover on the wear map showed log10 N, the axis's coordinate, instead of N."""
+    for name in ("matplotlib", "bokeh"):
+        figures.load_backend(name)
+    hv = figures.holoviews()
+    f, cycles = np.linspace(0.3, 1.3, 5), np.r_[0, np.logspace(1, 5, 7)]
+    image = figures.wear_map_figure(f, cycles, np.zeros((5, 8))).get(0)
+    n = image.dimension_values("hover0", flat=False)
+    np.testing.assert_allclose(n[:, 0], cycles[1:], rtol=1e-12)  # a row per cycle count, N itself
+    plot = hv.renderer("bokeh").get_plot(figures.wear_map_figure(f, cycles, np.zeros((5, 8)))).state
+    assert ("N (cycles)", "@{hover0}") in next(t for t in plot.tools if hasattr(t, "tooltips")).tooltips
