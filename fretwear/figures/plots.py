@@ -151,9 +151,20 @@ def overlay_options(
             "padding": padding,
         },
         # legends beside the axes, never over the curves
-        {"legend_position": "right", "responsive": True, "height": 340, "toolbar": "right"},
+        {"legend_position": "right", "responsive": True, "height": 340, "toolbar": "right",
+         **_log_ticks(logx, logy)},
         {"legend_position": "right", **_MPL_SIZE},
-    )
+    )  # fmt: skip
+
+
+def _log_ticks(logx: bool, logy: bool) -> dict:
+    """Bokeh tickers that label 1, 2 and 5 times each power of ten on log axes: data within one decade
+    (a life of 2000 to 5000 cycles) gets labels where it lies, not only at the decades around it."""
+    if not (logx or logy) or "bokeh" not in holoviews().Store.loaded_backends():
+        return {}
+    from bokeh.models import LogTicker
+
+    return {f"{axis}ticks": LogTicker(mantissas=[1, 2, 5]) for axis, log in (("x", logx), ("y", logy)) if log}
 
 
 def line_figure(

@@ -81,3 +81,15 @@ def test_the_wear_maps_hover_shows_n_not_only_its_logarithm():
     np.testing.assert_allclose(n[:, 0], cycles[1:], rtol=1e-12)  # a row per cycle count, N itself
     plot = hv.renderer("bokeh").get_plot(figures.wear_map_figure(f, cycles, np.zeros((5, 8)))).state
     assert ("N (cycles)", "@{hover0}") in next(t for t in plot.tools if hasattr(t, "tooltips")).tooltips
+
+
+def test_log_axes_label_one_two_and_five_times_each_decade():
+    """Defect: a log axis over data within one decade (lives of 2000-5000 cycles) had no label there."""
+    for name in ("matplotlib", "bokeh"):
+        figures.load_backend(name)
+    hv = figures.holoviews()
+    x = np.linspace(2000, 4500, 20)
+    fig = figures.line_figure({"a": (x, x), "b": (x, 2 * x)}, xlabel="N", ylabel="y", logx=True)
+    plot = hv.renderer("bokeh").get_plot(fig).state
+    assert list(plot.xaxis[0].ticker.mantissas) == [1, 2, 5]
+    assert type(plot.yaxis[0].ticker).__name__ != "LogTicker"  # a linear axis keeps its own
