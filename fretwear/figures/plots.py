@@ -389,8 +389,10 @@ def signals_figure(
     title: str = "",
     extra: Sequence = (),
     dashed: Sequence[str] = (),
+    span_label: str = "contact slips (shaded)",
 ) -> hv.Overlay:
-    """Signals over one period with shaded intervals ``spans`` (e.g. where the contact slips).
+    """Signals over one period with shaded intervals ``spans`` (e.g. where the contact slips), named
+    ``span_label`` in the legend.
 
     A signal is its values at ``t``, or a pair ``(t, values)`` on its own
     instants (e.g. an exact reference); those named in ``dashed`` are drawn dashed.
@@ -424,10 +426,12 @@ def signals_figure(
                 {"linewidth": 1.5, "linestyle": "--" if dash else "-"},
             )
         )
+    # the shading's legend entry: a thick line of its colour (a span has no legend handle in Matplotlib)
+    proxy = hv.Curve(([np.nan, np.nan], [np.nan, np.nan]), xd, yd, label=span_label)
+    layers.append(styled(proxy, {"color": "orange", "alpha": 0.35}, {"line_width": 10}, {"linewidth": 8}))
     layers += [marker_line(hv, h, vertical=False) for h in hlines]
     layers += list(extra)
-    legend = len(signals) > 1
-    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, legend, (0.0, 0.06))
+    return overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, True, (0.0, 0.06))
 
 
 def wear_curve(history, cycles) -> tuple[np.ndarray, np.ndarray]:

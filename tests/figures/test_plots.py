@@ -93,3 +93,19 @@ def test_log_axes_label_one_two_and_five_times_each_decade():
     plot = hv.renderer("bokeh").get_plot(fig).state
     assert list(plot.xaxis[0].ticker.mantissas) == [1, 2, 5]
     assert type(plot.yaxis[0].ticker).__name__ != "LogTicker"  # a linear axis keeps its own
+
+
+@pytest.mark.parametrize("backend", ["bokeh", "matplotlib"])
+def test_the_slip_shading_has_a_legend_entry(backend):
+    """Defect: the text referred to the slip shading of the signals, which had no legend entry."""
+    for name in ("matplotlib", "bokeh"):
+        figures.load_backend(name)
+    hv = figures.holoviews()
+    t = np.linspace(0, 1, 50)
+    fig = figures.signals_figure(t, {"x1": np.sin(2 * np.pi * t)}, spans=[(0.1, 0.3)], xlabel="t", ylabel="x")
+    plot = hv.renderer(backend).get_plot(fig).state
+    if backend == "bokeh":
+        labels = [i.label.value for x in plot.right + plot.center for i in getattr(x, "items", [])]
+    else:
+        labels = [t.get_text() for t in plot.axes[0].get_legend().get_texts()]
+    assert labels == ["x1", "contact slips (shaded)"]
