@@ -33,7 +33,10 @@ if str(ROOT) not in sys.path:
 # idle machine one thread was as fast). SciPy's BLAS reads this when it loads, at the first computation.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-__all__ = ["compile_kernels", "warm", "warm_in_background", "warm_tables"]
+__all__ = ["compile_kernels", "warm", "warm_in_background", "warm_later", "warm_scenes", "warm_tables"]
+
+#: scenes of the defaults computed after the first page's, in the background
+LATER = ("accuracy",)
 
 log = logging.getLogger(__name__)
 _started = threading.Lock()
@@ -94,12 +97,23 @@ def warm(scenes: tuple[str, ...] = ("regimes", "wearmap"), draw: bool = True, ex
     server starts only: loading a backend switches HoloViews' current one for
     a moment).
     """
-    from app.session import Session
     from fretwear import figures
 
     start = time.perf_counter()
     compile_kernels()
     warm_tables()
+    warm_scenes(scenes, draw)
+    if exports:
+        figures.load_backend("matplotlib")
+    return time.perf_counter() - start
+
+
+def warm_scenes(scenes: tuple[str, ...], draw: bool = True) -> float:
+    """Compute the default ``scenes`` into the shared cache (kernels compiled); seconds spent."""
+    from app.session import Session
+    from fretwear import figures
+
+    start = time.perf_counter()
     session = Session()
     for key in scenes:
         session.scene = key
@@ -107,9 +121,22 @@ def warm(scenes: tuple[str, ...] = ("regimes", "wearmap"), draw: bool = True, ex
             figures.load_backend("bokeh")
             for name in session.current.figure_names:
                 session.current.figure(name)
-    if exports:
-        figures.load_backend("matplotlib")
     return time.perf_counter() - start
+
+
+def warm_later(scenes: tuple[str, ...] = LATER) -> threading.Thread:
+    """Compute the default ``scenes`` in a daemon thread (after the first page's): the *Accuracy vs
+    cost* ladder of the defaults, about ten seconds, then comes from the cache when first opened."""
+
+    def run():
+        try:
+            log.info("fretwear: %s warmed in %.1f s", ", ".join(scenes), warm_scenes(scenes, draw=False))
+        except Exception:  # noqa: BLE001 - a failed warm-up only costs time later
+            log.exception("fretwear warm-up of %s failed", scenes)
+
+    thread = threading.Thread(target=run, name="fretwear-warm-later", daemon=True)
+    thread.start()
+    return thread
 
 
 def warm_in_background() -> threading.Thread:
@@ -122,6 +149,8 @@ def warm_in_background() -> threading.Thread:
                     log.info("fretwear warm-up done in %.1f s", warm())
                 except Exception:  # noqa: BLE001 - a failed warm-up only costs time later
                     log.exception("fretwear warm-up failed")
+                    return
+                warm_later().join()
 
             _thread.append(threading.Thread(target=run, name="fretwear-warm-up", daemon=True))
             _thread[0].start()
@@ -130,3 +159,4 @@ def warm_in_background() -> threading.Thread:
 
 if __name__ in ("__main__", "panel_setup_module"):
     print(f"fretwear: warmed up in {warm(exports=True):.1f} s", flush=True)
+    warm_later()  # while the server starts and serves the first pages

@@ -36,3 +36,19 @@ def _forcing_times(spec, factor):
     from dataclasses import replace
 
     return replace(spec, fex=spec.fex * factor)
+
+
+def test_the_accuracy_ladder_of_the_defaults_is_warmed_after_the_first_page():
+    """Slow moment: the Accuracy tab's first opening took 9.8 s; its default ladder is now computed by the
+    warm-up in the background, and the tab opens from the cache (timing: benchmarks/bench_app.py)."""
+    from app.backend import shared_backend
+    from app.session import Session
+    from app.warmup import warm_later
+
+    warm_later(("accuracy",)).join()
+    backend = shared_backend()
+    before = dict(backend.calls)
+    session = Session()
+    session.scene = "accuracy"
+    assert dict(backend.calls) == before  # nothing computed: every rung from the cache
+    assert session.current.study() is not None and len(session.current.study().rungs) >= 3
