@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT))
 import panel as pn  # noqa: E402
 
 from app.backend import shared_executor  # noqa: E402
-from app.page import build_page, document_dispatch  # noqa: E402
+from app.page import apply_tab_address, build_page, document_dispatch  # noqa: E402
 from app.scenes.disk import DiskScene, disk_tab  # noqa: E402
 from app.scenes.interface import InterfaceScene, interface_tab  # noqa: E402
 from app.scenes.study import StudyScene, study_tab  # noqa: E402
@@ -35,8 +35,6 @@ pn.extension(notifications=False)
 warnings.filterwarnings("ignore", category=RuntimeWarning, module=r"fretwear\.wear")
 warm_in_background()
 session = Session(executor=shared_executor(), dispatch=document_dispatch(pn.state.curdoc), start=False)
-problems = session.apply_query(pn.state.session_args or {})
-session.start(problems)
 pn.state.on_session_destroyed(lambda _context, s=session: s.close())
 # ``panel serve app/app.py --args --study RESULT.zarr --interface-model FILE.toml``: the Study tab browses
 # that study, the Interface tab offers that model file
@@ -49,11 +47,14 @@ interface = InterfaceScene(
     options.interface_model, tasks=session.tasks, executor=session.executor, dispatch=session.dispatch
 )
 disk = DiskScene(tasks=session.tasks, executor=session.executor, dispatch=session.dispatch)
-for tab in (interface, disk):
-    pn.state.on_session_destroyed(lambda _context, s=tab: s.close())
+for scene in (interface, disk):
+    pn.state.on_session_destroyed(lambda _context, s=scene: s.close())
+# the address: the session's settings, or a tab of its own with its settings (``?tab=interface&...``)
+args, tab, problems = apply_tab_address(pn.state.session_args or {}, [interface, disk, study])
+session.start(session.apply_query(args) + problems)
 extra = (
-    ("Interface", lambda export_card: interface_tab(interface, export_card)),
-    ("Bladed disk", lambda export_card: disk_tab(disk, export_card)),
-    ("Study", lambda export_card: study_tab(study, export_card)),
+    ("Interface", lambda export_card: interface_tab(interface, export_card), interface),
+    ("Bladed disk", lambda export_card: disk_tab(disk, export_card), disk),
+    ("Study", lambda export_card: study_tab(study, export_card), study),
 )
-build_page(session, pn.state.location, extra).servable(title="fretwear dashboard")
+build_page(session, pn.state.location, extra, tab).servable(title="fretwear dashboard")

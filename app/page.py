@@ -24,6 +24,7 @@ import zipfile
 from collections.abc import Callable
 from functools import partial
 from typing import Any
+from urllib.parse import urlencode
 
 import holoviews as hv
 import numpy as np
@@ -49,7 +50,7 @@ from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, C
 from .session import Session
 from .state import CUSTOM, LADDERS, METHODS, NUMBERS, PRESETS, number_text, parse_number
 
-__all__ = ["build_page", "bundle", "document_dispatch", "ExportSettings", "NumberInput"]
+__all__ = ["apply_tab_address", "build_page", "bundle", "document_dispatch", "ExportSettings", "NumberInput"]
 
 log = logging.getLogger(__name__)
 
@@ -710,41 +711,76 @@ def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
     return [explanation, *controls, grid, notes, findings, _export_card(scene, export, session.record)]
 
 
-def _address(session: Session, location) -> None:
-    """Keep the page's address query equal to the view (``Session.query``)."""
+def _address(session: Session, location, tabs: pn.Tabs, extra: tuple) -> None:
+    """Keep the page's address query equal to the view: ``Session.query`` on the session's scenes, the
+    tab's own (``tab=KEY&KEY.NAME=...``, :class:`~app.scenes.base.Addressed`) on a tab of its own."""
     if location is None:
         return
+    first = len(session.scenes)
 
     def write(*_events):
-        search = "?" + session.query()
+        index = tabs.active - first
+        if 0 <= index < len(extra):
+            scene = extra[index][2]
+            search = "?" + urlencode({"tab": scene.key, **scene.address()})
+        else:
+            search = "?" + session.query()
         if location.search != search:
             location.search = search
 
     watched = [(session, ["scene", "frequency", "cycles"]), (session.controls, list(session.controls.param))]
     watched.append((session.scenes["accuracy"], ["quantity", "target", "ladder", "wear"]))
+    watched += [(scene, list(scene.address_params)) for _title, _build, scene in extra]
     for obj, names in watched:
         obj.param.watch(write, [n for n in names if n not in ("name", "typed", "preset")])
+    tabs.param.watch(write, "active")
 
 
-def build_page(session: Session, location=None, extra: tuple = ()) -> pn.template.BootstrapTemplate:
+def apply_tab_address(args: dict[str, list[bytes]], scenes: list) -> tuple[dict, str | None, list[str]]:
+    """Split the page's address (``pn.state.session_args``): the session's keys, returned, and a tab of
+    its own (``tab=KEY``) with its ``KEY.NAME`` keys, applied to that tab's scene (of ``scenes``).
+
+    Returns the session's part, the key of the tab to open (None: a scene of the session) and the
+    problems met with the tab's part.
+    """
+    text = {k: (v[-1].decode() if isinstance(v[-1], bytes) else v[-1]) for k, v in args.items()}
+    rest = {k: v for k, v in args.items() if k != "tab" and "." not in k}
+    tab, problems = text.get("tab"), []
+    by_key = {scene.key: scene for scene in scenes}
+    if tab is not None and tab not in by_key:
+        problems.append(f"address: tab must be one of {', '.join(by_key)}, got {tab!r}")
+        tab = None
+    own = {k: v for k, v in text.items() if "." in k}
+    if tab is not None:
+        problems += by_key[tab].apply_address({k: v for k, v in own.items() if k.startswith(f"{tab}.")})
+    problems += [f"address: {k} belongs to another tab than {tab!r}" for k in own if not tab or
+                 not k.startswith(f"{tab}.")]  # fmt: skip
+    return rest, tab, problems
+
+
+def build_page(
+    session: Session, location=None, extra: tuple = (), tab: str | None = None
+) -> pn.template.BootstrapTemplate:
     """The page of ``session``: sidebar, status line and one tab per scene and the glossary.
 
     ``location`` (``pn.state.location`` when served) receives the view as the
     address's query. ``extra``: tabs of their own state, placed before the glossary, as
-    ``(title, build)`` pairs; ``build(export_card)`` makes the tab's content when first shown
-    (``export_card(scene)``: the export card of an object with the scenes' export methods).
-
+    ``(title, build, scene)`` triples; ``build(export_card)`` makes the tab's content when first shown
+    (``export_card(scene)``: the export card of an object with the scenes' export methods), ``scene``
+    keeps its view in the address (:class:`~app.scenes.base.Addressed`). ``tab``: the key of the
+    scene of an extra tab to open first (None: the session's scene).
     """
     figures.load_backend("bokeh")
     keys = list(session.scenes)
     export = ExportSettings()
     glossary = pn.pane.Markdown(glossary_markdown(), sizing_mode="stretch_width", name="Glossary")
+    opened = next((len(keys) + i for i, e in enumerate(extra) if e[2].key == tab), keys.index(session.scene))
     tabs = pn.Tabs(
         *(pn.Column(name=session.scenes[k].title, sizing_mode="stretch_width") for k in keys),
-        *(pn.Column(name=title, sizing_mode="stretch_width") for title, _build in extra),
+        *(pn.Column(name=title, sizing_mode="stretch_width") for title, _build, _scene in extra),
         glossary,
         dynamic=True,
-        active=keys.index(session.scene),
+        active=opened,
         sizing_mode="stretch_width",
     )
 
@@ -768,7 +804,7 @@ def build_page(session: Session, location=None, extra: tuple = ()) -> pn.templat
     fill(tabs.active)
     tabs.param.watch(shown, "active")
     session.param.watch(follow, "scene")
-    _address(session, location)
+    _address(session, location, tabs, extra)
     view = View.current()
     script = PageScript(width=view.width, height=0, width_policy="fixed", margin=0)
     script.link(view, width="width")

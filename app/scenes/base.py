@@ -23,7 +23,7 @@ from fretwear import figures
 from fretwear.figures.record import caption, csv_header
 
 from ..backend import Failure, shared_backend, shared_cache
-from ..state import EXACT_MAP, Controls, Settings, Task, Tasks
+from ..state import EXACT_MAP, Controls, Settings, Task, Tasks, number_text, parse_number, type_text
 
 if TYPE_CHECKING:
     import holoviews as hv
@@ -147,6 +147,72 @@ class Exports:
         if name not in tables:
             raise ValueError(f"no dataset {name!r} in scene {self.key!r} (yet); available: {sorted(tables)}")
         return figures.csv_text(tables[name], self.csv_header())
+
+
+class Addressed:
+    """A tab whose view lives in the page's address under keys of its own, ``KEY.NAME`` (``KEY`` the tab's
+    ``key``): ``?tab=interface&interface.model=...&interface.frequency=0.7``.
+
+    A tab lists its ``address_params`` (parameters of its own: numbers, integers, selectors, and a
+    ``point`` dict of indices written ``dim:index,...``); :meth:`address` writes those that differ
+    from their defaults, :meth:`apply_address` reads them back and returns the problems met (a number
+    that is not one is kept in ``typed`` when the tab has it, as if typed in its box).
+    """
+
+    key: ClassVar[str]
+    address_params: ClassVar[tuple[str, ...]] = ()
+
+    def address(self) -> dict[str, str]:
+        """The tab's view: its parameters that differ from their defaults, keyed ``KEY.NAME``."""
+        out = {}
+        for name in self.address_params:
+            value = getattr(self, name)
+            if name == "point":
+                text = ",".join(f"{d}:{i}" for d, i in value.items() if i)
+            else:
+                text = "" if value == self.param[name].default else number_text(value) or str(value)
+            if text:
+                out[f"{self.key}.{name}"] = text
+        return out
+
+    def apply_address(self, values: dict[str, str]) -> list[str]:
+        """Apply ``KEY.NAME -> text`` pairs of the address; the problems met, one line each."""
+        problems = []
+        order = {f"{self.key}.{n}": i for i, n in enumerate(self.address_params)}  # a model before its values
+        for key, text in sorted(values.items(), key=lambda item: order.get(item[0], -1)):
+            name = key.removeprefix(f"{self.key}.")
+            if name not in self.address_params or not key.startswith(f"{self.key}."):
+                known = ", ".join(f"{self.key}.{n}" for n in self.address_params)
+                problems.append(f"address: unknown setting {key!r} of the {self.title} tab (known: {known})")
+            elif name == "point":
+                problems += self._apply_point(text)
+            elif isinstance(self.param[name], param.Selector):
+                objects = self.param[name].objects
+                match = [o for o in objects if str(o) == text or number_text(o) == text]
+                if match:
+                    setattr(self, name, match[0])
+                else:
+                    shown = ", ".join(str(o) for o in objects)
+                    problems.append(f"address: {key} must be one of {shown}, got {text!r}")
+            elif "typed" in self.param:
+                type_text(self, name, text)
+            else:
+                value = parse_number(text)
+                if value is None:
+                    problems.append(f"address: {key} must be a number, got {text!r}")
+                else:
+                    setattr(self, name, value)
+        return problems
+
+    def _apply_point(self, text: str) -> list[str]:
+        problems = []
+        for item in filter(None, text.split(",")):
+            dim, _, index = item.partition(":")
+            try:
+                self.select(dim, int(index))
+            except ValueError as exc:
+                problems.append(f"address: {self.key}.point: {' '.join(str(exc).split())}")
+        return problems
 
 
 class OwnSettings:

@@ -38,7 +38,7 @@ from ..backend import DiskSpec, Failure, Grid
 from ..live import control_row, figure_grid, live_pane, message_list, run_status, typed_box
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter, whole
-from .base import Exports, OwnSettings
+from .base import Addressed, Exports, OwnSettings
 
 __all__ = ["DiskScene", "DiskSettings", "disk_tab", "PROFILES"]
 
@@ -123,7 +123,7 @@ class DiskSettings:
         return [model, before, history, after, point]
 
 
-class DiskScene(OwnSettings, Exports, Runner):
+class DiskScene(Addressed, OwnSettings, Exports, Runner):
     """The Bladed disk tab's state: its settings, the run in progress and the published results.
 
     ``options``: ``tasks``, ``executor``, ``dispatch`` of :class:`~app.scenes.base.OwnSettings`, and
@@ -132,6 +132,7 @@ class DiskScene(OwnSettings, Exports, Runner):
 
     key = "disk"
     title = "Bladed disk"
+    address_params = ("engine_order", "fex", "mu", "kw", "level", "seed", "frequency", "cycles")
     figure_names = ("disk", "zzenf", "frf", "wear")
     dataset_names = ("frf", "wear")
 

@@ -40,7 +40,7 @@ from ..backend import Failure, Grid, InterfaceModel
 from ..live import control_row, figure_grid, live_pane, message_list, run_status, typed_box
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp, whole
-from .base import Exports, OwnSettings
+from .base import Addressed, Exports, OwnSettings
 
 __all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "MODELS", "PAPER", "RTOL"]
 
@@ -154,7 +154,7 @@ class InterfaceSettings:
         return [model, history, *frfs]
 
 
-class InterfaceScene(OwnSettings, Exports, Runner):
+class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
     """The Interface tab's state: its settings, the run in progress and the published results.
 
     Its run is the tasks of :meth:`InterfaceSettings.tasks` on the session's machinery
@@ -171,6 +171,7 @@ class InterfaceScene(OwnSettings, Exports, Runner):
 
     key = "interface"
     title = "Interface"
+    address_params = ("model", "contact_nodes", "frequency", "harmonics", "kw", "cycles")
     figure_names = ("wear_profile", "pressure_profile", "stick_slip", "frf")
     dataset_names = ("profiles", "frf")
 

@@ -32,7 +32,7 @@ from ..backend import Failure, shared_backend, shared_cache
 from ..live import control_row, figure_grid, live_pane, message_list
 from ..session import Runner
 from ..state import Tasks, file_stamp
-from .base import Exports
+from .base import Addressed, Exports
 
 __all__ = ["StudyScene", "study_tab", "QUANTITIES"]
 
@@ -65,7 +65,7 @@ def _points(n: int) -> str:
     return f"{n} point" if n == 1 else f"{n} points"
 
 
-class StudyScene(Exports, Runner):
+class StudyScene(Addressed, Exports, Runner):
     """The Study tab's state: the open study, how it is sliced, and what the slice shows.
 
     The store is read by a task (:meth:`~app.backend.Backend.study`) on the session's machinery
@@ -81,6 +81,7 @@ class StudyScene(Exports, Runner):
 
     key = "study"
     title = "Study"
+    address_params = ("quantity", "axis", "fraction", "input", "point")
 
     axis = param.Selector(default=None, objects=[], doc="Grid axis along which the slice is drawn")
     quantity = param.Selector(default=None, objects=[], doc="Stored quantity shown")

@@ -859,6 +859,21 @@ def test_the_interface_tab_computes_when_shown(open_page):
     assert "Interface: stick / slip / open at N = 3e+04" in page.titles()
 
 
+def test_links_hold_the_interface_and_study_tabs(open_page):
+    """Defect: on the Interface and Study tabs the address stayed empty; a link could not open them."""
+    from urllib.parse import quote
+
+    page = open_page()
+    page.tab("Study")
+    page.page.wait_for_function("() => window.location.search.startsWith('?tab=study')", timeout=TIMEOUT)
+    page.tab("Regimes")
+    page.page.wait_for_function("() => window.location.search.includes('scene=regimes')", timeout=TIMEOUT)
+    link = f"tab=interface&interface.model={quote(chr(39).join(['paper', 's 2-DOF (one pair)']))}"
+    opened = open_page(link, first="Interface: FRF of x1")  # the paper's model as a one-pair interface
+    assert opened.box("frequency").input_value() == "0.7"
+    assert opened.search().startswith("?tab=interface&interface.model=paper")
+
+
 def test_the_bladed_disk_tab_computes_when_shown(open_page):
     """Feature (issue 24): the Bladed disk tab draws the tuned shrouded disk when first shown: the disk with
     its 24 blades, the ZZENF diagram, the largest tip amplitude before and after wear, the wear per pair."""

@@ -61,3 +61,35 @@ def test_the_zip_holds_every_export_the_settings_and_what_is_missing():
 def test_a_zip_of_nothing_is_an_error_not_an_empty_file():
     with pytest.raises(ValueError, match="nothing to export yet: fretwear_tab_ready.png: nothing to export"):
         bundle(Tab(computed=False), ExportSettings().options)
+
+
+def test_a_tab_of_its_own_keeps_its_view_in_the_address():
+    """Defect: on the Interface and Study tabs the address stayed empty: a link could not hold them."""
+    from app.backend import Backend, ResultCache
+    from app.page import apply_tab_address
+    from app.scenes.disk import DiskScene
+    from app.scenes.interface import PAPER, InterfaceScene
+    from app.state import Tasks
+
+    def scenes():
+        tasks = Tasks(Backend(), ResultCache())
+        return [InterfaceScene(tasks=tasks), DiskScene(tasks=tasks)]
+
+    shown = scenes()[0]
+    shown.param.update(model=PAPER, harmonics=7)  # nothing computes: the tab is not shown
+    query = {"tab": [b"interface"], "fex": [b"12"], **{k: [v.encode()] for k, v in shown.address().items()}}
+    assert shown.address()["interface.model"] == PAPER and shown.address()["interface.frequency"] == "0.7"
+    opened = scenes()
+    rest, tab, problems = apply_tab_address(query, opened)
+    assert (tab, problems, rest) == ("interface", [], {"fex": [b"12"]})  # the session's keys go on
+    assert opened[0].settings() == shown.settings()
+    # bad parts are named, the good ones kept
+    opened = scenes()
+    query = {"tab": [b"disk"], "disk.engine_order": [b"5"], "disk.frequency": [b"abc"],
+             "interface.kw": [b"1"], "disk.colour": [b"red"]}  # fmt: skip
+    rest, tab, problems = apply_tab_address(query, opened)
+    assert tab == "disk" and opened[1].engine_order == 5 and opened[1].typed == {"frequency": "abc"}
+    assert any("unknown setting 'disk.colour'" in p for p in problems)
+    assert "address: interface.kw belongs to another tab than 'disk'" in problems
+    _rest, tab, problems = apply_tab_address({"tab": [b"nowhere"]}, scenes())
+    assert tab is None and problems == ["address: tab must be one of interface, disk, got 'nowhere'"]
