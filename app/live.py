@@ -43,6 +43,9 @@ NARROW_FIGURE = 600
 PAGE_MARGINS = 60
 #: the element types that draw a colour bar
 COLORBARS = ("Image", "QuadMesh", "HeatMap", "Raster")
+#: height (px) of a live figure (as the figures module draws it), and what a narrow one adds for its
+#: legend and colour bar below the axes
+FIGURE_HEIGHT, BELOW_HEIGHT = 340, 170
 #: presentation mode: font scale and height (px) of the live figures (a projector seen from the back)
 PRESENTATION_FONTSCALE, PRESENTATION_HEIGHT = 1.6, 480
 
@@ -77,7 +80,9 @@ class View(param.Parameterized):
         if presentation:
             options |= {"fontscale": PRESENTATION_FONTSCALE, "height": PRESENTATION_HEIGHT}
         if narrow and isinstance(figure, hv.Overlay):
-            options |= {"legend_position": "bottom", "legend_cols": 1}
+            # the legend and colour bar below take their room from the height, not from the axes
+            height = (PRESENTATION_HEIGHT if presentation else FIGURE_HEIGHT) + BELOW_HEIGHT
+            options |= {"legend_position": "bottom", "legend_cols": 1, "height": height}
         if not options or not isinstance(figure, (hv.Overlay, hv.Element)):
             return figure
         figure = figure.opts(backend="bokeh", **options)

@@ -396,7 +396,8 @@ LAYOUT_JS = """
         for (const [place, items] of [["center", m.center], ["right", m.right], ["below", m.below]])
           for (const l of items ?? []) if (l.items && l.items.length) legends.push(place);
         out.push({title: m.title.text, left: r.left, right: r.right, top: r.top, bottom: r.bottom,
-                  frame: v.frame.bbox.width, font: m.title.text_font_size, legends});
+                  frame: v.frame.bbox.width, frame_height: v.frame.bbox.height, font: m.title.text_font_size,
+                  legends});
       }
     }
     if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
@@ -438,7 +439,7 @@ def test_the_page_fits_phone_tablet_laptop_and_desktop_windows(open_page, width)
     )
     for plot in (frf, regimes):  # inside the window, with room for the data
         assert plot["left"] >= 0 and plot["right"] <= width + 1, plot
-        assert plot["frame"] >= 200, plot  # was 30 px at 900
+        assert plot["frame"] >= 200 and plot["frame_height"] >= 200, plot  # was 30 px wide at 900
     if width < 1000:  # the sidebar folds, the figures stack in one column
         assert info["sidebar"] < 5
         assert regimes["top"] >= frf["bottom"] - 1
