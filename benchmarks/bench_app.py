@@ -188,7 +188,8 @@ def screenshots(browser, url: str, folder: Path) -> list[Path]:
             f"() => ({TITLES_JS})().some(s => s.includes({title!r}))", polling=200, timeout=300_000
         )
         page.wait_for_function(f"() => !({TEXT_JS})().includes('Computing')", polling=200, timeout=300_000)
-        time.sleep(1.0)  # the last redraw reaches the canvas
+        # the page draws its figures again once it knows the window's width (legends below narrow ones)
+        time.sleep(4.0)
         path = folder / f"scene_{key}.png"
         page.screenshot(path=str(path), full_page=True)
         written.append(path)
