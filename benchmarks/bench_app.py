@@ -17,7 +17,9 @@ browser download):
   recomputed: the study is read once per server);
 * Interface tab: the time from the tab's click to the FRF before/after wear
   drawn, in the first page (a run: reduction, wear history, FRFs of the
-  16-pair benchmark at Nh = 5) and in later pages (from the server's cache).
+  16-pair benchmark at Nh = 5) and in later pages (from the server's cache);
+* Accuracy tab: the time from the tab's click to the Pareto plot drawn (its
+  default ladder computed by the warm-up in the background).
 
 Each figure is printed next to its target with the ratio (median / target),
 with the machine's load average: on a loaded machine every figure grows.
@@ -45,6 +47,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+from app.scenes import QUANTITY_LABELS, AccuracyScene  # noqa: E402
 from app.serve import TEXT_JS  # noqa: E402
 from app.serve import serve as serve_app  # noqa: E402
 
@@ -54,6 +57,10 @@ ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--n
 FIRST_PAGE, SLIDER = 3.0, 0.3
 #: Study tab drawn (a stored study: "instantly"), Interface tab computed (first run) and from the cache
 STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
+#: the Accuracy tab's first opening (its default ladder computed by the warm-up, after the first page's)
+ACCURACY_TAB = 3.0
+#: the title of the Accuracy tab's plot at the default quantity
+PARETO = f"{QUANTITY_LABELS[AccuracyScene.param.quantity.default]} vs wall time"
 #: scene -> (address query, tab clicked after loading or None, a plot title the computed scene shows)
 #: of the README's screenshots
 SCREENSHOTS = {
@@ -229,6 +236,7 @@ def main() -> None:
                 slider = slider_moves(browser, url, moves)
                 study_tab = tab_times(browser, url, "Study", "Study: wear life", pages)
                 interface = tab_times(browser, url, "Interface", "Interface: FRF of pad_x", pages)
+                accuracy = tab_times(browser, url, "Accuracy vs cost", PARETO, pages)
                 shots = screenshots(browser, url, args.screenshots) if args.screenshots else []
                 browser.close()
         finally:
@@ -245,6 +253,7 @@ def main() -> None:
     print(line(f"Study tab -> histogram ({study.name})", study_tab, STUDY_TAB))
     print(line("Interface tab -> FRF, first run", interface[:1], INTERFACE_RUN))
     print(line("Interface tab -> FRF, from the cache", interface[1:], INTERFACE_CACHED))
+    print(line("Accuracy tab -> Pareto plot (warmed ladder)", accuracy, ACCURACY_TAB))
     for path in shots:
         print(f"wrote {path}")
 
