@@ -46,6 +46,8 @@ COLORBARS = ("Image", "QuadMesh", "HeatMap", "Raster")
 #: height (px) of a live figure (as the figures module draws it), and what a narrow one adds for its
 #: legend and colour bar below the axes
 FIGURE_HEIGHT, BELOW_HEIGHT = 340, 170
+#: size of the text labels drawn in a narrow figure (the model sketch's values)
+NARROW_TEXT = "7pt"
 #: presentation mode: font scale and height (px) of the live figures (a projector seen from the back)
 PRESENTATION_FONTSCALE, PRESENTATION_HEIGHT = 1.6, 480
 
@@ -67,7 +69,7 @@ class View(param.Parameterized):
             return cls()
         return cls._pages.setdefault(doc, cls())
 
-    @param.depends("width", watch=True)
+    @param.depends("width", watch=True, on_init=True)
     def _narrow(self) -> None:
         main = self.width - (SIDEBAR_WIDTH if self.width >= NARROW else 0) - PAGE_MARGINS
         columns = 2 if main >= 2 * FIGURE_BASIS else 1  # as the figure grid wraps
@@ -80,15 +82,17 @@ class View(param.Parameterized):
         if presentation:
             options |= {"fontscale": PRESENTATION_FONTSCALE, "height": PRESENTATION_HEIGHT}
         if narrow and isinstance(figure, hv.Overlay):
-            # the legend and colour bar below take their room from the height, not from the axes
-            height = (PRESENTATION_HEIGHT if presentation else FIGURE_HEIGHT) + BELOW_HEIGHT
-            options |= {"legend_position": "bottom", "legend_cols": 1, "height": height}
+            options |= {"legend_position": "bottom", "legend_cols": 1}
+            if figure.opts.get("plot", backend="bokeh").kwargs.get("show_legend", True):
+                # the legend and colour bar below take their room from the height, not from the axes
+                options["height"] = (PRESENTATION_HEIGHT if presentation else FIGURE_HEIGHT) + BELOW_HEIGHT
         if not options or not isinstance(figure, (hv.Overlay, hv.Element)):
             return figure
         figure = figure.opts(backend="bokeh", **options)
-        if narrow:  # colour bars below too
+        if narrow:  # colour bars below too, and smaller text on a drawing (the model sketch's values)
             figure = figure.opts(
-                *(getattr(hv.opts, kind)(colorbar_position="bottom", backend="bokeh") for kind in COLORBARS)
+                *(getattr(hv.opts, kind)(colorbar_position="bottom", backend="bokeh") for kind in COLORBARS),
+                hv.opts.Labels(text_font_size=NARROW_TEXT, backend="bokeh"),
             )
         return figure
 
