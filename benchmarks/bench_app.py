@@ -11,6 +11,8 @@ browser download):
 * F_ex slider: the slider's handle is dragged and released (a new value each
   time: a new FRF is computed); the time from the release to the redrawn FRF
   (its title shows the new value);
+* k_w on the wear map: a new value typed in its box; the time from Enter to the
+  map drawn for it (its title shows the new value);
 * Study tab (the server opens a study, ``--args --study``: the shipped example
   ``fretwear/data/wear_life.toml`` at 200 samples, run first, or ``--study PATH``):
   the time from the tab's click to its histogram drawn, in new pages (nothing is
@@ -57,6 +59,8 @@ ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--n
 FIRST_PAGE, SLIDER = 3.0, 0.3
 #: Study tab drawn (a stored study: "instantly"), Interface tab computed (first run) and from the cache
 STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
+#: a change of k_w on the wear map (the exact map from the warm sliding tables)
+WEAR_MAP_CHANGE = 0.5
 #: the Accuracy tab's first opening (its default ladder computed by the warm-up, after the first page's)
 ACCURACY_TAB = 3.0
 #: the title of the Accuracy tab's plot at the default quantity
@@ -148,6 +152,28 @@ def slider_moves(browser, url: str, moves: int) -> list[float]:
     return seconds
 
 
+def kw_changes(browser, url: str, moves: int) -> list[float]:
+    """Seconds from typing a new k_w on the wear-map scene to the map drawn for it, ``moves`` times."""
+    context = browser.new_context(viewport={"width": 1500, "height": 1200})
+    page = context.new_page()
+    page.goto(url + "?scene=wearmap")
+    page.wait_for_function(shows(["Wear map (", "Wear history at"]), timeout=300_000)
+    page.wait_for_function(f"() => !({TEXT_JS})().includes('Computing')", polling=200, timeout=300_000)
+    box = page.locator("input[placeholder='kw']").first
+    seconds = []
+    for k in range(moves):
+        kw = f"{1.1 + 0.1 * k:.2g}e-11"
+        box.fill(kw)
+        start = time.perf_counter()
+        box.press("Enter")
+        page.wait_for_function(shows([f"Wear map (exact, wear coefficient {float(kw):.3g}"]), polling=10,
+                               timeout=120_000)  # fmt: skip
+        seconds.append(time.perf_counter() - start)
+        page.wait_for_function(f"() => !({TEXT_JS})().includes('Computing')", polling=200, timeout=120_000)
+    context.close()
+    return seconds
+
+
 def make_study(folder: Path) -> Path:
     """The shipped wear-life example at 200 samples, run in this process (a few seconds to a minute)."""
     from distributed import Client
@@ -234,6 +260,7 @@ def main() -> None:
                 browser = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=ARGS)
                 first, whole = first_pages(browser, url, pages)
                 slider = slider_moves(browser, url, moves)
+                kw = kw_changes(browser, url, moves)
                 study_tab = tab_times(browser, url, "Study", "Study: wear life", pages)
                 interface = tab_times(browser, url, "Interface", "Interface: FRF of pad_x", pages)
                 accuracy = tab_times(browser, url, "Accuracy vs cost", PARETO, pages)
@@ -250,6 +277,7 @@ def main() -> None:
     print(line("first page: first plot drawn", first, FIRST_PAGE))
     print(line("first page: the whole first scene", whole, FIRST_PAGE))
     print(line("F_ex slider release -> redrawn FRF", slider, SLIDER))
+    print(line("wear map: k_w typed -> redrawn map", kw, WEAR_MAP_CHANGE))
     print(line(f"Study tab -> histogram ({study.name})", study_tab, STUDY_TAB))
     print(line("Interface tab -> FRF, first run", interface[:1], INTERFACE_RUN))
     print(line("Interface tab -> FRF, from the cache", interface[1:], INTERFACE_CACHED))

@@ -21,6 +21,7 @@ import param
 
 from fretwear import figures
 from fretwear.figures.record import caption, csv_header
+from fretwear.studies.maps import LazyHistories
 
 from ..backend import Failure, shared_backend, shared_cache
 from ..state import EXACT_MAP, Controls, Settings, Task, Tasks, number_text, parse_number, type_text
@@ -55,8 +56,12 @@ def _failure_note(name: str, value: Any) -> list[str]:
 def history_notes(histories: list, limit: int = 4) -> list[str]:
     """Notes on wear histories: where each stopped early or warned, and where one overshoots ``u0``.
 
-    Each note names its frequency; past ``limit`` notes the rest are counted.
+    Each note names its frequency; past ``limit`` notes the rest are counted. Of the lazy histories of a
+    map on sliding tables (whose failures raise: the map has none to report), only those already
+    computed: computing the others for their notes cost a second at every change of ``k_w``.
     """
+    if isinstance(histories, LazyHistories):
+        histories = histories.built()
     notes = [
         f"{h.frequency:.4g} Hz ({h.label}): stopped early, {h.status}" for h in histories if not h.converged
     ]

@@ -54,6 +54,10 @@ class LazyHistories(Sequence):
             self._done[i] = build(f)
         return self._done[i]
 
+    def built(self) -> list[WearHistory]:
+        """The histories computed so far (none is computed here)."""
+        return [self._done[k] for k in sorted(self._done)]
+
     def __add__(self, other: Sequence[WearHistory]) -> LazyHistories:
         joined = LazyHistories([], lambda f: None)
         mine = [

@@ -633,6 +633,17 @@ def test_page_widgets_drive_the_session(session):
     assert boxes["fex"]._box.value == "14"
 
 
+def test_a_change_of_k_w_on_the_exact_map_computes_no_history_it_does_not_show():
+    """Slow moment: a k_w change on the exact wear map took about a second, its notes computing every
+    frequency's history (a shooting pass each); only the selected one is drawn."""
+    session = new_session()
+    session.scene = "wearmap"
+    session.controls.kw = 2e-11
+    wm = session.current.results["wear_map"]
+    assert wm.label == "exact" and len(wm.histories.built()) <= 1  # at most the selected frequency's
+    assert session.current.notes == [] or all(isinstance(n, str) for n in session.current.notes)
+
+
 def test_every_wear_scene_shows_the_exact_answer_and_the_error_against_it(session):
     """Issue 9: the exact answer next to the selected approximation, with the approximation's error stated."""
     session.controls.dynamics = "dlft"  # an approximation: the exact slow time on DLFT
