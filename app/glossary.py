@@ -104,6 +104,12 @@ _MARK_STYLE = (
 )
 
 
+#: the definition a ? mark opens in place
+_NOTE_STYLE = (
+    "display: block; font-size: 0.85em; color: #333; background: #eef4ff; padding: 2px 6px; margin: 2px 0"
+)
+
+
 def term(name: str, text: str | None = None) -> str:
     """``text`` (default the term's symbol) in HTML with the definition of ``name`` as a hover note."""
     symbol, definition = TERMS[name]
@@ -112,10 +118,15 @@ def term(name: str, text: str | None = None) -> str:
 
 
 def help_mark(name: str) -> str:
-    """A small ? mark whose hover note is the definition of ``name`` (beside a control's label)."""
+    """A small ? mark beside a control's label: its hover note is the definition of ``name``, and from the
+    keyboard (Tab to it, Enter) it opens the definition in place (a ``<details>``)."""
     _, definition = TERMS[name]
     text = html.escape(definition)
-    return f'<span data-term="{name}" title="{text}" aria-label="{text}" style="{_MARK_STYLE}">?</span>'
+    return (
+        f'<details style="display: inline"><summary data-term="{name}" title="{text}" aria-label="{text}" '
+        f'style="{_MARK_STYLE}; list-style: none">?</summary>'
+        f'<span style="{_NOTE_STYLE}">{text}</span></details>'
+    )
 
 
 def glossary_markdown() -> str:

@@ -773,6 +773,15 @@ def test_the_glossary_is_one_hover_away_from_each_control_and_term(open_page):
         assert f"({name}): {definition}" in glossary, name  # the same text as each control's note
     for name in ("pseudo-FRF", "wear map", "u0", "F_N", "DLFT", "r"):
         assert f"({name}): " in glossary, name
+    # defect: the ? help showed only on mouse hover; from the keyboard, Enter opens it in place
+    page.tab("Regimes")
+    mark = page.page.locator("summary[data-term='mu']").first
+    note = page.page.locator("details", has=mark).first.locator("span").first
+    assert not note.is_visible()
+    mark.focus()
+    mark.press("Enter")
+    note.wait_for(state="visible")
+    assert note.inner_text() == terms["mu"]
 
 
 def test_the_link_copies_and_restores_the_view(open_page):
