@@ -83,8 +83,54 @@ def hertz_peak_pressure(normal_load: float, half_width: float) -> float:
     return 2.0 * normal_load / (np.pi * half_width)
 
 
+class FrettingTest:
+    """What the fretting tests (:class:`CylinderOnFlat`, :class:`~.sphere.SphereOnFlat`) share: the checks
+    of their load, material, damping and loading arm, ``E*`` and the tangential load on the holder."""
+
+    #: lower bound of each shared parameter and whether it is strict
+    BOUNDS = (
+        ("radius", 0.0, True), ("normal_load", 0.0, True), ("q_ratio", 0.0, False),
+        ("arm_stiffness", 0.0, False), ("young", 0.0, True), ("density", 0.0, True),
+        ("mu", 0.0, False), ("holder_mass", 0.0, False), ("damping_ratio", 0.0, False),
+        ("damping_frequency", 0.0, True), ("window", 1.0, True),
+    )  # fmt: skip
+    #: unit of the loading arm's stiffness (per unit thickness in 2-D)
+    ARM_UNIT = "N/m"
+
+    def check_common(self) -> None:
+        """``ValueError`` naming the first shared parameter out of its range."""
+        for name, low, strict in self.BOUNDS:
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float, np.floating, np.integer)) and np.isfinite(v)) or (
+                v <= low if strict else v < low
+            ):
+                raise ValueError(f"{name} must be a finite number {'>' if strict else '>='} {low}, got {v!r}")
+        if not -1.0 < self.poisson < 0.5:
+            raise ValueError(f"poisson must be in (-1, 0.5), got {self.poisson!r}")
+        if self.drive_displacement is not None and not (
+            np.isfinite(self.drive_displacement) and self.arm_stiffness > 0
+        ):
+            raise ValueError(
+                f"drive_displacement (m) must be finite and needs arm_stiffness > 0 {self.ARM_UNIT}, "
+                f"got drive_displacement={self.drive_displacement!r}, arm_stiffness={self.arm_stiffness!r}"
+            )
+
+    @property
+    def effective_modulus(self) -> float:
+        """``E*`` of the identical bodies (Pa)."""
+        return effective_modulus(self.young, self.poisson)
+
+    @property
+    def tangential_load(self) -> float:
+        """Tangential force amplitude on the holder, ``Q0 = q_ratio mu P`` or ``k_a delta0`` with the arm
+        held (N, or N/m per unit thickness in 2-D)."""
+        if self.drive_displacement is not None:
+            return self.arm_stiffness * self.drive_displacement
+        return self.q_ratio * self.mu * self.normal_load
+
+
 @dataclass(frozen=True)
-class CylinderOnFlat:
+class CylinderOnFlat(FrettingTest):
     """Parameters of the cylinder-on-flat benchmark (SI, per unit thickness).
 
     Parameters
@@ -140,36 +186,16 @@ class CylinderOnFlat:
     flat_depth: float = 0.02
     growth: float = 1.25
 
+    ARM_UNIT = "N/m per m"
+
     def __post_init__(self) -> None:
-        for name, low, strict in (
-            ("radius", 0.0, True), ("normal_load", 0.0, True), ("q_ratio", 0.0, False),
-            ("arm_stiffness", 0.0, False), ("young", 0.0, True), ("density", 0.0, True),
-            ("mu", 0.0, False), ("holder_mass", 0.0, False), ("damping_ratio", 0.0, False),
-            ("damping_frequency", 0.0, True), ("window", 1.0, True),
-        ):  # fmt: skip
-            v = getattr(self, name)
-            if not np.isfinite(v) or (v <= low if strict else v < low):
-                raise ValueError(f"{name} must be a finite number {'>' if strict else '>='} {low}, got {v!r}")
+        self.check_common()
         n = self.contact_nodes
         if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and 3 <= n <= MAX_CONTACT_NODES):
             raise ValueError(
                 f"contact_nodes must be an integer in [3, {MAX_CONTACT_NODES}] (memory and time of the mesh "
                 f"and the solves), got {n!r}"
             )
-        if not -1.0 < self.poisson < 0.5:
-            raise ValueError(f"poisson must be in (-1, 0.5), got {self.poisson!r}")
-        if self.drive_displacement is not None and not (
-            np.isfinite(self.drive_displacement) and self.arm_stiffness > 0
-        ):
-            raise ValueError(
-                "drive_displacement (m) must be finite and needs arm_stiffness > 0 N/m per m, "
-                f"got drive_displacement={self.drive_displacement!r}, arm_stiffness={self.arm_stiffness!r}"
-            )
-
-    @property
-    def effective_modulus(self) -> float:
-        """``E*`` of the identical pad and flat (Pa)."""
-        return effective_modulus(self.young, self.poisson)
 
     @property
     def half_width(self) -> float:
@@ -180,13 +206,6 @@ class CylinderOnFlat:
     def peak_pressure(self) -> float:
         """Hertz peak pressure ``p0`` (Pa)."""
         return hertz_peak_pressure(self.normal_load, self.half_width)
-
-    @property
-    def tangential_load(self) -> float:
-        """Tangential force amplitude on the holder, ``Q0 = q_ratio mu P`` or ``k_a delta0`` (N/m)."""
-        if self.drive_displacement is not None:
-            return self.arm_stiffness * self.drive_displacement
-        return self.q_ratio * self.mu * self.normal_load
 
     def mesh(self) -> CylinderOnFlatMesh:
         """The graded pad and flat meshes."""

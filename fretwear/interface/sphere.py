@@ -47,7 +47,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..model import ContactPairs, Model
-from .fe import effective_modulus
+from .fe import FrettingTest
 from .reduction import ContactCondensation
 from .sphere_mesh import SphereOnFlatMesh, assemble_boxes, nested_dissection, sphere_on_flat_mesh
 from .static import check_q_ratio, solve_static, static_anchors
@@ -88,7 +88,7 @@ def mindlin_stick_radius(contact_radius: float, q_ratio: float) -> float:
 
 
 @dataclass(frozen=True)
-class SphereOnFlat:
+class SphereOnFlat(FrettingTest):
     """Parameters of the sphere-on-flat benchmark (SI; loads of the whole sphere).
 
     Parameters
@@ -144,32 +144,13 @@ class SphereOnFlat:
     growth: float = 1.5
 
     def __post_init__(self) -> None:
-        for name, low, strict in (
-            ("radius", 0.0, True), ("normal_load", 0.0, True), ("q_ratio", 0.0, False),
-            ("arm_stiffness", 0.0, False), ("young", 0.0, True), ("density", 0.0, True), ("mu", 0.0, False),
-            ("holder_mass", 0.0, False),
-            ("damping_ratio", 0.0, False), ("damping_frequency", 0.0, True), ("window", 1.0, True),
-        ):  # fmt: skip
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float, np.floating, np.integer)) and np.isfinite(v)) or (
-                v <= low if strict else v < low
-            ):
-                raise ValueError(f"{name} must be a finite number {'>' if strict else '>='} {low}, got {v!r}")
-        if self.drive_displacement is not None and not (
-            np.isfinite(self.drive_displacement) and self.arm_stiffness > 0
-        ):
-            raise ValueError(
-                "drive_displacement (m) must be finite and needs arm_stiffness > 0 N/m, "
-                f"got drive_displacement={self.drive_displacement!r}, arm_stiffness={self.arm_stiffness!r}"
-            )
+        self.check_common()
         n = self.divisions
         if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and 2 <= n <= MAX_DIVISIONS):
             raise ValueError(
                 f"divisions must be an integer in [2, {MAX_DIVISIONS}] (memory and time of the mesh and "
                 f"its factorization), got {n!r}"
             )
-        if not -1.0 < self.poisson < 0.5:
-            raise ValueError(f"poisson must be in (-1, 0.5), got {self.poisson!r}")
         if not (np.isfinite(self.size) and self.size > self.window):
             raise ValueError(f"size must be a finite number > window = {self.window!r}, got {self.size!r}")
         if not (np.isfinite(self.growth) and 1 <= self.growth <= 2):
@@ -181,11 +162,6 @@ class SphereOnFlat:
             )
 
     @property
-    def effective_modulus(self) -> float:
-        """``E*`` of the identical sphere and flat (Pa)."""
-        return effective_modulus(self.young, self.poisson)
-
-    @property
     def contact_radius(self) -> float:
         """Hertz contact radius ``a`` (m)."""
         return hertz_radius(self.normal_load, self.radius, self.effective_modulus)
@@ -194,13 +170,6 @@ class SphereOnFlat:
     def peak_pressure(self) -> float:
         """Hertz peak pressure ``p0`` (Pa)."""
         return hertz_sphere_peak_pressure(self.normal_load, self.contact_radius)
-
-    @property
-    def tangential_load(self) -> float:
-        """Tangential load on the holder, ``Q = q_ratio mu P`` or ``k_a delta0`` with the arm held (N)."""
-        if self.drive_displacement is not None:
-            return self.arm_stiffness * self.drive_displacement
-        return self.q_ratio * self.mu * self.normal_load
 
     def mesh(self) -> SphereOnFlatMesh:
         """The graded mesh of the flat (the sphere is its mirror)."""
