@@ -15,27 +15,27 @@ __all__ = ["TERMS", "term", "help_mark", "glossary_markdown"]
 TERMS: dict[str, tuple[str, str]] = {
     "F_ex": (
         "F<sub>ex</sub>",
-        "Excitation amplitude (N): mass 1 is driven by F_ex cos(ωt). Larger F_ex makes the contact slip "
+        "Excitation amplitude (N): mass 1 is driven by Fₑₓ cos(ωt). Larger Fₑₓ makes the contact slip "
         "over more of the period.",
     ),
     "mu": (
         "μ",
         "Coulomb friction coefficient (-): the contact sticks while the friction force stays below "
-        "μ F_N and slips at μ F_N.",
+        "μ Fₙ and slips at μ Fₙ.",
     ),
     "F_N": (
         "F<sub>N</sub>",
-        "Normal load on the contact (N), F_N = k_n (u0 − w): the normal spring k_n is compressed by the "
-        "interference u0, less the worn depth w. Wear relaxes it.",
+        "Normal load on the contact (N), Fₙ = kₙ (u₀ − w): the normal spring kₙ is compressed by the "
+        "interference u₀, less the worn depth w. Wear relaxes it.",
     ),
     "u0": (
         "u<sub>0</sub>",
-        "Initial interference of the normal spring (m), u0 = F_N / k_n: the depth the contact can wear "
-        "before its normal load vanishes (w / u0 = 1: worn through).",
+        "Initial interference of the normal spring (m), u₀ = Fₙ / kₙ: the depth the contact can wear "
+        "before its normal load vanishes (w / u₀ = 1: worn through).",
     ),
     "k_w": (
         "k<sub>w</sub>",
-        "Archard wear coefficient (1/N): per cycle, the worn depth grows by k_w F_N s, with s the "
+        "Archard wear coefficient (1/N): per cycle, the worn depth grows by k_w Fₙ s, with s the "
         "distance slid. Only the product k_w N matters: doubling k_w halves the cycles to a given wear.",
     ),
     "N": (
@@ -60,12 +60,12 @@ TERMS: dict[str, tuple[str, str]] = {
     ),
     "wear map": (
         "wear map",
-        "The worn depth w / u0 over frequency and number of cycles N: where and how fast the contact "
+        "The worn depth w / u₀ over frequency and number of cycles N: where and how fast the contact "
         "wears. Click it to pick the point the other scenes show.",
     ),
     "r": (
         "r",
-        "Load ratio r = F_ex / (μ F_N): the excitation over the friction limit. Below the stick "
+        "Load ratio r = Fₑₓ / (μ Fₙ): the excitation over the friction limit. Below the stick "
         "boundary the contact never slips (and never wears); far above it, it slips almost all the time.",
     ),
     "method": (
@@ -84,13 +84,13 @@ TERMS: dict[str, tuple[str, str]] = {
     ),
     "tolerance": (
         "tolerance",
-        "Local error allowed per step in w / u0 by stepping and time integration; the exact and "
+        "Local error allowed per step in w / u₀ by stepping and time integration; the exact and "
         "polynomial methods do not take one.",
     ),
     "stick-slip": (
         "stick / slip",
-        "In one period the contact sticks (both masses move together, the friction force is below μ F_N) "
-        "or slips (the masses slide, the friction force is ±μ F_N): only slipping wears.",
+        "In one period the contact sticks (both masses move together, the friction force is below μ Fₙ) "
+        "or slips (the masses slide, the friction force is ±μ Fₙ): only slipping wears.",
     ),
 }
 
