@@ -20,7 +20,7 @@ from numba import njit
 from .cone import evaluate, slip_work
 from .dense import FASTMATH
 from .dlft import jacobian_from_blocks
-from .harmonics import HarmonicBasis
+from .harmonics import HarmonicBasis, default_samples
 from .newton import SINGULAR, cone_law, newton, walk
 from .strategy import newton_message
 
@@ -107,6 +107,59 @@ class ConeProblem:
         self.eps = np.asarray(self.eps, dtype=float)
         if self.eps.shape != (3 * nc,) or np.any(~np.isfinite(self.eps)) or np.any(self.eps <= 0):
             raise ValueError(f"eps must be {3 * nc} finite penalties > 0 N/m, got {self.eps}")
+
+    @classmethod
+    def from_condensation(
+        cls,
+        condensation,
+        omega: float,
+        harmonics: int = 7,
+        samples: int | None = None,
+        wear: np.ndarray | None = None,
+        xref: np.ndarray | None = None,
+        eps: np.ndarray | None = None,
+        force_scale: float = 1.0,
+    ) -> ConeProblem:
+        """The problem of a model with 3-D contact pairs at ``omega`` (rad/s), condensed on ``(u_T1, u_T2,
+        u_N)`` of every pair: the pair's tangent, its binormal ``n x t`` and its normal coordinate.
+
+        ``condensation`` is a :class:`fretwear.interface.ContactCondensation` (its model's pairs 3-D),
+        whose Schur complement keeps only ``(u_T, u_N)``: here the binormal relative displacements, which
+        it places right after them, are kept too (eq. 11 per harmonic, ``D_ss`` the structure with every
+        pair glued). ``wear`` (nc,) opens the gaps (m); ``force_scale`` multiplies the harmonic excitation.
+        """
+        pairs = condensation.model.pairs
+        if pairs.dim != 3:
+            raise ValueError(f"condensation must be of a model with 3-D contact pairs, got dim = {pairs.dim}")
+        if not (np.isfinite(omega) and omega > 0):
+            raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {omega!r}")
+        nc, nq = pairs.count, condensation.n_q
+        basis = HarmonicBasis(harmonics, default_samples(harmonics) if samples is None else samples)
+        q = np.column_stack([2 * np.arange(nc), nq + np.arange(nc), 2 * np.arange(nc) + 1]).ravel()
+        rest = np.setdiff1d(np.arange(condensation.K.shape[0]), q)
+        H = basis.size
+        Zr, Fr = np.zeros((3 * nc, H, 3 * nc, H)), np.zeros((3 * nc, H))
+        for k in range(harmonics + 1):
+            w = k * omega
+            D = condensation.K - w**2 * condensation.M + 1j * w * condensation.C
+            f = condensation.force_static if k == 0 else force_scale * condensation.force_harmonic
+            f = f if k <= 1 else np.zeros_like(f)
+            Zk, Fk = D[np.ix_(q, q)], f[q]
+            if rest.size:
+                X = np.linalg.solve(D[np.ix_(rest, rest)], np.column_stack([D[np.ix_(rest, q)], f[rest]]))
+                Zk, Fk = Zk - D[np.ix_(q, rest)] @ X[:, :-1], Fk - D[np.ix_(q, rest)] @ X[:, -1]
+            if k == 0:
+                Zr[:, 0, :, 0], Fr[:, 0] = Zk.real, Fk.real
+                continue
+            c, s = 2 * k - 1, 2 * k  # as ContactCondensation.harmonic: u = a cos + b sin, q_k = a - i b
+            Zr[:, c, :, c] = Zr[:, s, :, s] = Zk.real
+            Zr[:, c, :, s], Zr[:, s, :, c] = Zk.imag, -Zk.imag
+            Fr[:, c], Fr[:, s] = Fk.real, -Fk.imag
+        wear = np.zeros(nc) if wear is None else np.asarray(wear, dtype=float)
+        if wear.shape != (nc,) or not np.all(np.isfinite(wear)) or np.any(wear < 0):
+            raise ValueError(f"wear must be {nc} finite depths >= 0 m (one per pair), got {wear}")
+        n = 3 * nc * H
+        return cls(Zr.reshape(n, n), Fr.reshape(n), basis, pairs.mu, pairs.gap + wear, xref, eps)
 
     @property
     def n_pairs(self) -> int:

@@ -126,6 +126,39 @@ def test_closed_form_is_the_time_integrated_motion():
     assert abs((4 * r2 - r1) / 3 / r - 1) < 1e-8 and abs((4 * p2 - p1) / 3 - phi) < 1e-8
 
 
+def test_3d_model_condensed_on_its_pairs_slides_on_the_circle():
+    """The point mass as a 3-D model (node B free, node A grounded, normal +z, tangent +x: the binormal is
+    +y) through :class:`~fretwear.interface.ContactCondensation`: the same circle; the rest of a two-mass
+    model is condensed out (a light mass tied by a stiff spring: the first mass carrying both)."""
+    from fretwear.interface import ContactCondensation
+    from fretwear.model import ContactPairs, Model
+
+    pairs = ContactPairs(dofs_a=[[-1, -1, -1]], dofs_b=[[0, 1, 2]], normal=[[0, 0, 1]], area=[1.0], mu=MU,
+                         tangent=[[1, 0, 0]])  # fmt: skip
+    one = Model(M=M * np.eye(3), C=C * np.eye(3), K=np.diag([K, K, 1e4]), force_cos=[5.0, 0, 0],
+                force_sin=[0, 5.0, 0], force_static=[0, 0, -N], pairs=pairs)  # fmt: skip
+    problem = ConeProblem.from_condensation(ContactCondensation(one), W, harmonics=3, samples=64)
+    sol = problem.solve(tol=1e-13)
+    r, phi = np.hypot(*sol.harmonics[0, 0, 1:3]), np.arctan2(sol.harmonics[0, 0, 2], sol.harmonics[0, 0, 1])
+    assert sol.converged and np.all(sol.state == SLIP)
+    r_dlft, phi_dlft = _circle(5.0, np.pi / 64)
+    assert abs(r / r_dlft - 1) < 1e-9 and abs(phi - phi_dlft) < 1e-9
+    # a second, much lighter mass tied to the first by a stiff isotropic spring: condensed, not a pair
+    kc, m2 = 1e7, 1e-6
+    K2 = np.zeros((6, 6))
+    K2[:3, :3], K2[3:, 3:] = np.diag([K, K, 1e4]) + kc * np.eye(3), kc * np.eye(3)
+    K2[:3, 3:] = K2[3:, :3] = -kc * np.eye(3)
+    two = Model(M=np.diag([M] * 3 + [m2] * 3), C=np.diag([C] * 3 + [0.0] * 3), K=K2,
+                force_cos=[5.0, 0, 0, 0, 0, 0], force_sin=[0, 5.0, 0, 0, 0, 0],
+                force_static=[0, 0, -N, 0, 0, 0], pairs=pairs)  # fmt: skip
+    heavy = Model(M=(M + m2) * np.eye(3), C=C * np.eye(3), K=np.diag([K, K, 1e4]), force_cos=[5.0, 0, 0],
+                  force_sin=[0, 5.0, 0], force_static=[0, 0, -N], pairs=pairs)  # fmt: skip
+    sol2, sol1 = (ConeProblem.from_condensation(ContactCondensation(m), W, 3, 64).solve(tol=1e-13)
+                  for m in (two, heavy))  # fmt: skip
+    assert sol2.converged and sol1.converged
+    assert np.abs(sol2.harmonics - sol1.harmonics).max() < 1e-9 * r  # the spring's compliance: 5e-12
+
+
 def test_weak_rotating_drive_sticks():
     """``F0 < mu N``: the mass sticks where it was (X_ref = 0), the friction force is the drive."""
     basis = HarmonicBasis(3, 64)
