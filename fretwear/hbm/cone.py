@@ -346,7 +346,7 @@ def evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lamT, lam
     x : (3 nc H,) harmonics of the contact coordinates (m), contact-major.
     Z, F : reduced dynamic stiffness (3 nc H, 3 nc H) (N/m) and force (3 nc H,) (N).
     eps : (3 nc,) penalty per coordinate (N/m). gap : (nc,) gap plus wear (m).
-    mu : (nc,) friction coefficients. xref : (2 nc,) reference slip variables (m), ``(X_1, X_2)`` per pair.
+    mu : (nc,) friction coefficients. xref : (nc, 2) reference slip variables ``(X_1, X_2)`` (m).
     Phi, Psi : iDFT (Ns, H) and DFT (H, Ns) matrices.
     want_blocks : bool, fill ``A`` (nc, 3H, 3H).
     R : (3 nc H,) residual out (N). lamT, X : (2 nc, Ns) out, rows ``2 i``, ``2 i + 1`` the two tangential
@@ -364,7 +364,7 @@ def evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lamT, lam
             lu[b + j] += eps[3 * i + j // H] * x[b + j]
         march_pair(
             Phi @ lu[b : b + H], Phi @ lu[b + H : b + 2 * H], Phi @ lu[b + 2 * H : b + 3 * H], gap[i], mu[i],
-            eps[3 * i], eps[3 * i + 1], eps[3 * i + 2], xref[2 * i], xref[2 * i + 1], D1, D2, DN, want_blocks,
+            eps[3 * i], eps[3 * i + 1], eps[3 * i + 2], xref[i, 0], xref[i, 1], D1, D2, DN, want_blocks,
             lamT[2 * i], lamT[2 * i + 1], lamN[i], X[2 * i], X[2 * i + 1], state[i], Y,
         )  # fmt: skip
         L1, L2, LN = Psi @ lamT[2 * i], Psi @ lamT[2 * i + 1], Psi @ lamN[i]
@@ -443,7 +443,7 @@ def boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max):
         D2 = np.ascontiguousarray((Phi @ dlu[b + H : b + 2 * H]).reshape(Ns, 1))
         DN = np.ascontiguousarray((Phi @ dlu[b + 2 * H : b + 3 * H]).reshape(Ns, 1))
         e1, e2, eN = eps[3 * i], eps[3 * i + 1], eps[3 * i + 2]
-        march_pair(c1, c2, uN, gap[i], mu[i], e1, e2, eN, xref[2 * i], xref[2 * i + 1], D1, D2, DN, True,
+        march_pair(c1, c2, uN, gap[i], mu[i], e1, e2, eN, xref[i, 0], xref[i, 1], D1, D2, DN, True,
                    lamT1, lamT2, lamN, X1, X2, state, Y)  # fmt: skip
         for s in range(Ns):
             pN = uN[s] - eN * gap[i]

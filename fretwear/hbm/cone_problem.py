@@ -172,7 +172,7 @@ class ConeProblem:
 
     def _law_args(self):
         b = self.basis
-        return self.gap, self.mu, self.xref.ravel(), b.synthesis, b.analysis
+        return self.gap, self.mu, self.xref, b.synthesis, b.analysis
 
     def evaluate(self, x: np.ndarray, jacobian: bool = False):
         """``(R, A, lamT, lamN, X, state)`` at unknowns ``x`` (m): residual (N), Jacobian blocks (nc, 3H, 3H)

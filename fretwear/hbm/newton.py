@@ -29,7 +29,9 @@ same pairs with 2-D friction, :mod:`fretwear.hbm.cone`), whose integer code
 chooses the law's functions inside the kernels. The 2-D law is smooth, not
 linear, between changes of state: its walk is a predictor along tangents (its
 pieces also bounded by the turn of the slip directions) whose end point the
-caller polishes by Newton's method. The other option, Numba
+caller polishes by Newton's method. It is told from the others by its type
+(``xref`` of shape (nc, 2)) when a kernel is compiled, so that the kernels of
+the other laws do not compile it. The other option, Numba
 first-class functions (``types.FunctionType`` arguments), was measured: the
 kernel itself loads from the on-disk cache, but every compiled caller that
 passes it a law function (the sweep, the polynomial method's node solve)
@@ -50,6 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
 from . import cone, coupled, dlft
 from .dense import FASTMATH, lu_factor, lu_solve
@@ -84,7 +87,7 @@ def coupled_law(gap, mu, xref, Phi, Psi):
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def cone_law(gap, mu, xref, Phi, Psi):
     """The law of :func:`fretwear.hbm.cone.evaluate` (2-D friction): as :func:`coupled_law` with ``xref``
-    (2 nc,) the two tangential reference slip variables of each pair (m)."""
+    (nc, 2) the two tangential reference slip variables of each pair (m)."""
     none = np.empty(0)
     return (np.int64(CONE), np.empty(0, dtype=np.int64), none, False, gap, mu, xref, Phi, Psi)
 
@@ -106,27 +109,69 @@ def _buffers(law):
     )
 
 
+def _is_cone(law) -> bool:
+    """Whether a law tuple's Numba type is :func:`cone_law`'s (its ``xref`` (nc, 2)): chosen when the
+    kernel is compiled, so that the 2-D law is compiled only into the kernels that take it."""
+    return law.types[6].ndim == 2
+
+
+def _law_evaluate(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+    """Compiled only (:func:`_evaluate`)."""
+
+
+@overload(_law_evaluate, jit_options={"fastmath": FASTMATH})
+def _law_evaluate_typed(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+    if _is_cone(law):
+
+        def cone_impl(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+            code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+            cone.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
+
+        return cone_impl
+
+    def impl(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+        code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+        if code == DLFT:
+            dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A, lam, X, state)
+        else:
+            coupled.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
+
+    return impl
+
+
+def _law_boundary(law, lu, dlu, eps, tau_max):
+    """Compiled only (:func:`_boundary`)."""
+
+
+@overload(_law_boundary, jit_options={"fastmath": FASTMATH})
+def _law_boundary_typed(law, lu, dlu, eps, tau_max):
+    if _is_cone(law):
+
+        def cone_impl(law, lu, dlu, eps, tau_max):
+            code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+            return cone.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
+
+        return cone_impl
+
+    def impl(law, lu, dlu, eps, tau_max):
+        code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+        if code == DLFT:
+            return dlft.boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max)
+        return coupled.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
+
+    return impl
+
+
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _evaluate(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
     """The law's residual (eq. 12) into ``R`` and, with ``want_blocks``, its blocks into ``A``."""
-    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
-    if code == DLFT:
-        dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A, lam, X, state)
-    elif code == CONE:
-        cone.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
-    else:
-        coupled.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
+    _law_evaluate(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _boundary(law, lu, dlu, eps, tau_max):
     """Largest step along ``lambda_u + tau d lambda_u`` (``tau <= tau_max``) that keeps every state."""
-    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
-    if code == DLFT:
-        return dlft.boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max)
-    if code == CONE:
-        return cone.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
-    return coupled.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
+    return _law_boundary(law, lu, dlu, eps, tau_max)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)

@@ -308,7 +308,7 @@ def test_walk_reaches_newton_s_solution():
     static = np.where(np.arange(F.size) == 2 * basis.size, F, 0.0)
     zero = np.zeros(problem.size)
     x, p, pieces, arrived = walk_kernel(zero, 0.0, Z, static, F - static, zero, problem.eps, problem.gap,
-                                        problem.mu, problem.xref.ravel(), basis.synthesis, basis.analysis,
+                                        problem.mu, problem.xref, basis.synthesis, basis.analysis,
                                         5000)  # fmt: skip
     assert arrived and p == 1.0 and pieces > 10
     r_walk = np.hypot(x[1], x[2])
