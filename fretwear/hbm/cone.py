@@ -20,7 +20,11 @@ gap ``g_i`` = initial gap plus wear):
 In the variable ``y = E_T X`` (N) a sample is the projection of ``y^{n-1}`` on
 the disk of centre ``c_n = lambda_u,T^n`` and radius ``L_n`` (radius 0 when open),
 ``lambda_T^n = c_n - y^n``: the friction force resists the slip increment
-``X^n - X^{n-1}``, which it is parallel to.
+``X^n - X^{n-1}``, which it is parallel to. That increment is a backward
+difference: on a circle the friction lags the velocity by ``pi / N`` (``N``
+samples per period), an ``O(1 / N)`` error against Coulomb's law in continuous
+time that the 1-D law only shows at its reversals (``tests/hbm/test_cone.py``:
+3.6e-2 on the radius of a sliding circle at ``N = 64``, halving with ``N``).
 
 **Periodic start.** The period map is a composition of projections on disks,
 non-expansive. Three cases, in this order:
