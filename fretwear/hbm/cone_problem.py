@@ -131,6 +131,10 @@ class ConeProblem:
         pairs = condensation.model.pairs
         if pairs.dim != 3:
             raise ValueError(f"condensation must be of a model with 3-D contact pairs, got dim = {pairs.dim}")
+        held = np.flatnonzero(np.any((pairs.dofs_a < 0) & (pairs.dofs_b < 0), axis=1))
+        if held.size:  # a symmetry plane through the pair: the condensation gives it no binormal coordinate
+            raise ValueError(f"condensation: pairs {held[:5].tolist()} have a component fixed on both nodes "
+                             "(no binormal coordinate); the 2-D law needs both tangents of each")  # fmt: skip
         if not (np.isfinite(omega) and omega > 0):
             raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {omega!r}")
         nc, nq = pairs.count, condensation.n_q
