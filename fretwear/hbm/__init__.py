@@ -5,8 +5,10 @@ matrices, eq. 9-10), :mod:`~fretwear.hbm.condensation` (reduced dynamic
 stiffness on the contact coordinates, eq. 11), :mod:`~fretwear.hbm.dlft` (the
 contact law: prediction/correction in time, eq. 17-23, compiled) and
 :mod:`~fretwear.hbm.coupled` (the coupled normal/tangential law of contact
-interfaces), :mod:`~fretwear.hbm.newton` (one compiled Newton's method and
-one piecewise-linear walk, handed either law; :mod:`~fretwear.hbm.kernels`
+interfaces) and :mod:`~fretwear.hbm.cone` (the same with 2-D friction, solved
+by :class:`ConeProblem` on a reduced ``Z``), :mod:`~fretwear.hbm.newton` (one
+compiled Newton's method and one piecewise-linear walk, handed any of these
+laws; :mod:`~fretwear.hbm.kernels`
 calls them with the 1-D law),
 :mod:`~fretwear.hbm.periodic` (one frequency: :func:`solve_periodic`),
 :mod:`~fretwear.hbm.continuation` and :mod:`~fretwear.hbm.arclength` (over
@@ -15,6 +17,7 @@ frequency: :func:`sweep`, :func:`continuation`), :mod:`~fretwear.hbm.linear`
 :class:`PeriodicSolution`.
 """
 
+from .cone_problem import ConeProblem, ConeSolution
 from .continuation import Branch, Sweep, continuation, sweep
 from .harmonics import HarmonicBasis, default_samples
 from .linear import linear_frf
@@ -23,6 +26,8 @@ from .solution import PeriodicSolution
 
 __all__ = [
     "Branch",
+    "ConeProblem",
+    "ConeSolution",
     "HarmonicBasis",
     "PeriodicSolution",
     "Problem",

@@ -24,8 +24,14 @@ linear, which both solvers here use:
 unilateral and Jenkins contacts, :mod:`fretwear.hbm.dlft`; a Jenkins contact
 is an alternating frequency-time law whose rows of ``J`` are ``Z + k_t A``,
 :func:`fretwear.hbm.dlft.jacobian_of_kinds`) or :func:`coupled_law` (coupled
-normal/tangential node pairs, :mod:`fretwear.hbm.coupled`), whose integer code
-chooses the law's functions inside the kernels. The other option, Numba
+normal/tangential node pairs, :mod:`fretwear.hbm.coupled`) or :func:`cone_law` (the
+same pairs with 2-D friction, :mod:`fretwear.hbm.cone`), whose integer code
+chooses the law's functions inside the kernels. The 2-D law is smooth, not
+linear, between changes of state: its walk is a predictor along tangents (its
+pieces also bounded by the turn of the slip directions) whose end point the
+caller polishes by Newton's method. It is told from the others by its type
+(``xref`` of shape (nc, 2)) when a kernel is compiled, so that the kernels of
+the other laws do not compile it. The other option, Numba
 first-class functions (``types.FunctionType`` arguments), was measured: the
 kernel itself loads from the on-disk cache, but every compiled caller that
 passes it a law function (the sweep, the polynomial method's node solve)
@@ -46,17 +52,18 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+from numba.extending import overload
 
-from . import coupled, dlft
+from . import cone, coupled, dlft
 from .dense import FASTMATH, lu_factor, lu_solve
 
 __all__ = [
-    "DLFT", "COUPLED", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
-    "coupled_law", "newton", "walk", "tangent", "step_past", "keep_full_step",
+    "DLFT", "COUPLED", "CONE", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
+    "coupled_law", "cone_law", "newton", "walk", "tangent", "step_past", "keep_full_step",
 ]  # fmt: skip
 
-#: law codes: the 1-D friction/unilateral law, the coupled normal/tangential pair law
-DLFT, COUPLED = 0, 1
+#: law codes: the 1-D friction/unilateral law, the coupled normal/tangential pair law, its 2-D friction form
+DLFT, COUPLED, CONE = 0, 1, 2
 #: codes of :func:`newton`: converged, non-finite step, line search failed, budget, singular Jacobian
 CONVERGED, NON_FINITE, LINE_SEARCH, BUDGET, SINGULAR = 0, 1, 2, 3, 4
 
@@ -78,38 +85,93 @@ def coupled_law(gap, mu, xref, Phi, Psi):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
+def cone_law(gap, mu, xref, Phi, Psi):
+    """The law of :func:`fretwear.hbm.cone.evaluate` (2-D friction): as :func:`coupled_law` with ``xref``
+    (nc, 2) the two tangential reference slip variables of each pair (m)."""
+    none = np.empty(0)
+    return (np.int64(CONE), np.empty(0, dtype=np.int64), none, False, gap, mu, xref, Phi, Psi)
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _buffers(law):
     """Work arrays of the law's march: Jacobian blocks ``A`` (nb, m, m), then per block and sample the
     (tangential) force, the normal force (coupled law), the slip variable and the state."""
     code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
     Ns, H = Phi.shape
-    nb, m = (kinds.shape[0], H) if code == DLFT else (gap.shape[0], 2 * H)
+    nb, m = (kinds.shape[0], H) if code == DLFT else (gap.shape[0], (3 if code == CONE else 2) * H)
+    nt = 2 * nb if code == CONE else nb  # rows of tangential fields: two per pair with 2-D friction
     return (
         np.empty((nb, m, m)),
-        np.empty((nb, Ns)),
-        np.empty((nb, Ns) if code == COUPLED else (0, Ns)),
-        np.empty((nb, Ns)),
+        np.empty((nt, Ns)),
+        np.empty((0, Ns) if code == DLFT else (nb, Ns)),
+        np.empty((nt, Ns)),
         np.empty((nb, Ns), dtype=np.int8),
     )
+
+
+def _is_cone(law) -> bool:
+    """Whether a law tuple's Numba type is :func:`cone_law`'s (its ``xref`` (nc, 2)): chosen when the
+    kernel is compiled, so that the 2-D law is compiled only into the kernels that take it."""
+    return law.types[6].ndim == 2
+
+
+def _law_evaluate(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+    """Compiled only (:func:`_evaluate`)."""
+
+
+@overload(_law_evaluate, jit_options={"fastmath": FASTMATH})
+def _law_evaluate_typed(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+    if _is_cone(law):
+
+        def cone_impl(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+            code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+            cone.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
+
+        return cone_impl
+
+    def impl(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
+        code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+        if code == DLFT:
+            dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A, lam, X, state)
+        else:
+            coupled.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
+
+    return impl
+
+
+def _law_boundary(law, lu, dlu, eps, tau_max):
+    """Compiled only (:func:`_boundary`)."""
+
+
+@overload(_law_boundary, jit_options={"fastmath": FASTMATH})
+def _law_boundary_typed(law, lu, dlu, eps, tau_max):
+    if _is_cone(law):
+
+        def cone_impl(law, lu, dlu, eps, tau_max):
+            code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+            return cone.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
+
+        return cone_impl
+
+    def impl(law, lu, dlu, eps, tau_max):
+        code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+        if code == DLFT:
+            return dlft.boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max)
+        return coupled.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
+
+    return impl
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _evaluate(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state):
     """The law's residual (eq. 12) into ``R`` and, with ``want_blocks``, its blocks into ``A``."""
-    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
-    if code == DLFT:
-        dlft.evaluate(x, Z, F, eps, kinds, limits, Phi, Psi, half_wave, want_blocks, R, A, lam, X, state)
-    else:
-        coupled.evaluate(x, Z, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lam, lamN, X, state)
+    _law_evaluate(law, x, Z, F, eps, want_blocks, R, A, lam, lamN, X, state)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
 def _boundary(law, lu, dlu, eps, tau_max):
     """Largest step along ``lambda_u + tau d lambda_u`` (``tau <= tau_max``) that keeps every state."""
-    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
-    if code == DLFT:
-        return dlft.boundary_distance(lu, dlu, eps, kinds, limits, Phi, half_wave, tau_max)
-    return coupled.boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max)
+    return _law_boundary(law, lu, dlu, eps, tau_max)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -175,7 +237,7 @@ def _eliminated_solve(J, R, A, eps):
 def _direction(code, J, R, A, eps, piv, dx):
     """The Newton step ``dx = -J^-1 R`` by the law's linear algebra (module text); False if ``J`` is
     singular (the LU loops; ``J`` is overwritten by its factors)."""
-    if code == COUPLED:
+    if code != DLFT:
         dx[:] = _eliminated_solve(J, R, A, eps)
         return True
     if lu_factor(J, piv) == 0:
@@ -396,7 +458,7 @@ def walk(law, x0, p0, p_end, Z, F0, F1, r0, eps, max_pieces, rec_x, rec_p, rec_s
         aug[:n, :n] = J
         aug[:n, n] = dR
         aug[n, :] = row
-        if code == COUPLED:
+        if code != DLFT:
             t, orientation = _tangent_lapack(aug, orientation)
         else:
             orientation = tangent(aug, piv, t, orientation)
