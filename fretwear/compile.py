@@ -20,7 +20,8 @@ computations that need them, so that a command compiles only its own:
   :func:`fretwear.shooting_sweep`, ``dynamics="shooting"``, ``method="time"``;
   ``--method shooting``, ``--dynamics shooting``);
 * ``"interface"``: contact interfaces with many node pairs
-  (:mod:`fretwear.interface`; ``fretwear interface``).
+  (:mod:`fretwear.interface`; ``fretwear interface``);
+* ``"cone"``: 2-D friction, the circular Coulomb cone (:mod:`fretwear.hbm.cone_problem`).
 
 A front end tells its user before a first run::
 
@@ -146,6 +147,22 @@ def _run_interface() -> None:
         wear_interface(problem, 1e-11, 100.0, method=method, degree=2 if method == "polynomial" else None)
 
 
+def _run_cone() -> None:
+    from .hbm.cone_problem import ConeProblem
+    from .hbm.harmonics import HarmonicBasis
+
+    # a point mass pressed on a flat, driven round a circle: one pair, stick and slip in the period
+    basis = HarmonicBasis(1, 16)
+    H = basis.size
+    Z = np.zeros((3 * H, 3 * H))
+    for o in (0, H):
+        Z[o, o], Z[o + 1, o + 1], Z[o + 2, o + 2], Z[o + 1, o + 2], Z[o + 2, o + 1] = 1.0, 0.5, 0.5, 0.1, -0.1
+    Z[2 * H :, 2 * H :] = 1e3 * np.eye(H)
+    F = np.zeros(3 * H)
+    F[1], F[H + 2], F[2 * H] = 2.0, 2.0, 1.0
+    ConeProblem(Z, F, basis, np.array([1.0])).solve(max_iter=0)  # no Newton step: the load walk too
+
+
 #: the kernel groups, by name
 KERNELS: dict[str, Kernel] = {
     k.name: k
@@ -202,6 +219,13 @@ KERNELS: dict[str, Kernel] = {
             ),  # fmt: skip
             30.0,
             _run_interface,
+        ),
+        Kernel(
+            "cone",
+            "2-D friction (the circular Coulomb cone) on node pairs (fretwear.hbm.cone_problem)",
+            ("fretwear.hbm.cone_problem:newton_kernel", "fretwear.hbm.cone_problem:walk_kernel"),
+            60.0,
+            _run_cone,
         ),
     )
 }
@@ -379,7 +403,7 @@ def compile_ahead(*names: str) -> None:
 
 
 #: the kernel groups in two sets that share no kernel, for :func:`warm_in_processes`
-PARTS: tuple[tuple[str, ...], ...] = (("sweep", "solver", "polynomial", "interface"), ("exact",))
+PARTS: tuple[tuple[str, ...], ...] = (("sweep", "solver", "polynomial", "interface"), ("exact", "cone"))
 
 
 def warm_in_processes(
