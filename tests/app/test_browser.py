@@ -855,10 +855,13 @@ def test_the_study_tab_shows_the_stored_study_and_its_failed_points(open_page, s
 def test_the_interface_tab_computes_when_shown(open_page):
     """Feature: the Interface tab computes the benchmark's wear when first shown: profiles at several N with
     the Hertz pressure, the stick/slip map, the FRF before and after wear."""
-    page = open_page()
+    page = open_page(width=1400)
     assert not any(t.startswith("Interface:") for t in page.titles())
     page.tab("Interface")
     page.wait_title("Interface: FRF of pad_x")
+    for name in ("frequency", "harmonics", "kw", "cycles"):  # defect: at 1400 px K_w clipped, N off-screen
+        box = page.box(name).bounding_box()
+        assert box["x"] >= 0 and box["x"] + box["width"] <= 1400, name
     labels = [item["label"] for item in page.plot("Interface: pressure p(x)")["legends"]]
     assert labels[0] == "N = 0" and labels[-1] == "Hertz (N = 0)" and len(labels) == 5
     hertz = page.curve("Interface: pressure p(x)", "Hertz (N = 0)")
