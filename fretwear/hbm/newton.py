@@ -56,6 +56,7 @@ from numba.extending import overload
 
 from . import cone, coupled, dlft
 from .dense import FASTMATH, lu_factor, lu_solve
+from .structured import structured_step
 
 __all__ = [
     "DLFT", "COUPLED", "CONE", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
@@ -179,7 +180,8 @@ def _residual(law, x, Z, F, eps, R, J, buffers):
     """Residual ``R`` and Jacobian ``J`` at ``x``; returns ``max |R|`` (N)."""
     A, lam, lamN, X, state = buffers
     _evaluate(law, x, Z, F, eps, np.bool_(True), R, A, lam, lamN, X, state)  # not a literal: one version
-    dlft.jacobian_of_kinds(Z, eps, A, law[1], J)
+    if J.shape[0] > 0:  # else the structured step works from the blocks A alone
+        dlft.jacobian_of_kinds(Z, eps, A, law[1], J)
     return np.abs(R).max()
 
 
@@ -234,9 +236,13 @@ def _eliminated_solve(J, R, A, eps):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def _direction(code, J, R, A, eps, piv, dx):
+def _direction(code, J, R, A, eps, piv, dx, blocks):
     """The Newton step ``dx = -J^-1 R`` by the law's linear algebra (module text); False if ``J`` is
-    singular (the LU loops; ``J`` is overwritten by its factors)."""
+    singular (the LU loops; ``J`` is overwritten by its factors). With ``Z``'s harmonic ``blocks``
+    (coupled law), the step of :func:`fretwear.hbm.structured.structured_step` (no ``J``)."""
+    if blocks is not None:
+        structured_step(blocks, A, R, eps, dx)
+        return True
     if code != DLFT:
         dx[:] = _eliminated_solve(J, R, A, eps)
         return True
@@ -259,7 +265,7 @@ def keep_full_step(r, best, it, max_iter):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def newton(law, x0, Z, F, eps, target, max_iter):
+def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
     """Non-monotone Newton's method from ``x0`` with a damped fallback from the best iterate (module text).
 
     Parameters
@@ -268,6 +274,8 @@ def newton(law, x0, Z, F, eps, target, max_iter):
     x0 : (n,) start (m). Z, F : dynamic stiffness (n, n) (N/m) and force (n,) (N).
     eps : penalty per coordinate (N/m). target : float, converged when ``max |R| <= target`` (N).
     max_iter : int, Newton steps at most.
+    blocks : (Nh + 1, 2 q, 2 q) ``Z`` by harmonic (:func:`fretwear.hbm.structured.harmonic_blocks`), coupled
+        law only: the steps by :func:`~fretwear.hbm.structured.structured_step`, no dense ``J``.
 
     Returns ``(x, converged, iterations, max|R|, code)``, ``code`` one of
     ``CONVERGED``, ``NON_FINITE``, ``LINE_SEARCH``, ``BUDGET``, and ``(x0,
@@ -278,7 +286,8 @@ def newton(law, x0, Z, F, eps, target, max_iter):
     buffers = _buffers(law)
     A = buffers[0]
     R, Rt, dx = np.empty(n), np.empty(n), np.empty(n)
-    J, Jt = np.empty((n, n)), np.empty((n, n))
+    nJ = n if blocks is None else 0
+    J, Jt = np.empty((nJ, nJ)), np.empty((nJ, nJ))
     piv = np.empty(n, dtype=np.int64)
     x = x0.copy()
     r = _residual(law, x, Z, F, eps, R, J, buffers)
@@ -288,7 +297,7 @@ def newton(law, x0, Z, F, eps, target, max_iter):
     while it < max_iter:
         if r <= target:
             return x, True, it, r, CONVERGED
-        if not _direction(code, J, R, A, eps, piv, dx):  # J is computed again before it is used again
+        if not _direction(code, J, R, A, eps, piv, dx, blocks):  # J is computed again before it is used again
             return x0.copy(), False, 0, np.inf, SINGULAR
         if not np.all(np.isfinite(dx)):
             if damped:

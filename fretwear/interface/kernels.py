@@ -17,13 +17,15 @@ __all__ = ["newton_kernel", "walk_kernel"]
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter):
+def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter, blocks=None):
     """Newton's method from ``x0``: returns ``(x, converged, iterations, max|R|, code)``.
 
     ``code``: 0 converged, 1 non-finite step, 2 line search failed, 3 iteration
     budget; a singular Jacobian raises (LAPACK), for the caller to report.
+    ``blocks``: ``Z`` by harmonic (:func:`fretwear.hbm.structured.harmonic_blocks`) for the
+    structured steps (no dense Jacobian), else the dense steps.
     """
-    return newton(coupled_law(gap, mu, xref, Phi, Psi), x0, Z, F, eps, target, max_iter)
+    return newton(coupled_law(gap, mu, xref, Phi, Psi), x0, Z, F, eps, target, max_iter, blocks)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)

@@ -1,0 +1,251 @@
+"""The Newton step of the coupled DLFT law from its structure: no dense Jacobian (compiled).
+
+The Jacobian of the coupled law is ``J = Z + blockdiag(A_i) (E - Z)``
+(:mod:`fretwear.hbm.coupled`), of size ``n = 2 nc H`` (``nc`` pairs, ``H = 2 Nh
++ 1`` harmonic slots). Forming it costs ``2 H n^2`` and factoring it ``n^3 /
+3``: at 128 pairs and ``Nh = 7`` (n = 3 840) about 1.3 s a step. Two
+structures make the step cheap:
+
+* ``Z`` (the condensed dynamic stiffness, eq. 11) couples no two harmonics:
+  per harmonic ``k`` it is one real block on the ``2 nc`` contact coordinates
+  (``k = 0``) or ``4 nc`` coordinates (cosine and sine slots, ``k >= 1``),
+  :func:`harmonic_blocks`;
+* the law is local: ``A_i`` couples only the ``2 H`` unknowns of pair ``i``.
+  Per contact coordinate ``c`` its rows ``A_c`` (``H x 2 H``) are, in the
+  solve, of three kinds:
+
+  - *fixed*: ``A_c`` is the identity on ``c`` (a closed normal coordinate, a
+    tangential one stuck all period): ``J_c = E_c``, so ``dx_c = -R_c / eps_c``;
+  - *free*: ``A_c = 0`` (a pair open all period): ``J_c = Z_c``;
+  - *mixed*: any other (slip, or contact part of the period), and the other
+    coordinate of a mixed one's pair.
+
+With ``dx_F`` known, the free rows ``Z_OO dx_O + Z_OM dx_M = -R_O - Z_OF dx_F``
+give ``dx_O`` harmonic by harmonic, and the mixed rows become the Schur
+complement on the mixed coordinates alone,
+
+    [(I - A)_MP S_PM + (A E)_MM] dx_M = -R_M - (I - A)_MP g_P - (A E)_MF dx_F,
+
+with ``S = Z_PM - Z_PO Z_OO^-1 Z_OM`` and ``g_P = Z_PF dx_F + Z_PO Z_OO^-1
+(-R_O - Z_OF dx_F)`` per harmonic (``P`` the coordinates of the pairs with a
+mixed coordinate). Only this system, of ``H`` times the number of mixed
+coordinates (the slip annulus' tangential coordinates in partial slip), is
+dense. The step is the dense one's to rounding: the elimination is exact.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["FIXED", "FREE", "MIXED", "harmonic_blocks", "classify", "structured_step"]
+
+#: kinds of a contact coordinate's rows of ``J`` (module text)
+FIXED, FREE, MIXED = 0, 1, 2
+
+#: an entry of ``A`` this close to 0 or 1 is exact (``A = Psi G Phi`` rounds at ~1e-15)
+_EXACT = 1e-12
+
+
+def harmonic_blocks(Z: np.ndarray, coordinates: int, H: int) -> np.ndarray:
+    """Per harmonic ``k`` the real block ``Z^k`` of ``Z`` (contact-major layout), shape (Nh + 1, 2 q, 2 q).
+
+    Parameters
+    ----------
+    Z : (q H, q H) real dynamic stiffness (N/m), entry ``c H + j`` slot ``j`` of coordinate ``c``
+        (slot 0 the mean, ``2 k - 1`` and ``2 k`` the cosine and sine of harmonic ``k``).
+    coordinates : ``q``, the number of contact coordinates. H : slots per coordinate, ``2 Nh + 1``.
+
+    Returns
+    -------
+    Zb : ``Zb[0, :q, :q]`` the mean's block; ``Zb[k]`` for ``k >= 1`` on the coordinates' cosine
+        slots then their sine slots. ``Z`` has no entry between two harmonics (eq. 11 holds
+        harmonic by harmonic), so ``Zb`` holds all of it.
+    """
+    q = coordinates
+    if Z.shape != (q * H, q * H) or H % 2 != 1:
+        raise ValueError(f"Z must be ({q * H}, {q * H}) with H = 2 Nh + 1 odd, got {Z.shape} and H = {H}")
+    Nh = (H - 1) // 2
+    Zb = np.zeros((Nh + 1, 2 * q, 2 * q))
+    c = np.arange(q) * H
+    Zb[0, :q, :q] = Z[np.ix_(c, c)]
+    for k in range(1, Nh + 1):
+        idx = np.concatenate([c + 2 * k - 1, c + 2 * k])
+        Zb[k] = Z[np.ix_(idx, idx)]
+    return Zb
+
+
+@njit(cache=True, nogil=True)
+def classify(A):
+    """Kind (FIXED, FREE, MIXED) of every contact coordinate's rows of ``J`` from the blocks ``A``."""
+    nc, m = A.shape[0], A.shape[1]
+    H = m // 2
+    kind = np.empty(2 * nc, dtype=np.int64)
+    for i in range(nc):
+        for a in range(2):
+            dev_id, dev_zero = 0.0, 0.0
+            for r in range(a * H, (a + 1) * H):
+                for s in range(m):
+                    v = A[i, r, s]
+                    dev_id = max(dev_id, abs(v - (1.0 if r == s else 0.0)))
+                    dev_zero = max(dev_zero, abs(v))
+            kind[2 * i + a] = FIXED if dev_id < _EXACT else (FREE if dev_zero < _EXACT else MIXED)
+        if kind[2 * i] == MIXED or kind[2 * i + 1] == MIXED:  # a mixed row reads the whole pair
+            for a in range(2):
+                if kind[2 * i + a] == FREE:
+                    kind[2 * i + a] = MIXED
+    return kind
+
+
+@njit(cache=True, nogil=True)
+def _local(coords, q, ns):
+    """Indices in a harmonic's block of ``coords`` (cosine copies, then sine copies for ``ns = 2``)."""
+    n = coords.shape[0]
+    out = np.empty(ns * n, dtype=np.int64)
+    for j in range(ns):
+        for a in range(n):
+            out[j * n + a] = j * q + coords[a]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _gather(Zk, rows, cols):
+    out = np.empty((rows.shape[0], cols.shape[0]))
+    for a in range(rows.shape[0]):
+        for b in range(cols.shape[0]):
+            out[a, b] = Zk[rows[a], cols[b]]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _slot(k, j):
+    """Slot of copy ``j`` (0 cosine, 1 sine) of harmonic ``k`` (slot 0 the mean)."""
+    return 0 if k == 0 else 2 * k - 1 + j
+
+
+@njit(cache=True, nogil=True)
+def structured_step(Zb, A, R, eps, dx):
+    """The Newton step ``dx = -J^-1 R`` of the coupled law by the elimination of the module text.
+
+    Parameters
+    ----------
+    Zb : (Nh + 1, 2 q, 2 q) blocks of ``Z`` by harmonic (:func:`harmonic_blocks`) (N/m).
+    A : (nc, 2 H, 2 H) the law's Jacobian blocks, ``q = 2 nc``. R : (q H,) residual (N).
+    eps : (q,) penalty per coordinate (N/m). dx : (q H,) out, the step (m).
+
+    Returns the number of mixed coordinates. A singular ``Z_OO`` or Schur
+    complement raises (LAPACK), as the dense solve does.
+    """
+    K = Zb.shape[0]
+    H = 2 * K - 1
+    nc = A.shape[0]
+    q = 2 * nc
+    kind = classify(A)
+    nF, nO, nM = 0, 0, 0
+    for c in range(q):
+        if kind[c] == FIXED:
+            nF += 1
+        elif kind[c] == FREE:
+            nO += 1
+        else:
+            nM += 1
+    Fi, Oi, Mi = np.empty(nF, np.int64), np.empty(nO, np.int64), np.empty(nM, np.int64)
+    posM = np.full(q, -1)
+    nF, nO, nM = 0, 0, 0
+    for c in range(q):
+        if kind[c] == FIXED:
+            Fi[nF] = c
+            nF += 1
+        elif kind[c] == FREE:
+            Oi[nO] = c
+            nO += 1
+        else:
+            Mi[nM] = c
+            posM[c] = nM
+            nM += 1
+    nP = 0
+    posP = np.full(q, -1)
+    for c in range(q):
+        if kind[c - c % 2] == MIXED or kind[c - c % 2 + 1] == MIXED:
+            posP[c] = nP
+            nP += 1
+    Pi = np.empty(nP, np.int64)
+    for c in range(q):
+        if posP[c] >= 0:
+            Pi[posP[c]] = c
+    for c in range(q):
+        for j in range(H):
+            dx[c * H + j] = -R[c * H + j] / eps[c] if kind[c] == FIXED else 0.0
+    S = np.zeros((nP, H, nM, H))  # S_PM and g_P in slot layout, harmonic-diagonal
+    g = np.zeros((nP, H))
+    G = np.zeros((K, 2 * nO, 2 * nM))  # Z_OO^-1 Z_OM and Z_OO^-1 (-R_O - Z_OF dx_F) per harmonic
+    w = np.zeros((K, 2 * nO))
+    for k in range(K):
+        ns = 1 if k == 0 else 2
+        Zk = Zb[k, : ns * q, : ns * q]
+        lF, lO, lM, lP = _local(Fi, q, ns), _local(Oi, q, ns), _local(Mi, q, ns), _local(Pi, q, ns)
+        dxF = np.empty(ns * nF)
+        for j in range(ns):
+            for a in range(nF):
+                dxF[j * nF + a] = dx[Fi[a] * H + _slot(k, j)]
+        if nO > 0:
+            rhs = np.empty((ns * nO, ns * nM + 1))
+            rhs[:, : ns * nM] = _gather(Zk, lO, lM)
+            bO = -(_gather(Zk, lO, lF) @ dxF)
+            for j in range(ns):
+                for a in range(nO):
+                    bO[j * nO + a] -= R[Oi[a] * H + _slot(k, j)]
+            rhs[:, ns * nM] = bO
+            sol = np.linalg.solve(_gather(Zk, lO, lO), rhs)
+            G[k, : ns * nO, : ns * nM] = sol[:, : ns * nM]
+            w[k, : ns * nO] = sol[:, ns * nM]
+        if nP == 0:
+            continue
+        ZPO = _gather(Zk, lP, lO)
+        Sk = _gather(Zk, lP, lM) - ZPO @ np.ascontiguousarray(G[k, : ns * nO, : ns * nM])
+        gk = _gather(Zk, lP, lF) @ dxF + ZPO @ np.ascontiguousarray(w[k, : ns * nO])
+        for ja in range(ns):
+            sa = _slot(k, ja)
+            for a in range(nP):
+                g[a, sa] = gk[ja * nP + a]
+                for jb in range(ns):
+                    sb = _slot(k, jb)
+                    for b in range(nM):
+                        S[a, sa, b, sb] = Sk[ja * nP + a, jb * nM + b]
+    if nM > 0:
+        Kmat = np.zeros((nM, H, nM * H))
+        rhsM = np.zeros((nM, H))
+        Sflat = S.reshape(nP, H, nM * H)
+        for mc in range(nM):
+            c = Mi[mc]
+            i, a = c // 2, c % 2
+            for r in range(H):
+                rhsM[mc, r] = -R[c * H + r] - g[posP[c], r]
+            Kmat[mc] += Sflat[posP[c]]
+            for b in range(2):
+                d = 2 * i + b
+                Acd = np.ascontiguousarray(A[i, a * H : (a + 1) * H, b * H : (b + 1) * H])
+                Kmat[mc] -= Acd @ Sflat[posP[d]]
+                rhsM[mc] += Acd @ g[posP[d]]
+                if kind[d] == MIXED:
+                    for r in range(H):
+                        for s in range(H):
+                            Kmat[mc, r, posM[d] * H + s] += Acd[r, s] * eps[d]
+                else:  # fixed: its step is known
+                    rhsM[mc] -= eps[d] * (Acd @ dx[d * H : (d + 1) * H])
+        dxM = np.linalg.solve(Kmat.reshape(nM * H, nM * H), rhsM.reshape(nM * H))
+        for mc in range(nM):
+            for r in range(H):
+                dx[Mi[mc] * H + r] = dxM[mc * H + r]
+    if nO > 0:
+        for k in range(K):
+            ns = 1 if k == 0 else 2
+            dxMk = np.empty(ns * nM)
+            for j in range(ns):
+                for b in range(nM):
+                    dxMk[j * nM + b] = dx[Mi[b] * H + _slot(k, j)]
+            dO = w[k, : ns * nO] - np.ascontiguousarray(G[k, : ns * nO, : ns * nM]) @ dxMk
+            for j in range(ns):
+                for a in range(nO):
+                    dx[Oi[a] * H + _slot(k, j)] = dO[j * nO + a]
+    return nM
