@@ -133,7 +133,7 @@ def _run_exact() -> None:
 
 def _run_interface() -> None:
     from .interface.paper import paper_interface
-    from .interface.periodic import InterfaceProblem, solve_interface
+    from .interface.periodic import InterfaceProblem, load_walk, solve_interface
     from .interface.reduction import ContactCondensation
     from .interface.time_integration import initial_state, integrate_interface
     from .interface.wear import wear_interface
@@ -141,6 +141,7 @@ def _run_interface() -> None:
 
     condensation = ContactCondensation(craig_bampton(paper_interface(), 0.0))
     problem = InterfaceProblem(condensation, 2 * np.pi * 0.7, harmonics=3)
+    load_walk(problem)  # the fallback of a Newton that fails (the structured Newton seldom does)
     integrate_interface(condensation, problem.omega, *initial_state(solve_interface(problem)), periods=1,
                         steps_per_period=64)  # fmt: skip
     for method in ("stepping", "polynomial"):
