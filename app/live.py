@@ -107,17 +107,25 @@ class PageScript(JSComponent):
     width = param.Integer(0)
     _esm = f"""
     const OUTLINE = "3px solid #f0a202";
-    function tabs(root, out) {{
-      for (const el of root.querySelectorAll("*")) {{
-        if (el.classList.contains("bk-tab")) out.push(el);
-        if (el.shadowRoot) tabs(el.shadowRoot, out);
-      }}
+    // the shadow roots that hold tab headers, found once by a walk of the whole page (a walk is costly)
+    let roots = [];
+    function walk(root, out) {{
+      if (root.querySelector(".bk-tab")) out.push(root);
+      for (const el of root.querySelectorAll("*")) if (el.shadowRoot) walk(el.shadowRoot, out);
       return out;
+    }}
+    function tabs() {{
+      let found = roots.flatMap(root => Array.from(root.querySelectorAll(".bk-tab")));
+      if (!found.length) {{
+        roots = walk(document, []);
+        found = roots.flatMap(root => Array.from(root.querySelectorAll(".bk-tab")));
+      }}
+      return found;
     }}
     // Bokeh draws the tab headers again when the active tab changes: the focus follows the keyboard
     let refocus = 0;
     function label() {{
-      for (const tab of tabs(document, [])) {{
+      for (const tab of tabs()) {{
         const list = tab.parentElement;
         const all = Array.from(list.querySelectorAll(":scope > .bk-tab"));
         list.setAttribute("role", "tablist");
@@ -125,7 +133,7 @@ class PageScript(JSComponent):
         const active = tab.classList.contains("bk-active");
         tab.setAttribute("aria-selected", active ? "true" : "false");
         tab.tabIndex = active ? 0 : -1;
-        if (active && Date.now() - refocus < 2000 && tab.getRootNode().activeElement !== tab) tab.focus();
+        if (active && Date.now() - refocus < 5000 && tab.getRootNode().activeElement !== tab) tab.focus();
         if (tab.dataset.keys) continue;
         tab.dataset.keys = "1";
         tab.addEventListener("focus", () => {{ tab.style.outline = OUTLINE; }});
@@ -145,7 +153,7 @@ class PageScript(JSComponent):
           }}
           event.preventDefault();
           refocus = Date.now();
-          setTimeout(label, 50);
+          for (const ms of [50, 250, 600, 1200, 2500, 4000]) setTimeout(label, ms);
         }});
       }}
     }}
@@ -162,8 +170,9 @@ class PageScript(JSComponent):
         clearTimeout(timer);
         timer = setTimeout(() => {{ model.width = window.innerWidth; }}, 300);
       }});
-      // tabs appear as the page renders and when a tab is built: label them as they come
-      setInterval(label, 500);
+      // the tabs appear as the page renders: label them then, and again after a click may have drawn them
+      // anew (no timer polls the page: a walk of every shadow root costs the browser)
+      for (const ms of [300, 1000, 2500, 6000]) setTimeout(label, ms);
       document.addEventListener("click", () => setTimeout(label, 50), true);
       return document.createElement("span");
     }}

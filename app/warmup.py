@@ -35,8 +35,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 __all__ = ["compile_kernels", "warm", "warm_in_background", "warm_later", "warm_scenes", "warm_tables"]
 
-#: scenes of the defaults computed after the first page's, in the background
-LATER = ("accuracy",)
+#: scenes of the defaults computed after the first page's, in the background, this many seconds later
+LATER, LATER_DELAY = ("accuracy",), 20.0
 
 log = logging.getLogger(__name__)
 _started = threading.Lock()
@@ -124,9 +124,10 @@ def warm_scenes(scenes: tuple[str, ...], draw: bool = True) -> float:
     return time.perf_counter() - start
 
 
-def warm_later(scenes: tuple[str, ...] = LATER) -> threading.Thread:
-    """Compute the default ``scenes`` in a daemon thread (after the first page's): the *Accuracy vs
-    cost* ladder of the defaults, about ten seconds, then comes from the cache when first opened."""
+def warm_later(scenes: tuple[str, ...] = LATER, delay: float = LATER_DELAY) -> threading.Thread:
+    """Compute the default ``scenes`` in a daemon thread, ``delay`` seconds from now (after the first
+    pages, which it would slow down): the *Accuracy vs cost* ladder of the defaults, a few seconds,
+    then comes from the cache when first opened."""
 
     def run():
         try:
@@ -134,7 +135,8 @@ def warm_later(scenes: tuple[str, ...] = LATER) -> threading.Thread:
         except Exception:  # noqa: BLE001 - a failed warm-up only costs time later
             log.exception("fretwear warm-up of %s failed", scenes)
 
-    thread = threading.Thread(target=run, name="fretwear-warm-later", daemon=True)
+    thread = threading.Timer(delay, run)
+    thread.name, thread.daemon = "fretwear-warm-later", True
     thread.start()
     return thread
 

@@ -45,7 +45,7 @@ def test_the_accuracy_ladder_of_the_defaults_is_warmed_after_the_first_page():
     from app.session import Session
     from app.warmup import warm_later
 
-    warm_later(("accuracy",)).join()
+    warm_later(("accuracy",), delay=0.0).join()
     backend = shared_backend()
     before = dict(backend.calls)
     session = Session()
