@@ -199,7 +199,12 @@ def _run_sphere(args: argparse.Namespace) -> int:
     )  # fmt: skip
     with catch_interrupt():
         out = sphere_static_benchmark(args.q_ratio, condensation=ContactCondensation(model))
-    _write_static(args.out, out)
+    return _finish_static(args.out, out)
+
+
+def _finish_static(path: str | None, out: dict) -> int:
+    """Write a static result and return the exit status (a one-line message when it did not converge)."""
+    _write_static(path, out)
     if not out.get("converged"):
         message = " ".join(str(out.get("message") or "did not converge").split())
         print(f"fretwear interface: no static equilibrium: {message}", file=sys.stderr)
@@ -241,12 +246,7 @@ def run(args: argparse.Namespace) -> int:
                     out = _static_summary(cond)
                 else:
                     out = static_benchmark(args.q_ratio, condensation=cond)
-            _write_static(args.out, out)
-            if not out.get("converged"):
-                message = " ".join(str(out.get("message") or "did not converge").split())
-                print(f"fretwear interface: no static equilibrium: {message}", file=sys.stderr)
-                return EXIT_NOT_CONVERGED
-            return EXIT_OK
+            return _finish_static(args.out, out)
         prob = InterfaceProblem(cond, 2 * np.pi * args.f, harmonics=args.harmonics)
         x = cond.model.pairs.position
         if args.kw is None:
