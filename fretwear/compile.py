@@ -205,6 +205,7 @@ KERNELS: dict[str, Kernel] = {
                 "fretwear.time.marching:march",
                 "fretwear.time.integrals:orbit",
                 "fretwear.wear.sliding:_invert",
+                "fretwear.wear.sliding:_pchip",
             ),  # fmt: skip
             60.0,
             _run_exact,
@@ -313,6 +314,7 @@ class Need:
 _SHOOTING = (
     "fretwear.time.periodic:solve",
     "fretwear.wear.sliding:_invert",
+    "fretwear.wear.sliding:_pchip",
     "fretwear.hbm.condensation:condense_loop",
 )
 
