@@ -34,6 +34,7 @@ import param
 from fretwear import figures
 from fretwear.figures.record import parse_settings, settings_json
 
+from .animation import Player, browser_frames
 from .glossary import glossary_markdown, help_mark, term
 from .live import (
     SIDEBAR_WIDTH,
@@ -73,8 +74,6 @@ try {
 """
 #: the formats of each figure in the zip of every export
 BUNDLE_FORMATS = ("png", "svg", "pdf")
-#: period of the animation's frames (ms): one period of the response in about 8 s
-FRAME_PERIOD_MS = 250
 
 TITLE = "fretwear: vibration and fretting wear of a friction contact"
 INTRO = f"""A 2-DOF structure with a friction contact between its masses (Salles et al., section 2.1),
@@ -663,39 +662,41 @@ def _accuracy_controls(scene: AccuracyScene, session: Session) -> pn.Column:
 
 
 def _cycle_controls(scene: CycleScene) -> pn.Row:
-    """Play/pause of the animation of one period, the instant shown, and the summary of the solution.
+    """Play/pause of the animation of one period, its speed, the instant shown, and the summary of the
+    solution.
 
-    The server advances the frames (a periodic callback): a frame that takes
-    longer to draw than the period delays the next one instead of queueing
-    frames, so that a loaded server never falls behind the page.
+    The browser plays the frames (:class:`app.animation.Player`): the server sends
+    them once per solution and draws only the instant where the animation pauses
+    or the slider stops.
     """
     play = pn.widgets.Toggle(label="Play", value=False, width=90, align="end", color="primary")
+    speed = pn.widgets.FloatSlider(
+        label="seconds per period", start=1.0, end=30.0, step=0.5, value=4.0, width=180, align="end"
+    )
     instant = pn.widgets.IntSlider(
         label="instant of the period (frame)", start=0, end=ANIMATION_FRAMES - 1, value=scene.frame, width=260
     )
+    player = Player(period=speed.value, frame=scene.frame)
     instant.param.watch(lambda e: setattr(scene, "frame", e.new), "value_throttled")
     scene.param.watch(lambda e: setattr(instant, "value", e.new), "frame")
-    running: dict[str, Any] = {}
-
-    def step() -> None:
-        scene.frame = (scene.frame + 1) % ANIMATION_FRAMES
+    scene.param.watch(lambda e: setattr(player, "frame", e.new), "frame")
+    player.param.watch(lambda e: setattr(scene, "frame", e.new % ANIMATION_FRAMES), "frame")
+    speed.param.watch(lambda e: setattr(player, "period", e.new), "value")
 
     def toggled(event) -> None:
         play.label = "Pause" if event.new else "Play"
-        if event.new and "callback" not in running:
-            running["callback"] = pn.state.add_periodic_callback(step, period=FRAME_PERIOD_MS, start=False)
-        if "callback" in running:
-            (running["callback"].start if event.new else running["callback"].stop)()
+        player.playing = event.new
 
     play.param.watch(toggled, "value")
     summary = pn.pane.Markdown("", sizing_mode="stretch_width")
 
     def show(*_events):
         summary.object = scene.summary()
+        player.data = browser_frames(scene.animation())
 
     scene.param.watch(show, "version")
     show()
-    return control_row(play, instant, summary)
+    return control_row(play, speed, instant, player, summary)
 
 
 def _scene_tab(scene: Scene, session: Session, export: ExportSettings) -> list:
@@ -771,6 +772,10 @@ def build_page(
     scene of an extra tab to open first (None: the session's scene).
     """
     figures.load_backend("bokeh")
+    # canvas, not WebGL (HoloViews' default): the figures hold hundreds of points, and each WebGL figure
+    # costs a context to make and, on a machine without a GPU, 60-150 ms to draw: the animation drew
+    # 3 frames/s with it, the tabs opened slower
+    hv.renderer("bokeh").webgl = False
     keys = list(session.scenes)
     export = ExportSettings()
     glossary = pn.pane.Markdown(glossary_markdown(), sizing_mode="stretch_width", name="Glossary")

@@ -21,7 +21,9 @@ browser download):
   drawn, in the first page (a run: reduction, wear history, FRFs of the
   16-pair benchmark at Nh = 5) and in later pages (from the server's cache);
 * Accuracy tab: the time from the tab's click to the Pareto plot drawn (its
-  default ladder computed by the warm-up in the background).
+  default ladder computed by the warm-up in the background);
+* animation of one period (Inside one cycle, Play): the frames the browser shows
+  per second, counted over 3 s as changes of the cursor line (target >= 20).
 
 Each figure is printed next to its target with the ratio (median / target),
 with the machine's load average: on a loaded machine every figure grows.
@@ -63,6 +65,26 @@ STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
 WEAR_MAP_CHANGE = 0.5
 #: the Accuracy tab's first opening (its default ladder computed by the warm-up, after the first page's)
 ACCURACY_TAB = 3.0
+#: frames per second of the animation of one period (a lower bound)
+ANIMATION_FPS = 20.0
+#: counts, over ``ms`` milliseconds of the browser's frames, the changes of the animation's cursor line
+FPS_JS = """
+async (ms) => {
+  const line = () => {
+    for (const doc of Bokeh.documents)
+      for (const m of doc._all_models.values()) if (m.name === "fw-anim-cursor-force") return m.location;
+  };
+  let changes = 0, last = line();
+  const start = performance.now();
+  while (performance.now() - start < ms) {
+    await new Promise(resolve => requestAnimationFrame(resolve));
+    const now = line();
+    if (now !== last) changes += 1;
+    last = now;
+  }
+  return changes * 1000 / (performance.now() - start);
+}
+"""
 #: the title of the Accuracy tab's plot at the default quantity
 PARETO = f"{QUANTITY_LABELS[AccuracyScene.param.quantity.default]} vs wall time"
 #: scene -> (address query, tab clicked after loading or None, a plot title the computed scene shows)
@@ -206,6 +228,22 @@ def tab_times(browser, url: str, tab: str, title: str, repeats: int) -> list[flo
     return seconds
 
 
+def animation_fps(browser, url: str, repeats: int) -> list[float]:
+    """Frames per second of the cycle scene's animation (3 s of play each), in ``repeats`` new pages."""
+    query, _, title = SCREENSHOTS["cycle"]
+    rates = []
+    for _ in range(repeats):
+        context = browser.new_context(viewport={"width": 1500, "height": 1200})
+        page = context.new_page()
+        page.goto(f"{url}?{query}")
+        page.wait_for_function(shows([title]), timeout=120_000)
+        page.get_by_role("button", name="Play", exact=True).click()
+        time.sleep(1.0)
+        rates.append(page.evaluate(FPS_JS, 3000))
+        context.close()
+    return rates
+
+
 def screenshots(browser, url: str, folder: Path) -> list[Path]:
     """Each scene of :data:`SCREENSHOTS` opened from its address (and tab), computed, saved as a PNG."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -264,6 +302,7 @@ def main() -> None:
                 study_tab = tab_times(browser, url, "Study", "Study: wear life", pages)
                 interface = tab_times(browser, url, "Interface", "Interface: FRF of pad_x", pages)
                 accuracy = tab_times(browser, url, "Accuracy vs cost", PARETO, pages)
+                fps = animation_fps(browser, url, pages)
                 shots = screenshots(browser, url, args.screenshots) if args.screenshots else []
                 browser.close()
         finally:
@@ -282,6 +321,12 @@ def main() -> None:
     print(line("Interface tab -> FRF, first run", interface[:1], INTERFACE_RUN))
     print(line("Interface tab -> FRF, from the cache", interface[1:], INTERFACE_CACHED))
     print(line("Accuracy tab -> Pareto plot (warmed ladder)", accuracy, ACCURACY_TAB))
+    median = statistics.median(fps)
+    print(
+        f"{'animation of one period (frames/s)':<42} median {median:6.1f}    (min {min(fps):.1f}, "
+        f"max {max(fps):.1f}, n = {len(fps)})  target >= {ANIMATION_FPS:g}  "
+        f"ratio {median / ANIMATION_FPS:.2f}"
+    )
     for path in shots:
         print(f"wrote {path}")
 

@@ -9,14 +9,23 @@ import param
 
 import fretwear
 from fretwear import figures
-from fretwear.figures.sketch import STATE_NAMES, model_sketch, sketch_scale
+from fretwear.figures.sketch import (
+    LAYERS,
+    STATE_COLORS,
+    STATE_NAMES,
+    model_sketch,
+    sketch_layers,
+    sketch_scale,
+)
 
+from ..animation import named
 from ..glossary import term
 from ..state import EXACT, EXACT_POINT, Settings, Task
 from .base import EMPTY, Scene, Selection, history_notes, ok_value
 
-#: frames of the animation of one period (the cycle scene)
-ANIMATION_FRAMES = 32
+#: frames of the animation of one period (the cycle scene): the browser plays them at 32 per second at
+#: its default speed (a period in 4 s)
+ANIMATION_FRAMES = 128
 
 
 def _relative(value: float, reference: float) -> str:
@@ -134,21 +143,55 @@ the contact slips longer and the loop flattens."""
             s = self.settings.model
             model = fretwear.paper_model(fex=s.fex, mu=s.mu, normal_load=s.normal_load, kn=s.kn)
             return model_sketch(model, title=f"The model (at rest), {self._title()}")
+        sketch = model_sketch(sol.model, title=self._sketch_title(k), **self._instant(sol, k))
+        if not live:
+            return sketch
+        # the browser animates these layers and the title (app.animation.Player), found by name
+        color = {"interface": {"glyph": "sketch-color"}}
+        layers = [
+            named(layer, source=f"sketch-{name}", **color.get(name, {}))
+            for layer, name in zip(sketch, LAYERS, strict=True)
+        ]
+        return named(sketch.clone(layers), title="sketch-title")
+
+    def _sketch_title(self, k: int) -> str:
+        sol = self._point()
         state = int(sol.state[0, k])
         scale = sketch_scale(sol.displacement)
-        return model_sketch(
-            sol.model,
-            displacement=tuple(sol.displacement[:, k]),
-            scale=scale,
-            state=state,
-            wear=float(sol.wear[0]),
-            normal_load=float(sol.normal_loads[0]),
-            title=f"t / T = {self.phase():.2f}: {STATE_NAMES[state]} (displacements × {scale:.2g})",
-        )
+        phase = sol.time[k] * sol.omega / (2 * np.pi)
+        return f"t / T = {phase:.2f}: {STATE_NAMES[state]} (displacements × {scale:.2g})"
+
+    @staticmethod
+    def _instant(sol, k: int) -> dict:
+        """The arguments of :func:`model_sketch` at time sample ``k`` of ``sol``."""
+        return {
+            "displacement": tuple(sol.displacement[:, k]),
+            "scale": sketch_scale(sol.displacement),
+            "state": int(sol.state[0, k]),
+            "wear": float(sol.wear[0]),
+            "normal_load": float(sol.normal_loads[0]),
+        }
+
+    def animation(self) -> dict | None:
+        """Every frame of one period for the browser's player (None while there is no solution): ``t``
+        (t / T), the loop's dot ``loop_x``, ``loop_y``, the sketch's ``title``, the interface's
+        ``color`` and ``layers`` (:func:`sketch_layers` of each frame), one entry per frame."""
+        sol = self._point()
+        if sol is None:
+            return None
+        samples = [self.sample(frame) for frame in range(ANIMATION_FRAMES)]
+        return {
+            "t": [float(sol.time[k] * sol.omega / (2 * np.pi)) for k in samples],
+            "loop_x": [float(sol.relative_displacement[0][k]) for k in samples],
+            "loop_y": [float(sol.contact_force[0][k]) for k in samples],
+            "title": [self._sketch_title(k) for k in samples],
+            "color": [STATE_COLORS[int(sol.state[0, k])] for k in samples],
+            "layers": [sketch_layers(sol.model, **self._instant(sol, k)) for k in samples],
+        }
 
     def _cursor(self, name: str, live: bool) -> list:
         """The animation's current instant on the page's figure ``name`` (none in exports): a vertical
-        line at ``t / T`` on the signals, a dot on the hysteresis loop."""
+        line at ``t / T`` on the signals, a dot on the hysteresis loop (named for the browser's player)."""
         if not live:
             return []
         hv = figures.holoviews()
@@ -159,8 +202,10 @@ the contact slips longer and the loop flattens."""
                 if sol is None
                 else (sol.relative_displacement[0][k], sol.contact_force[0][k])
             )
-            return [figures.styled(hv.Points([xy], ["x", "y"]), {"color": "black"}, {"size": 12}, {"s": 60})]
-        return [figures.styled(hv.VLine(t), {"color": "black"}, {"line_width": 2}, {"linewidth": 1.5})]
+            dot = figures.styled(hv.Points([xy], ["x", "y"]), {"color": "black"}, {"size": 12}, {"s": 60})
+            return [named(dot, source="cursor-loop")]
+        line = figures.styled(hv.VLine(t), {"color": "black"}, {"line_width": 2}, {"linewidth": 1.5})
+        return [named(line, glyph=f"cursor-{name}")]
 
     def _figure_displacements(self, live: bool = False):
         sol = self._point()

@@ -727,9 +727,34 @@ def test_lesson_mode_tours_a_preset_from_the_keyboard(open_page):
 # -- features -----------------------------------------------------------------------------------------
 
 
+#: samples, at each of the browser's frames for ``ms`` milliseconds, what the animation's named models
+#: show: the sketch's title, the two cursor lines and the loop's dot
+ANIMATION_JS = """
+async (ms) => {
+  const read = () => {
+    const found = {};
+    for (const doc of Bokeh.documents)
+      for (const m of doc._all_models.values())
+        if (typeof m.name === "string" && m.name.startsWith("fw-anim-")) found[m.name] = m;
+    return {t: performance.now(), title: found["fw-anim-sketch-title"].text,
+            lines: [found["fw-anim-cursor-displacements"].location, found["fw-anim-cursor-force"].location],
+            left: Array.from(found["fw-anim-sketch-masses"].data.left)};
+  };
+  const out = [], start = performance.now();
+  while (performance.now() - start < ms) {
+    await new Promise(resolve => requestAnimationFrame(resolve));
+    out.push(read());
+  }
+  return out;
+}
+"""
+
+
 def test_the_model_sketch_plays_one_cycle_in_step_with_the_signals(open_page):
     """Feature: a live drawing of the 2-DOF model, animated over one period with play/pause, its
-    stick/slip state shown and in step with the signal plots."""
+    stick/slip state shown and in step with the signal plots. Issue 26: the browser plays it (at least
+    20 frames/s; it was 2-4 drawn by the server), the cursors in step at every frame, with a speed
+    control."""
     page = open_page("scene=cycle&fex=8&f=0.75&N=0", first="t / T = 0.00")
     page.idle()
     title = page.plot("t / T =")["title"]
@@ -737,12 +762,37 @@ def test_the_model_sketch_plays_one_cycle_in_step_with_the_signals(open_page):
     assert page.page.get_by_text("slipping").first.is_visible()  # the solution summary beside the player
     page.page.get_by_role("button", name="Play", exact=True).click()
     page.wait_title("t / T = 0.00", absent=True)  # the masses move
+
+    samples = page.page.evaluate(ANIMATION_JS, 2000)
+    changes = [b for a, b in zip(samples, samples[1:], strict=False) if b["lines"] != a["lines"]]
+    fps = len(changes) / ((samples[-1]["t"] - samples[0]["t"]) / 1000)
+    print(f"animation: {fps:.1f} frames/s over {len(samples)} browser frames")  # target: bench_app.py
+    assert len(changes) >= 10, fps  # the server drew 2-4 frames/s; a loaded machine's browser draws 20
+    for sample in samples:  # one instant on every figure at every frame
+        phase = float(sample["title"].split("=")[1].split(":")[0])
+        assert sample["lines"][0] == sample["lines"][1] and abs(phase - sample["lines"][0]) <= 0.0051, sample
+    assert len({tuple(s["left"]) for s in samples}) > 20  # the masses move with them
+
+    def rate() -> float:
+        """Periods shown per second, over a second (the line's advance modulo one period)."""
+        first, *_, last = page.page.evaluate(ANIMATION_JS, 1000)
+        return ((last["lines"][0] - first["lines"][0]) % 1) / ((last["t"] - first["t"]) / 1000)
+
+    before = rate()
+    speed = page.page.locator(".bk-input-group", has_text="seconds per period").last
+    handle = speed.locator(".noUi-handle")  # 4 s per period
+    handle.focus()
+    for _ in range(8):
+        handle.press("ArrowRight")  # + 0.5 s each: 8 s per period
     time.sleep(1.0)
+    after = rate()
+    assert before == pytest.approx(1 / 4, rel=0.2) and after == pytest.approx(1 / 8, rel=0.2), (before, after)
+
     page.page.get_by_role("button", name="Pause", exact=True).click()
-    page.page.get_by_role("button", name="Play", exact=True).wait_for()  # the server has paused
+    page.page.get_by_role("button", name="Play", exact=True).wait_for()
     time.sleep(1.0)
     deadline = time.monotonic() + 60
-    while True:  # the instant shown by the sketch and by the signal plots: the same, once paused
+    while True:  # paused: the server draws the instant the browser showed, on every figure
         sketch = page.plot("t / T =")["title"]
         phase = float(sketch.split("=")[1].split(":")[0])
         cursors = [page.plot(prefix)["vlines"] for prefix in ("Displacements", "Friction force")]

@@ -599,6 +599,49 @@ def test_the_model_sketch_moves_with_the_animation(computed):
     scene.frame = 0
 
 
+def test_the_browser_plays_the_frames_the_server_draws(computed):
+    """Issue 26: the player's frames (app.animation) are the server's live figures at each instant: the
+    columns of every named Bokeh source, the sketch's title and interface colour, the cursors."""
+    import holoviews as hv
+
+    from app.animation import PREFIX, browser_frames
+
+    scene = computed.scenes["cycle"]
+    data = browser_frames(scene.animation())
+    assert data["frames"] == ANIMATION_FRAMES and len(data["sources"]) == 10  # 9 sketch layers, the dot
+    renderer = hv.renderer("bokeh")
+    moved = []
+    for frame in (0, 37, ANIMATION_FRAMES - 1):
+        scene.frame = frame
+        models = {}
+        for name in scene.figure_names:
+            plot = renderer.get_plot(scene.figure(name, live=True))
+            models |= {m.name: m for m in plot.state.references() if str(m.name).startswith(PREFIX)}
+        named = {PREFIX + n for n in ("sketch-title", "sketch-color", "cursor-displacements", "cursor-force")}
+        assert set(data["sources"]) | named == set(models) - {PREFIX + "sketch-walls"}
+        for name, columns in data["sources"].items():
+            for column, frames in columns.items():
+                drawn = models[name].data[column]
+                if column == "text":
+                    assert list(drawn) == frames[frame]
+                else:
+                    np.testing.assert_allclose(
+                        np.concatenate([np.ravel(np.asarray(v, dtype=float)) for v in drawn])
+                        if column.endswith("s") else np.asarray(drawn, dtype=float),
+                        np.concatenate([np.ravel(np.asarray(v, dtype=float)) for v in frames[frame]])
+                        if column.endswith("s") else np.asarray(frames[frame], dtype=float),
+                        atol=1e-4, err_msg=f"{name} {column} at frame {frame}",
+                    )  # fmt: skip
+        assert models[PREFIX + "sketch-title"].text == data["title"][frame]
+        assert models[PREFIX + "sketch-color"].line_color == data["color"][frame]
+        for cursor in ("cursor-displacements", "cursor-force"):
+            assert models[PREFIX + cursor].location == pytest.approx(data["t"][frame])
+        moved.append(data["sources"][PREFIX + "sketch-masses"]["left"][frame])
+    assert not np.allclose(moved[0], moved[1])  # the masses move
+    assert browser_frames(None) == {}
+    scene.frame = 0
+
+
 def test_glossary_covers_every_term_of_the_issue():
     assert {"F_ex", "mu", "F_N", "u0", "k_w", "Nh", "DLFT", "pseudo-FRF", "wear map", "r"} <= set(TERMS)
     assert all(len(text) > 40 for _, text in TERMS.values())
