@@ -220,16 +220,18 @@ class DiskScene(Addressed, OwnSettings, Exports, Runner):
         blades = hv.Segments((root * np.cos(angle), root * np.sin(angle), tx, ty), ["x0", "y0", "x1", "y1"])
         shroud = hv.Segments((tx, ty, np.roll(tx, -1), np.roll(ty, -1)), ["x0", "y0", "x1", "y1"])
         ring = hv.Ellipse(0, 0, 2 * root)
-        w_dim = hv.Dimension("w", label="worn depth w / u0 of contact i to i + 1")
+        w_dim = hv.Dimension("w", label="worn depth w / u₀ of contact i to i + 1")
         tips = hv.Points({"x": tx, "y": ty, "w": worn, "blade": np.arange(n)}, ["x", "y"], [w_dim, "blade"])
         common = {"color": hv.dim("w"), "cmap": "viridis", "clim": (0.0, 1.0), "colorbar": True}
         tips = styled(tips, common, {"size": 9, "tools": ["hover"]}, {"s": 40})
-        title = "Bladed disk"
+        title = short = "Bladed disk"
         if r:
-            title = f"Bladed disk: tips coloured by worn depth w/u0 at N = {r['cycles'][-1]:.3g}"
+            title = f"Bladed disk: tips coloured by worn depth w/u₀ at N = {r['cycles'][-1]:.3g}"
+            short = f"Bladed disk: tip wear w/u₀ at N = {r['cycles'][-1]:.3g}"
         layers = hv.Overlay([ring, blades, shroud, tips])
         overlay = overlay_options(layers, title, "x", "y", False, False, False, padding=0.05)
-        return styled(overlay, {"data_aspect": 1.0, "xaxis": None, "yaxis": None})
+        # a square drawing leaves the title the drawing's width: a shorter one in the static export
+        return styled(overlay, {"data_aspect": 1.0, "xaxis": None, "yaxis": None}, {}, {"title": short})
 
     def _figure_zzenf(self):
         s = self.settings()
