@@ -100,9 +100,9 @@ class View(param.Parameterized):
 class PageScript(JSComponent):
     """The page's own code in the browser: reports the window's width to ``width`` (on load, and once a
     resize settles), folds the sidebar on a window narrower than ``NARROW`` px (its toggle button
-    unfolds it), and makes the tab headers keyboard tabs: ``role="tab"`` in a ``role="tablist"``,
-    ``aria-selected``, focusable, Enter or Space opens one, the arrow keys, Home and End move between
-    them, and the focus is outlined."""
+    unfolds it; a window made wide again unfolds it), and makes the tab headers keyboard tabs:
+    ``role="tab"`` in a ``role="tablist"``, ``aria-selected``, focusable, Enter or Space opens one, the
+    arrow keys, Home and End move between them, and the focus is outlined."""
 
     width = param.Integer(0)
     _esm = f"""
@@ -157,18 +157,23 @@ class PageScript(JSComponent):
         }});
       }}
     }}
+    function fold(folded) {{
+      const side = document.getElementById("sidebar");
+      const button = document.getElementById("sidebar-toggle");
+      if (side) side.classList.toggle("show", !folded);
+      if (button) button.setAttribute("aria-expanded", folded ? "false" : "true");
+    }}
     export function render({{ model }}) {{
       model.width = window.innerWidth;
-      if (window.innerWidth < {NARROW}) {{
-        const side = document.getElementById("sidebar");
-        const button = document.getElementById("sidebar-toggle");
-        if (side) side.classList.remove("show");
-        if (button) button.setAttribute("aria-expanded", "false");
-      }}
-      let timer = null;
+      if (window.innerWidth < {NARROW}) fold(true);
+      let timer = null, narrow = window.innerWidth < {NARROW};
       window.addEventListener("resize", () => {{
         clearTimeout(timer);
-        timer = setTimeout(() => {{ model.width = window.innerWidth; }}, 300);
+        timer = setTimeout(() => {{
+          model.width = window.innerWidth;
+          // the sidebar folds when the window becomes narrow, and unfolds when it becomes wide again
+          if ((window.innerWidth < {NARROW}) !== narrow) {{ narrow = !narrow; fold(narrow); }}
+        }}, 300);
       }});
       // the tabs appear as the page renders: label them then, and again after a click may have drawn them
       // anew (no timer polls the page: a walk of every shadow root costs the browser)

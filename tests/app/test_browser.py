@@ -427,30 +427,34 @@ def layout(page: Page, *prefixes: str, legends: list | None = None, folded: bool
     return info, [next(p for p in info["plots"] if p["title"].startswith(x)) for x in prefixes]
 
 
-@pytest.mark.parametrize("width", [390, 900, 1400, 1920])
-def test_the_page_fits_phone_tablet_laptop_and_desktop_windows(open_page, width):
+def test_the_page_fits_phone_tablet_laptop_and_desktop_windows(open_page):
     """Defects: at 900 px the FRF plot was about 30 px wide; at 390 px the page was unusable (the sidebar
-    filled the screen, the legend left the curves a few pixels); the figures did not reflow."""
-    page = open_page(width=width)
-    # beside the axes where a figure has the room (a column of 840 px, or two of 740), else below
-    legends = {390: ["below"], 900: ["right"], 1400: ["below"], 1920: ["right"]}[width]
-    info, (frf, regimes) = layout(
-        page, "FRF of mass 1", "Stick/slip regimes", legends=legends, folded=width < 1000
-    )
-    for plot in (frf, regimes):  # inside the window, with room for the data
-        assert plot["left"] >= 0 and plot["right"] <= width + 1, plot
-        assert plot["frame"] >= 200 and plot["frame_height"] >= 200, plot  # was 30 px wide at 900
-    if width < 1000:  # the sidebar folds, the figures stack in one column
-        assert info["sidebar"] < 5
-        assert regimes["top"] >= frf["bottom"] - 1
-    else:  # the sidebar stays, the figures side by side
-        assert info["sidebar"] > 300
-        assert abs(regimes["top"] - frf["top"]) < 5 and regimes["left"] >= frf["right"] - 1
-    button = page.page.get_by_role("button", name="Presentation").bounding_box()
-    assert button["x"] >= 0 and button["x"] + button["width"] <= width + 1
-    if width == 900:  # the sidebar unfolds from its button
-        page.page.locator("#sidebar-toggle").click()
-        until(lambda: True if page.page.evaluate(LAYOUT_JS)["sidebar"] > 300 else None)
+    filled the screen, the legend left the curves a few pixels); the figures did not reflow. One page,
+    its window resized from a desktop's to a phone's and back (the sidebar folds and unfolds)."""
+    page = open_page(width=1920)
+    for width in (1920, 1400, 900, 390, 1400):
+        page.page.set_viewport_size({"width": width, "height": 1300})
+        # beside the axes where a figure has the room (a column of 840 px, or two of 740), else below
+        legends = {390: ["below"], 900: ["right"], 1400: ["below"], 1920: ["right"]}[width]
+        info, (frf, regimes) = layout(
+            page, "FRF of mass 1", "Stick/slip regimes", legends=legends, folded=width < 1000
+        )
+        for plot in (frf, regimes):  # inside the window, with room for the data
+            assert plot["left"] >= 0 and plot["right"] <= width + 1, (width, plot)
+            assert plot["frame"] >= 200 and plot["frame_height"] >= 200, (width, plot)  # was 30 px at 900
+        if width < 1000:  # the sidebar folds, the figures stack in one column
+            assert info["sidebar"] < 5, width
+            assert regimes["top"] >= frf["bottom"] - 1, width
+        else:  # the sidebar stays, the figures side by side
+            assert info["sidebar"] > 300, width
+            assert abs(regimes["top"] - frf["top"]) < 5 and regimes["left"] >= frf["right"] - 1, width
+        button = page.page.get_by_role("button", name="Presentation").bounding_box()
+        assert button["x"] >= 0 and button["x"] + button["width"] <= width + 1, width
+        if width == 900:  # the sidebar unfolds from its button, and folds again
+            page.page.locator("#sidebar-toggle").click()
+            until(lambda: True if page.page.evaluate(LAYOUT_JS)["sidebar"] > 300 else None)
+            page.page.locator("#sidebar-toggle").click()
+            until(lambda: True if page.page.evaluate(LAYOUT_JS)["sidebar"] < 5 else None)
 
 
 def test_the_progress_line_keeps_its_place_and_presentation_mode_enlarges(open_page):
