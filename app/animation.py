@@ -100,23 +100,24 @@ class Player(JSComponent):
         found = {{}};
         for (const doc of (window.Bokeh ? window.Bokeh.documents : []))
           for (const m of doc._all_models.values())
-            if (typeof m.name === "string" && m.name.startsWith(PREFIX)) found[m.name] = m;
+            if (typeof m.name === "string" && m.name.startsWith(PREFIX)) (found[m.name] ??= []).push(m);
       }}
+      // every model of that name: a figure drawn anew for a new window width may leave its old copy
       function get(name) {{
-        let m = found[name];
-        if (m == null || m.document == null) {{ collect(); m = found[name]; }}
-        return m;
+        let models = found[name];
+        if (models == null || models.some(m => m.document == null)) {{ collect(); models = found[name]; }}
+        return models ?? [];
       }}
       // not sent back: the server keeps the instant it drew
-      function set(m, values) {{ if (m != null) m.setv(values, {{sync: false}}); }}
+      function set(models, values) {{ for (const m of models) m.setv(values, {{sync: false}}); }}
       function show(k) {{
         const d = model.data;
         for (const [name, columns] of Object.entries(d.sources)) {{
-          const source = get(name);
-          if (source == null) continue;
-          const data = Object.assign({{}}, source.data);
-          for (const [column, frames] of Object.entries(columns)) data[column] = frames[k];
-          set(source, {{data}});
+          for (const source of get(name)) {{
+            const data = Object.assign({{}}, source.data);
+            for (const [column, frames] of Object.entries(columns)) data[column] = frames[k];
+            set([source], {{data}});
+          }}
         }}
         for (const name of ["cursor-displacements", "cursor-force"])
           set(get(PREFIX + name), {{location: d.t[k]}});
@@ -132,7 +133,12 @@ class Player(JSComponent):
         if (start === null) start = now - period * (Math.max(shown, model.frame, 0) / d.frames);
         const k = Math.floor((((now - start) / period) % 1) * d.frames);
         if (k !== shown) show(k);
-        if (now - since >= 1000) {{ model.fps = count * 1000 / (now - since); count = 0; since = now; }}
+        if (now - since >= 1000) {{
+          model.fps = count * 1000 / (now - since);
+          count = 0;
+          since = now;
+          collect();  // figures drawn anew since (a new window width, a new solution) have new models
+        }}
         requestAnimationFrame(tick);
       }}
       function play() {{
@@ -146,7 +152,8 @@ class Player(JSComponent):
         else if (shown >= 0) model.frame = shown;  // the server draws the same instant
       }});
       model.on("period", () => {{ start = null; }});  // the phase shown carries on at the new speed
-      model.on("data", () => {{ start = null; }});
+      // new frames (a new solution, or the first ones after Play was pressed before they came)
+      model.on("data", () => {{ start = null; collect(); play(); }});
       play();
       return document.createElement("span");
     }}

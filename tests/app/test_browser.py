@@ -731,15 +731,23 @@ def test_lesson_mode_tours_a_preset_from_the_keyboard(open_page):
 # -- features -----------------------------------------------------------------------------------------
 
 
-#: samples, at each of the browser's frames for ``ms`` milliseconds, what the animation's named models
-#: show: the sketch's title, the two cursor lines and the loop's dot
+#: samples, at each of the browser's frames for ``ms`` milliseconds, what the animation's named models on
+#: screen show: the sketch's title, the two cursor lines and the masses' left edges
 ANIMATION_JS = """
 async (ms) => {
-  const read = () => {
-    const found = {};
-    for (const doc of Bokeh.documents)
-      for (const m of doc._all_models.values())
-        if (typeof m.name === "string" && m.name.startsWith("fw-anim-")) found[m.name] = m;
+  const read = () => {  // the models of the plots on screen only
+    const found = {}, stack = Object.values(Bokeh.index), seen = new Set();
+    while (stack.length) {
+      const v = stack.pop();
+      if (!v || seen.has(v)) continue;
+      seen.add(v);
+      const m = v.model;
+      if (m && m.title && v.frame && v.canvas_view.el.getBoundingClientRect().width > 0)
+        for (const r of [m.title, ...(m.center ?? []), ...(m.renderers ?? [])])
+          for (const x of [r, r.data_source])
+          if (x && typeof x.name === "string" && x.name.startsWith("fw-anim-")) found[x.name] = x;
+      if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
+    }
     return {t: performance.now(), title: found["fw-anim-sketch-title"].text,
             lines: [found["fw-anim-cursor-displacements"].location, found["fw-anim-cursor-force"].location],
             left: Array.from(found["fw-anim-sketch-masses"].data.left)};
@@ -807,6 +815,17 @@ def test_the_model_sketch_plays_one_cycle_in_step_with_the_signals(open_page):
     assert 0 < phase < 1 and sketch.split(": ")[1].split(" ")[0] in ("stick", "slip")
     time.sleep(1.0)
     assert page.plot("t / T =")["title"] == sketch  # paused
+
+
+def test_play_pressed_before_the_solution_plays_once_it_comes(open_page):
+    """Play pressed while the period is still computing plays once its frames come (the benchmark saw
+    pages that never played: the player wrote into the models of a figure drawn before the window's
+    width was known, not into those on screen)."""
+    # a worn point (wear histories to compute first): Play is pressed seconds before the frames come
+    page = open_page("scene=cycle&fex=9&mu=0.7&f=0.8&N=5000", first="The model (at rest)")
+    page.page.get_by_role("button", name="Play", exact=True).click()
+    page.wait_title("t / T =")  # the solution came; its frames follow
+    until(lambda: True if len({s["lines"][0] for s in page.page.evaluate(ANIMATION_JS, 1000)}) >= 5 else None)
 
 
 def test_the_glossary_is_one_hover_away_from_each_control_and_term(open_page):
