@@ -10,8 +10,9 @@ on every variable and coordinate, state codes as CF flags (``flag_values``,
 ``NAME_units``. Wear depth is ``w`` (m) in every result, so that
 ``hist.to_xarray().w.plot()`` draws ``w(N)``.
 
-Every dataset round-trips through ``to_zarr`` / ``xarray.open_zarr`` and
-``to_netcdf`` (booleans of the attributes are written as 0 / 1, no ``None``).
+Every dataset round-trips through ``to_zarr`` / ``xarray.open_zarr`` (Zarr v2
+or v3: labels are variable-length strings) and netCDF (``None`` is left out of
+the attributes).
 xarray is imported by these functions only: the library imports without it.
 """
 
@@ -112,13 +113,11 @@ def _var(name: str, dims: tuple[str, ...], values: Any, **attrs: Any) -> tuple:
 
 
 def _scalar(value: Any) -> Any:
-    """A value for the attributes of a dataset (Zarr and netCDF): bools as 0 / 1, numpy scalars as Python's,
-    ``None`` left out (returned as ``None``), anything else as its text."""
+    """A value for the attributes of a dataset (Zarr and netCDF): numpy scalars as Python's, ``None`` left
+    out (returned as ``None``), anything but a number, a bool or a text as its text."""
     if value is None:
         return None
-    if isinstance(value, (bool, np.bool_)):
-        return int(value)
-    if isinstance(value, (int, float, str, np.integer, np.floating)):
+    if isinstance(value, (bool, int, float, str, np.bool_, np.integer, np.floating)):
         return value.item() if isinstance(value, np.generic) else value
     return str(value)
 

@@ -42,7 +42,10 @@ def test_one_scene_alone_with_the_address_settings(scene):
 
 
 def test_the_query_reaches_the_session_and_a_bad_scene_is_refused():
-    view = page("wearmap", "fex=14&mu=0.8", executor=Held())
+    held = Held()
+    view = page("wearmap", "fex=14&mu=0.8", executor=held)
+    session = held.submitted[0].func.__self__  # the run asked for: the session's, of the scene shown
+    assert session.scene == "wearmap" and session.controls.fex == 14
     assert view.select(pn.widgets.TextInput)[0].value == "14"  # the F_ex box shows the address's value
     with pytest.raises(ValueError, match="scene must be None or one of regimes"):
         page("nope")
