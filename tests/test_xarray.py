@@ -34,6 +34,7 @@ def results(model):
             "shooting": fw.shooting(model, OMEGA, samples=64),
             "sweep": fw.sweep(model, 2 * np.pi * np.array([0.6, 0.7, 0.8]), 3),
             "shooting_sweep": Sweep(fw.shooting_sweep(model, 2 * np.pi * np.array([0.6, 0.7]), samples=32)),
+            "interface_sweep": fw.sweep(fw.paper_interface(), 2 * np.pi * np.array([0.6, 0.7]), 3),
             "history": fw.wear_history(model, OMEGA, "stepping", harmonics=3, kw=1e-11, cycles=1e4),
             "map": fw.wear_map(model, [0.6, 0.7], [0.0, 1e3, 1e4], method="stepping", harmonics=3, workers=1),
             "interface": fw.wear_history(
@@ -58,6 +59,7 @@ KINDS = (
     "shooting",
     "sweep",
     "shooting_sweep",
+    "interface_sweep",
     "history",
     "map",
     "interface",
@@ -116,6 +118,11 @@ def test_a_sweep_is_an_frf_along_frequency(results):
         assert ds.amplitude.dims == ("frequency", "dof")
         np.testing.assert_array_equal(ds.amplitude.values, [s.amplitude for s in sweep.solutions])
         np.testing.assert_array_equal(ds.converged.values, sweep.converged)
+    pairs = results["interface_sweep"]
+    ds = pairs.to_xarray()
+    assert list(ds.dof.values) == ["x1", "x2", "y"] and ds.slip_distance.dims == ("frequency", "pair")
+    np.testing.assert_array_equal(ds.amplitude.values, [s.amplitude for s in pairs.solutions])
+    np.testing.assert_array_equal(ds.friction_energy.values, [s.friction_energy for s in pairs.solutions])
 
 
 def test_a_wear_history_plots_w_against_cycles(results):
