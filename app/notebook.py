@@ -59,7 +59,7 @@ def page(
     Returns
     -------
     panel.viewable.Viewable
-        A :class:`panel.Row` (sidebar, then the page's tabs or the scene's tab).
+        A ``panel.Row`` (sidebar, then the page's tabs or the scene's tab).
 
     Raises
     ------

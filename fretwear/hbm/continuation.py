@@ -87,10 +87,10 @@ class Sweep:
         return np.array([s.converged for s in self.solutions])
 
     def to_xarray(self):
-        """The responses along ``frequency`` as an ``xarray.Dataset``, with units and long names.
+        """The responses along ``frequency`` (Hz) as an ``xarray.Dataset``, with units and long names.
 
-        Its layout: ``fretwear._xarray.sweep_dataset``.
-
+        ``amplitude`` per ``dof``, ``converged``, ``residual``; per contact the relative
+        amplitudes, sliding distances and energies (per ``pair`` for contact pairs).
         ``Sweep(fretwear.shooting_sweep(...)).to_xarray()`` converts a shooting sweep.
         """
         from .._xarray import sweep_dataset

@@ -279,7 +279,10 @@ class PeriodicSolution:
     def to_xarray(self):
         """The solution as an ``xarray.Dataset``, with units and long names.
 
-        Its layout: ``fretwear._xarray.periodic_dataset``.
+        Signals over one period on ``time`` (s): ``displacement`` per ``dof``,
+        ``relative_displacement``, ``contact_force`` and ``state`` per ``contact``;
+        amplitudes per DOF and contact; ``w``, ``normal_load``, ``sliding_distance``
+        and ``friction_energy`` per ``friction_contact``; the solve's status in the attributes.
         """
         from .._xarray import periodic_dataset
 

@@ -110,10 +110,7 @@ class InterfaceWearHistory:
         return self.omega / (2 * np.pi)
 
     def to_xarray(self):
-        """The history as an ``xarray.Dataset``, with units and long names.
-
-        Its layout: ``fretwear._xarray.interface_history_dataset``.
-        """
+        """The history along ``cycles`` and ``pair`` (with ``position``) as an ``xarray.Dataset``."""
         from .._xarray import interface_history_dataset
 
         return interface_history_dataset(self)

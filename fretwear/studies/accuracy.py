@@ -115,7 +115,8 @@ class CostStudy:
     def to_xarray(self):
         """The rungs as an ``xarray.Dataset``, with units and long names.
 
-        Its layout: ``fretwear._xarray.cost_dataset``.
+        ``wall_time``, ``converged`` and ``error`` per ``quantity`` along ``rung``, the
+        settings (``Nh``, ``N``, ``tol``, ``degree``; NaN where a rung has none) as coordinates.
         """
         from .._xarray import cost_dataset
 

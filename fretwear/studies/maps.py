@@ -119,9 +119,10 @@ class WearMap:
         return np.array([h.converged for h in self.histories])
 
     def to_xarray(self):
-        """The map as an ``xarray.Dataset``, with units and long names.
+        """The map over ``frequency`` x ``cycles`` as an ``xarray.Dataset``, with units and long names.
 
-        Its layout: ``fretwear._xarray.wear_map_dataset``.
+        ``w`` and ``wear_fraction`` per ``friction_contact``, ``amplitude`` per ``dof``,
+        ``converged`` per frequency.
         """
         from .._xarray import wear_map_dataset
 

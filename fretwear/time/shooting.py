@@ -205,7 +205,7 @@ class ShootingSolution:
     def to_xarray(self):
         """The solution as an ``xarray.Dataset``, with units and long names.
 
-        Its layout: ``fretwear._xarray.periodic_dataset``.
+        As :meth:`fretwear.hbm.PeriodicSolution.to_xarray` (``contact``: the friction contacts).
         """
         from .._xarray import periodic_dataset
 

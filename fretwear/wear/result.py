@@ -121,11 +121,11 @@ class WearHistory:
         return self.omega / (2 * np.pi)
 
     def to_xarray(self):
-        """The history as an ``xarray.Dataset``, with units and long names.
+        """The history along ``cycles`` as an ``xarray.Dataset``, with units and long names.
 
-        Its layout: ``fretwear._xarray.wear_history_dataset``.
-
-        ``hist.to_xarray().w.plot()`` draws ``w(N)``.
+        ``w`` (m), ``wear_fraction``, ``normal_load``, ``rate``, ``sliding_distance`` per
+        ``friction_contact``; ``amplitude`` per ``dof``; what ran and how it ended in the
+        attributes. ``hist.to_xarray().w.plot()`` draws ``w(N)``.
         """
         from .._xarray import wear_history_dataset
 
