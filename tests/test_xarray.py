@@ -189,3 +189,13 @@ def test_the_html_summary_shows_the_measured_error_and_escapes_text(results):
     h2 = type(h)(**{**h.__dict__, "info": {"misfit": 0.0123}, "status": "failed: <x> & y"})
     html = h2._repr_html_()
     assert "misfit 0.0123" in html and "failed: &lt;x&gt; &amp; y" in html
+
+
+def test_the_library_imports_without_xarray():
+    """xarray is imported by ``to_xarray`` only: without xarray, fretwear imports and builds models."""
+    import subprocess
+    import sys
+
+    code = "import sys; sys.modules['xarray'] = None; import fretwear; fretwear.paper_model(); print('ok')"
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, stdin=subprocess.PIPE)
+    assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr[-2000:]
