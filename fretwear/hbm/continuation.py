@@ -86,6 +86,17 @@ class Sweep:
     def converged(self) -> np.ndarray:
         return np.array([s.converged for s in self.solutions])
 
+    def to_xarray(self):
+        """The responses along ``frequency`` (Hz) as an ``xarray.Dataset``, with units and long names.
+
+        ``amplitude`` per ``dof``, ``converged``, ``residual``; per contact the relative
+        amplitudes, sliding distances and energies (per ``pair`` for contact pairs).
+        ``Sweep(fretwear.shooting_sweep(...)).to_xarray()`` converts a shooting sweep.
+        """
+        from .._xarray import sweep_dataset
+
+        return sweep_dataset(self.solutions)
+
 
 def check_omegas(omegas) -> np.ndarray:
     """``omegas`` as a new 1-D float array, checked: non-empty, finite, > 0 (rad/s)."""

@@ -276,6 +276,23 @@ class PeriodicSolution:
         v_rel = self._relative_map @ self._velocity
         return self._period_integral(np.sum(self.contact_force * v_rel, axis=0))
 
+    def to_xarray(self):
+        """The solution as an ``xarray.Dataset``, with units and long names.
+
+        Signals over one period on ``time`` (s): ``displacement`` per ``dof``,
+        ``relative_displacement``, ``contact_force`` and ``state`` per ``contact``;
+        amplitudes per DOF and contact; ``w``, ``normal_load``, ``sliding_distance``
+        and ``friction_energy`` per ``friction_contact``; the solve's status in the attributes.
+        """
+        from .._xarray import periodic_dataset
+
+        return periodic_dataset(self)
+
+    def _repr_html_(self) -> str:
+        from .._html import summary_html
+
+        return summary_html(self)
+
     @property
     def slipping(self) -> np.ndarray:
         """True for each friction contact that slips somewhere in the period."""

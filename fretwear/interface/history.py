@@ -109,6 +109,17 @@ class InterfaceWearHistory:
         """Excitation frequency (Hz)."""
         return self.omega / (2 * np.pi)
 
+    def to_xarray(self):
+        """The history along ``cycles`` and ``pair`` (with ``position``) as an ``xarray.Dataset``."""
+        from .._xarray import interface_history_dataset
+
+        return interface_history_dataset(self)
+
+    def _repr_html_(self) -> str:
+        from .._html import summary_html
+
+        return summary_html(self)
+
     @property
     def status(self) -> str:
         """Why the history ends: ``"horizon"``, or the :attr:`message` (an early stop or a failure)."""

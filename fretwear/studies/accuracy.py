@@ -112,6 +112,16 @@ class CostStudy:
             return f"no approximation meets {target:g}: only the reference does ({exact})"
         return f"cheapest rung within {target:g}: {best.label} ({best.wall_time * 1e3:.1f} ms); {exact}"
 
+    def to_xarray(self):
+        """The rungs as an ``xarray.Dataset``, with units and long names.
+
+        ``wall_time``, ``converged`` and ``error`` per ``quantity`` along ``rung``, the
+        settings (``Nh``, ``N``, ``tol``, ``degree``; NaN where a rung has none) as coordinates.
+        """
+        from .._xarray import cost_dataset
+
+        return cost_dataset(self)
+
     def pareto(self, quantity: str | None = None) -> list[Rung]:
         """Rungs not beaten by a faster and more accurate one, by increasing wall time."""
         front, best = [], np.inf

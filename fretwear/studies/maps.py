@@ -118,6 +118,21 @@ class WearMap:
             return np.ones(len(self.histories), dtype=bool)
         return np.array([h.converged for h in self.histories])
 
+    def to_xarray(self):
+        """The map over ``frequency`` x ``cycles`` as an ``xarray.Dataset``, with units and long names.
+
+        ``w`` and ``wear_fraction`` per ``friction_contact``, ``amplitude`` per ``dof``,
+        ``converged`` per frequency.
+        """
+        from .._xarray import wear_map_dataset
+
+        return wear_map_dataset(self)
+
+    def _repr_html_(self) -> str:
+        from .._html import summary_html
+
+        return summary_html(self)
+
     def pseudo_frf(self, cycles) -> np.ndarray:
         """First-harmonic amplitudes at cycle counts ``cycles``, shape (len(cycles), nf, n) (Fig. 8-9).
 

@@ -51,6 +51,9 @@ _LONG_NAMES = {
     "peak_blade": "blade of the largest amplitude (0 to sectors - 1; -1: not computed)",
     "delta": "the draw's blade stiffness deviations delta_i (kb1, kb2 times 1 + delta_i)",
 }
+#: the attributes of the coordinates every result shares (also :mod:`fretwear._xarray`)
+CYCLES_ATTRS = {"units": "cycles", "long_name": "vibration cycles N"}
+POSITION_ATTRS = {"units": "m", "long_name": "coordinate along the interface"}
 #: what the variables of a model with contact pairs mean where it differs from 1-D contacts
 _PAIR_NAMES = {
     "amplitude": "first-harmonic amplitude of each reported DOF (no wear)",
@@ -102,11 +105,7 @@ def template(spec: StudySpec, lay: Layout):
     if "fraction" in extra_dims:
         coords["fraction"] = ("fraction", np.array(spec.fractions), {"units": "-", "long_name": "w / u0"})
     if "cycles" in extra_dims:
-        coords["cycles"] = (
-            "cycles",
-            spec.cycle_grid(),
-            {"units": "cycles", "long_name": "vibration cycles N"},
-        )
+        coords["cycles"] = ("cycles", spec.cycle_grid(), CYCLES_ATTRS)
     if "blade" in extra_dims:
         coords["blade"] = ("blade", np.arange(spec.model.n_dofs // 3), {"long_name": "blade (its sector)"})
     for d, names in _names(spec).items():
@@ -114,7 +113,7 @@ def template(spec: StudySpec, lay: Layout):
             coords[d] = (d, np.array(names))
     if "pair" in extra_dims:
         position = spec.model.pairs.position
-        coords["position"] = ("pair", position, {"units": "m", "long_name": "coordinate along the interface"})
+        coords["position"] = ("pair", position, POSITION_ATTRS)
     data_vars: dict[str, Any] = {}
     encoding: dict[str, Any] = {}
     for name, (extra, shape) in variables.items():

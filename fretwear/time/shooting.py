@@ -202,6 +202,20 @@ class ShootingSolution:
 
     time = item("_histories", 0, "Sample times ``k T / N`` (s), shape (N,).")
 
+    def to_xarray(self):
+        """The solution as an ``xarray.Dataset``, with units and long names.
+
+        As :meth:`fretwear.hbm.PeriodicSolution.to_xarray` (``contact``: the friction contacts).
+        """
+        from .._xarray import periodic_dataset
+
+        return periodic_dataset(self)
+
+    def _repr_html_(self) -> str:
+        from .._html import summary_html
+
+        return summary_html(self)
+
     @property
     def displacement(self) -> np.ndarray:
         """DOF displacements (m), shape (n, N)."""

@@ -120,6 +120,22 @@ class WearHistory:
         """Excitation frequency (Hz)."""
         return self.omega / (2 * np.pi)
 
+    def to_xarray(self):
+        """The history along ``cycles`` as an ``xarray.Dataset``, with units and long names.
+
+        ``w`` (m), ``wear_fraction``, ``normal_load``, ``rate``, ``sliding_distance`` per
+        ``friction_contact``; ``amplitude`` per ``dof``; what ran and how it ended in the
+        attributes. ``hist.to_xarray().w.plot()`` draws ``w(N)``.
+        """
+        from .._xarray import wear_history_dataset
+
+        return wear_history_dataset(self)
+
+    def _repr_html_(self) -> str:
+        from .._html import summary_html
+
+        return summary_html(self)
+
     @property
     def label(self) -> str:
         """What ran, slow-time scheme and dynamics apart (:func:`describe`)."""
