@@ -42,7 +42,7 @@ myst_enable_extensions = ["dollarmath", "amsmath"]
 myst_heading_anchors = 3
 
 # autodoc and numpydoc: every public name, with the docstring as written (NumPy style)
-autodoc_default_options = {"members": True, "member-order": "bysource"}
+autodoc_default_options = {"member-order": "bysource"}  # ":members:" per package page
 autodoc_typehints = "none"  # the numpydoc sections give the types, with their units
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
