@@ -4,8 +4,10 @@ Build (no network access needed; warnings are errors)::
 
     python -m sphinx -W --keep-going -b html docs docs/_build/html
 
-``FRETWEAR_DOCS_FAST=1`` executes only the first gallery example (the others are
-rendered with their code, not run): ``tests/test_docs.py`` builds this way.
+The gallery (``examples/``) is executed; an example whose source did not change
+since the last build in this checkout is not run again, unless
+``FRETWEAR_DOCS_RERUN=1`` (``tests/test_docs.py`` sets it). ``FRETWEAR_DOCS_FAST=1``
+executes only the first example (the others are rendered with their code).
 """
 
 from __future__ import annotations
@@ -59,6 +61,8 @@ sphinx_gallery_conf = {
     "within_subsection_order": "FileNameSortKey",
     "show_memory": False,
     "abort_on_example_error": True,
+    "run_stale_examples": os.environ.get("FRETWEAR_DOCS_RERUN", "") not in ("", "0"),
+    "write_computation_times": False,
 }
 
 html_theme = "pydata_sphinx_theme"
