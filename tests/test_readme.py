@@ -128,3 +128,18 @@ def test_the_written_outputs_do_not_share_a_name():
     commands = {line.split(" #")[0].strip() for line in lines}  # a cluster: the same study
     outs = re.findall(r"^fretwear .*--out (\S+)", "\n".join(sorted(commands)), flags=re.M)
     assert len(outs) == len(set(outs)), sorted(o for o in outs if outs.count(o) > 1)
+
+
+def test_the_getting_started_python_runs_as_written():
+    """The first FRF and wear history of docs/getting_started.md, then its plot, as written (Agg backend)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    text = (ROOT / "docs" / "getting_started.md").read_text(encoding="utf-8")
+    code = re.findall(r"^```python\n(.*?)^```", text, flags=re.S | re.M)
+    assert len(code) == 2
+    namespace: dict = {}
+    for block in code:
+        exec(compile(block, "docs/getting_started.md", "exec"), namespace)
+    assert namespace["hist"].label == "exact" and 4e3 < namespace["hist"].cycles_to(0.5) < 6e3
+    assert len(namespace["fig"].axes) == 2
