@@ -31,6 +31,7 @@ version = release
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax copied into the site: the equations render without network access
     "sphinx.ext.viewcode",
     "numpydoc",
     "myst_parser",

@@ -23,7 +23,14 @@ import pytest
 import fretwear
 
 ROOT = Path(__file__).resolve().parents[1]
-NEEDS = ("sphinx", "numpydoc", "pydata_sphinx_theme", "sphinx_gallery", "myst_parser")
+NEEDS = (
+    "sphinx",
+    "numpydoc",
+    "pydata_sphinx_theme",
+    "sphinx_gallery",
+    "myst_parser",
+    "sphinx-mathjax-offline",
+)
 MISSING = [name for name in NEEDS if importlib.util.find_spec(name) is None]
 pytestmark = pytest.mark.skipif(
     bool(MISSING), reason=f"docs build: {', '.join(MISSING)} not installed (pip install -e '.[docs]')"
@@ -57,6 +64,7 @@ def build(tmp_path_factory) -> Path:
 def test_every_page_builds_without_a_warning(build):
     missing = [page for page in PAGES if not (build / f"{page}.html").is_file()]
     assert not missing
+    assert (build / "_static" / "mathjax" / "tex-chtml.js").is_file()  # the equations render offline
 
 
 def test_the_api_reference_documents_every_public_name(build):
