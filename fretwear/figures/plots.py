@@ -118,6 +118,10 @@ def positive(y) -> np.ndarray:
 
 
 def marker_line(hv, x: float | None, vertical: bool = True):
+    """A dotted black line at ``x``: vertical, or horizontal if not ``vertical``; none if ``x`` is None.
+
+    ``hv`` is the HoloViews module (imported by the caller, so that this module loads without it).
+    """
     line = (hv.VLine if vertical else hv.HLine)(np.nan if x is None else float(x))
     return styled(
         line,

@@ -44,6 +44,10 @@ class Problem:
         The condensation at ``omega`` on the active contacts, when already known,
         or a function of ``(B, basis)`` that returns it (sweeps condense every
         frequency at once). A :class:`Receptance` sets the receptance form.
+    march : tuple, optional
+        ``(x, R, lam, X, state)``: the residual and the march of :meth:`evaluate`
+        at unknowns ``x``, when a solver already has them (the compiled sweep);
+        :meth:`evaluate` then answers at ``x`` without marching again.
 
     Notes
     -----
@@ -53,10 +57,6 @@ class Problem:
     (:mod:`fretwear.hbm.receptance`): ``Z``/``F0`` are then replaced by the
     receptance ``G`` and the linear relative displacement ``U0``, ``F0`` being
     ``k_t U0`` (the force scale of the residual).
-    march : tuple, optional
-        ``(x, R, lam, X, state)``: the residual and the march of :meth:`evaluate`
-        at unknowns ``x``, when a solver already has them (the compiled sweep);
-        :meth:`evaluate` then answers at ``x`` without marching again.
     """
 
     model: Model
