@@ -96,17 +96,29 @@ class Player(JSComponent):
     const PREFIX = "{PREFIX}";
     export function render({{ model }}) {{
       let found = {{}}, shown = -1, start = null, count = 0, since = 0, running = false;
-      function collect() {{  // one walk of the document's models for all the names
+      // the named models of the figures on screen, found by one walk of the page's views (a figure drawn
+      // anew for a new window width leaves its old copy in the document: writing it would cost a draw)
+      function collect() {{
         found = {{}};
-        for (const doc of (window.Bokeh ? window.Bokeh.documents : []))
-          for (const m of doc._all_models.values())
-            if (typeof m.name === "string" && m.name.startsWith(PREFIX)) (found[m.name] ??= []).push(m);
+        const stack = window.Bokeh ? Object.values(window.Bokeh.index) : [], seen = new Set();
+        while (stack.length) {{
+          const v = stack.pop();
+          if (!v || seen.has(v)) continue;
+          seen.add(v);
+          const m = v.model;
+          if (m && m.title && v.frame && v.canvas_view.el.getBoundingClientRect().width > 0)
+            for (const r of [m.title, ...(m.center ?? []), ...(m.renderers ?? [])])
+              for (const x of [r, r.data_source, r.glyph])
+                if (x && typeof x.name === "string" && x.name.startsWith(PREFIX))
+                  (found[x.name] ??= []).push(x);
+          if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
+        }}
       }}
-      // every model of that name: a figure drawn anew for a new window width may leave its old copy
+      // (walked again each second of play, on new frames and when a figure is removed)
       function get(name) {{
-        let models = found[name];
-        if (models == null || models.some(m => m.document == null)) {{ collect(); models = found[name]; }}
-        return models ?? [];
+        let models = found[name] ?? [];
+        if (models.some(m => m.document == null)) {{ collect(); models = found[name] ?? []; }}
+        return models;
       }}
       // not sent back: the server keeps the instant it drew
       function set(models, values) {{ for (const m of models) m.setv(values, {{sync: false}}); }}
