@@ -18,8 +18,10 @@ from fretwear.interface.sphere import (
     _contact_schur,
     mindlin_deresiewicz_dissipation,
     sphere_cyclic_dissipation,
+    sphere_dynamic_model,
     sphere_fretting_loop,
     sphere_on_flat,
+    sphere_periodic,
     sphere_static_benchmark,
     sphere_static_model,
     tangential_modulus,
@@ -168,6 +170,8 @@ def test_cli_sphere_static_json(capsys):
     assert _cli(["--geometry", "sphere", "--divisions", "6"]) == 2  # periodic solves: not yet
     assert _cli(["--static", "--divisions", "6"]) == 2  # --divisions is the sphere's
     assert "--divisions" in capsys.readouterr().err
+    assert _cli(["--static", "--geometry", "sphere", "--divisions", "6", "--contact-nodes", "64"]) == 2
+    assert "--contact-nodes" in capsys.readouterr().err  # the cylinder's: refused, not ignored
 
 
 @pytest.mark.slow
@@ -255,3 +259,28 @@ def test_gross_slip_loop_is_a_parallelogram_with_mindlin_corners():
     assert np.allclose(d[half:], -d[: half + 1], atol=1e-9 * np.abs(d).max())
     assert loop["loop_work"] == pytest.approx(loop["friction_work"], rel=1e-9)
     assert 0.5 < loop["loop_work"] / (4 * mu_p * np.abs(d).max()) < 1  # a parallelogram's area, corners cut
+
+
+@pytest.fixture(scope="module")
+def dynamic():
+    return ContactCondensation(sphere_dynamic_model(**CHEAP))
+
+
+def test_dynamic_model_is_the_static_one_in_x_and_z(dynamic, cond):
+    """Condensed with the binormal free, the dynamic model (contact nodes' x, y, z kept) has the static
+    model's stiffness and loads on (u_T, u_N): the y components condensed either way."""
+    for x, y in zip(dynamic.static, cond.static, strict=True):
+        assert np.abs(x - y).max() < 1e-9 * np.abs(y).max()
+    assert dynamic.model.pairs.dim == 3 and dynamic.has_binormal.sum() < dynamic.n_pairs  # a symmetry plane
+
+
+def test_periodic_dissipation_far_below_the_holder_mode_is_mindlin_deresiewicz(dynamic):
+    """The 2-D friction law on the 3-D patch at 1/20 of the holder's mode (quasi-static): the dissipation per
+    cycle of the periodic solution is Mindlin-Deresiewicz's within 5 %; structured = dense."""
+    d = sphere_periodic(0.6, 0.05, harmonics=3, condensation=dynamic)
+    assert d["converged"] and abs(d["error_dissipation"]) < 0.05, d["error_dissipation"]
+    sol = d["solution"]
+    lam = np.hypot(sol.tangential_force[..., 0], sol.tangential_force[..., 1])
+    assert np.all(lam <= 0.6 * sol.normal_force * (1 + 1e-9) + 1e-12)
+    dense = sphere_periodic(0.6, 0.05, harmonics=3, condensation=dynamic, linear="dense")
+    assert np.abs(dense["solution"].unknowns - sol.unknowns).max() <= 1e-9 * np.abs(sol.unknowns).max()
