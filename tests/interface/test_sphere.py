@@ -12,6 +12,7 @@ from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from fretwear.cli.interface import add_arguments, run
+from fretwear.interface.contact import SLIP, STICK
 from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.sphere import (
     SphereOnFlat,
@@ -275,12 +276,12 @@ def test_dynamic_model_is_the_static_one_in_x_and_z(dynamic, cond):
 
 
 def test_periodic_dissipation_far_below_the_holder_mode_is_mindlin_deresiewicz(dynamic):
-    """The 2-D friction law on the 3-D patch at 1/20 of the holder's mode (quasi-static): the dissipation per
-    cycle of the periodic solution is Mindlin-Deresiewicz's within 5 %; structured = dense."""
-    d = sphere_periodic(0.6, 0.05, harmonics=3, condensation=dynamic)
+    """The 2-D friction law on the 3-D patch (63 pairs) at 1/20 of the holder's mode (quasi-static): the
+    dissipation per cycle of the periodic solution (Nh = 7) is Mindlin-Deresiewicz's within 5 % (measured
+    3.4e-3; 4.4e-2 at Nh = 5, 1.2e-1 at Nh = 3), every traction inside the cone."""
+    d = sphere_periodic(0.6, 0.05, harmonics=7, condensation=dynamic)
     assert d["converged"] and abs(d["error_dissipation"]) < 0.05, d["error_dissipation"]
     sol = d["solution"]
     lam = np.hypot(sol.tangential_force[..., 0], sol.tangential_force[..., 1])
     assert np.all(lam <= 0.6 * sol.normal_force * (1 + 1e-9) + 1e-12)
-    dense = sphere_periodic(0.6, 0.05, harmonics=3, condensation=dynamic, linear="dense")
-    assert np.abs(dense["solution"].unknowns - sol.unknowns).max() <= 1e-9 * np.abs(sol.unknowns).max()
+    assert np.any(sol.state == SLIP) and np.any(sol.state_fraction(STICK) == 1)  # partial slip
