@@ -285,3 +285,26 @@ def test_periodic_dissipation_far_below_the_holder_mode_is_mindlin_deresiewicz(d
     lam = np.hypot(sol.tangential_force[..., 0], sol.tangential_force[..., 1])
     assert np.all(lam <= 0.6 * sol.normal_force * (1 + 1e-9) + 1e-12)
     assert np.any(sol.state == SLIP) and np.any(sol.state_fraction(STICK) == 1)  # partial slip
+
+
+@pytest.mark.slow
+def test_partial_slip_wears_an_annulus_of_the_3d_patch(dynamic):
+    """Archard wear over the 3-D patch (63 pairs, cone law, Nh = 3, 1e5 cycles at Q* = 0.6 mu P, quasi-
+    static): no wear inside 0.9 of Mindlin's stick radius, wear in the slip annulus, the normal load
+    integral P / 2 (half model) kept at every step (measured ~20 s)."""
+    from fretwear.interface.periodic import InterfaceProblem
+    from fretwear.interface.sphere import holder_frequency, mindlin_stick_radius
+    from fretwear.interface.wear import wear_interface
+
+    info = dynamic.full.info
+    scale = 0.6 / info["q_ratio"]
+    prob = InterfaceProblem(dynamic, 2 * np.pi * 0.05 * holder_frequency(), harmonics=3, force_scale=scale)
+    h = wear_interface(prob, 1e-14, 1e5)
+    assert h.converged
+    a = info["hertz_radius"]
+    c = mindlin_stick_radius(a, 0.6)
+    r = np.hypot(*info["pair_points"].T)
+    w = h.wear[-1]
+    assert w.max() > 0 and np.all(w[r < 0.9 * c] == 0)
+    assert w[(r > c) & (r < a)].max() > 0.5 * w.max()
+    assert np.allclose(h.normal_force_sum, info["normal_load"] / 2, rtol=1e-9)
