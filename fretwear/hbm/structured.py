@@ -3,8 +3,10 @@
 The Jacobian of the coupled law is ``J = Z + blockdiag(A_i) (E - Z)``
 (:mod:`fretwear.hbm.coupled`), of size ``n = 2 nc H`` (``nc`` pairs, ``H = 2 Nh
 + 1`` harmonic slots). Forming it costs ``2 H n^2`` and factoring it ``n^3 /
-3``: at 128 pairs and ``Nh = 7`` (n = 3 840) about 1.3 s a step. Two
-structures make the step cheap:
+3``: at 128 pairs and ``Nh = 7`` (n = 3 840) about 1.3 s a step. The same
+holds for the 2-D friction law (:mod:`fretwear.hbm.cone`) with three
+coordinates a pair, ``n = 3 nc H``: below, "pair" has ``d`` = 2 or 3
+coordinates and ``q = d nc``. Two structures make the step cheap:
 
 * ``Z`` (the condensed dynamic stiffness, eq. 11) couples no two harmonics:
   per harmonic ``k`` it is one real block on the ``2 nc`` contact coordinates
