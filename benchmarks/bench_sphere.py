@@ -7,8 +7,13 @@ condensation on the contact coordinates (``ContactCondensation.static``) and of 
 solves (Hertz, then Mindlin at ``Q / (mu P)`` = 0.3, 0.5, 0.8), the process's peak memory, and the
 anchors' errors against their targets (3 % on ``a`` and ``p0``, 5 % on ``c``; ratio = error /
 target, <= 1 meets it), then the friction work per cycle of tangential load ``+-Q*`` on the finest
-mesh against Mindlin-Deresiewicz (5 %). The issue's time target, one periodic solve <= 10 s at >= 500
-pairs, is for the dynamic solve still to come; the static solve time is printed next to it for scale.
+mesh against Mindlin-Deresiewicz (5 %).
+
+Then the dynamic sphere (``--dynamic``, default the finest mesh; :func:`sphere_dynamic_model`, the
+2-D friction law): one periodic solve (``Nh`` = 5) at ``Q*/(mu P)`` = 0.5 and 1/20 of the holder's
+mode (quasi-static: its dissipation per cycle against Mindlin-Deresiewicz, 5 %), and at 0.3 and 0.9
+of it (near the mode); time against the issue's 10 s target, Newton iterations against 10, peak
+memory; the dense path in the same run on the meshes of ``--dense`` (default the coarsest).
 
 The machine's load and memory are printed first: timings on a shared machine scale with the load.
 """
@@ -26,6 +31,8 @@ from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.sphere import (
     SphereOnFlat,
     sphere_cyclic_dissipation,
+    sphere_dynamic_model,
+    sphere_periodic,
     sphere_static_benchmark,
     sphere_static_model,
 )
@@ -60,10 +67,44 @@ def row(divisions: int) -> tuple[list, dict, ContactCondensation]:
     ], errors, cond  # fmt: skip
 
 
+def dynamic_rows(divisions: int, dense: bool) -> list[list]:
+    """Periodic solves of the dynamic sphere (module text), structured and, with ``dense``, dense."""
+    t_build, model = timed(lambda: sphere_dynamic_model(divisions=divisions))
+    t_cond, cond = timed(lambda: ContactCondensation(model))
+    print(f"dynamic, divisions {divisions}: {model.pairs.count} pairs, build {t_build:.3g} s, "
+          f"condensation {t_cond:.3g} s", flush=True)  # fmt: skip
+    rows = []
+    for q, fr in ((0.5, 0.05), (0.3, 0.9)):
+        for linear in ("structured", "dense") if dense else ("structured",):
+            t, d = timed(lambda q=q, fr=fr, linear=linear: sphere_periodic(q, fr, 5, condensation=cond,
+                                                                           linear=linear))  # fmt: skip
+            e = d.get("error_dissipation")
+            rows.append([
+                divisions, d["pairs"], d["unknowns"], q, f"{d['frequency']:.4g}", fr, linear,
+                f"{t:.3g} ({t / 10:.2f})", f"{d['iterations']} ({d['iterations'] / 10:.1f})",
+                f"{d['dissipation']:.4g}", "-" if fr > 0.1 else f"{abs(e):.2e} ({abs(e) / 0.05:.2f})",
+                f"{d['holder_amplitude']:.3g}", f"{peak_memory_gb():.2f}", d["converged"],
+            ])  # fmt: skip
+            print(rows[-1], flush=True)
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--divisions", type=int, nargs="+", default=[6, 12, 18])
+    parser.add_argument("--dynamic", type=int, nargs="*", default=None,
+                        help="meshes (divisions) of the periodic solves; default the finest")  # fmt: skip
+    parser.add_argument("--dense", type=int, nargs="*", default=None,
+                        help="meshes on which the dense path runs too; default the coarsest")  # fmt: skip
+    parser.add_argument("--static", action=argparse.BooleanOptionalAction, default=True,
+                        help="the static rows (--no-static: the dynamic ones only)")  # fmt: skip
     args = parser.parse_args()
+    dyn = [args.divisions[-1]] if args.dynamic is None else args.dynamic
+    dense = [min(args.divisions)] if args.dense is None else args.dense
+    if not args.static:
+        print(f"load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} cores, {total_memory_gb():.1f} GB "
+              f"RAM, OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}\n")  # fmt: skip
+        return dynamic(sorted(set(dyn) | set(dense)), dense)
     print(f"load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} cores, {total_memory_gb():.1f} GB RAM, "
           f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}\n")  # fmt: skip
     rows, errs = [], []
@@ -99,6 +140,15 @@ def main() -> None:
               f"{float(r[5]) / 10:.2f}); build {r[3]} s; peak memory {r[6]} GB of {total_memory_gb():.0f} GB "
               f"(ratio {float(r[6]) / total_memory_gb():.2f})")  # fmt: skip
     print(f"default SphereOnFlat: {SphereOnFlat().divisions} divisions")
+    dynamic(sorted(set(dyn) | set(dense)), dense)
+
+
+def dynamic(meshes: list[int], dense: list[int]) -> None:
+    """The dynamic table: time (ratio to 10 s), Newton iterations (ratio to 10), dissipation error (ratio
+    to 5 %), the holder's first-harmonic amplitude and the peak memory."""
+    rows = [r for d in meshes for r in dynamic_rows(d, d in dense)]
+    table(["divisions", "pairs", "unknowns", "Q*/(mu P)", "f (Hz)", "f / f1", "path", "solve s (ratio)",
+           "its (ratio)", "W (J)", "W err (ratio)", "holder x (m)", "GB", "converged"], rows)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -162,6 +162,15 @@ def _run_cone() -> None:
     F = np.zeros(3 * H)
     F[1], F[H + 2], F[2 * H] = 2.0, 2.0, 1.0
     ConeProblem(Z, F, basis, np.array([1.0])).solve(max_iter=0)  # no Newton step: the load walk too
+    # the 3-D interface with the cone law: the structured step of 3 coordinates a pair, the time integration
+    from .interface.periodic import InterfaceProblem, solve_interface
+    from .interface.reduction import ContactCondensation
+    from .interface.sphere import sphere_dynamic_model
+    from .interface.time_integration import initial_state, integrate_interface
+
+    cond = ContactCondensation(sphere_dynamic_model(divisions=2, size=2.0, q_ratio=0.9))
+    sol = solve_interface(InterfaceProblem(cond, 2 * np.pi * 100.0, harmonics=1))
+    integrate_interface(cond, sol.problem.omega, *initial_state(sol), periods=1, steps_per_period=16)
 
 
 #: the kernel groups, by name
@@ -225,7 +234,11 @@ KERNELS: dict[str, Kernel] = {
         Kernel(
             "cone",
             "2-D friction (the circular Coulomb cone) on node pairs (fretwear.hbm.cone_problem)",
-            ("fretwear.hbm.cone_problem:newton_kernel", "fretwear.hbm.cone_problem:walk_kernel"),
+            (
+                "fretwear.hbm.cone_problem:newton_kernel",
+                "fretwear.hbm.cone_problem:walk_kernel",
+                "fretwear.interface.time_integration:integrate_cone_kernel",
+            ),  # fmt: skip
             60.0,
             _run_cone,
         ),

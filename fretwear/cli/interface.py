@@ -72,7 +72,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "model, --static only)")  # fmt: skip
     option(parser, "--q-ratio", "benchmark tangential load Q0 / (mu P) (-), >= 0, < 1 with --static; "
            "default 0.5", default=0.5, metavar="Q")  # fmt: skip
-    option(parser, "--contact-nodes", "benchmark pairs across the contact window (-); default 32", default=32,
+    option(parser, "--contact-nodes", "cylinder benchmark: pairs across the contact window (-); default 32",
            metavar="NC")  # fmt: skip
     option(parser, "--divisions", "sphere benchmark: grid spacings across the contact window radius (-); "
            "default 18 (523 pairs)", metavar="D")  # fmt: skip
@@ -113,7 +113,7 @@ def _model(args: argparse.Namespace):
     if args.model:
         return read_interface_model(args.model)
     changes = dict(
-        contact_nodes=args.contact_nodes,
+        contact_nodes=32 if args.contact_nodes is None else args.contact_nodes,
         window=args.window,
         normal_load=2.0e5 if args.normal_load is None else args.normal_load,
         mu=args.mu,
@@ -184,6 +184,10 @@ def _run_sphere(args: argparse.Namespace) -> int:
     if not args.static or args.model:
         raise ValueError(
             "--geometry sphere runs with --static only and without --model (the quasi-static test)"
+        )
+    if args.contact_nodes is not None:
+        raise ValueError(
+            "--contact-nodes applies to --geometry cylinder only (the sphere's mesh is set by --divisions)"
         )
     if args.q_ratio >= 1:
         raise ValueError(

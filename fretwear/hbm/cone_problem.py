@@ -28,10 +28,11 @@ __all__ = ["ConeProblem", "ConeSolution", "newton_kernel", "walk_kernel"]
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter):
+def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter, blocks=None):
     """:func:`fretwear.hbm.newton.newton` with the 2-D friction law: ``(x, converged, iterations, max|R|,
-    code)``; a singular Jacobian raises (LAPACK)."""
-    return newton(cone_law(gap, mu, xref, Phi, Psi), x0, Z, F, eps, target, max_iter)
+    code)``; a singular Jacobian raises (LAPACK). ``blocks``: ``Z`` by harmonic
+    (:func:`fretwear.hbm.structured.harmonic_blocks` on ``3 nc`` coordinates) for the structured steps."""
+    return newton(cone_law(gap, mu, xref, Phi, Psi), x0, Z, F, eps, target, max_iter, blocks)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)

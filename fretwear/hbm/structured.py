@@ -3,8 +3,10 @@
 The Jacobian of the coupled law is ``J = Z + blockdiag(A_i) (E - Z)``
 (:mod:`fretwear.hbm.coupled`), of size ``n = 2 nc H`` (``nc`` pairs, ``H = 2 Nh
 + 1`` harmonic slots). Forming it costs ``2 H n^2`` and factoring it ``n^3 /
-3``: at 128 pairs and ``Nh = 7`` (n = 3 840) about 1.3 s a step. Two
-structures make the step cheap:
+3``: at 128 pairs and ``Nh = 7`` (n = 3 840) about 1.3 s a step. The same
+holds for the 2-D friction law (:mod:`fretwear.hbm.cone`) with three
+coordinates a pair, ``n = 3 nc H``: below, "pair" has ``d`` = 2 or 3
+coordinates and ``q = d nc``. Two structures make the step cheap:
 
 * ``Z`` (the condensed dynamic stiffness, eq. 11) couples no two harmonics:
   per harmonic ``k`` it is one real block on the ``2 nc`` contact coordinates
@@ -76,24 +78,28 @@ def harmonic_blocks(Z: np.ndarray, coordinates: int, H: int) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
-def classify(A):
-    """Kind (FIXED, FREE, MIXED) of every contact coordinate's rows of ``J`` from the blocks ``A``."""
+def classify(A, per_pair=2):
+    """Kind (FIXED, FREE, MIXED) of every contact coordinate's rows of ``J`` from the blocks ``A``
+    (``per_pair`` coordinates a pair: 2 for the coupled law, 3 for the 2-D friction law)."""
     nc, m = A.shape[0], A.shape[1]
-    H = m // 2
-    kind = np.empty(2 * nc, dtype=np.int64)
+    H = m // per_pair
+    kind = np.empty(per_pair * nc, dtype=np.int64)
     for i in range(nc):
-        for a in range(2):
+        mixed = False
+        for a in range(per_pair):
             dev_id, dev_zero = 0.0, 0.0
             for r in range(a * H, (a + 1) * H):
                 for s in range(m):
                     v = A[i, r, s]
                     dev_id = max(dev_id, abs(v - (1.0 if r == s else 0.0)))
                     dev_zero = max(dev_zero, abs(v))
-            kind[2 * i + a] = FIXED if dev_id < _EXACT else (FREE if dev_zero < _EXACT else MIXED)
-        if kind[2 * i] == MIXED or kind[2 * i + 1] == MIXED:  # a mixed row reads the whole pair
-            for a in range(2):
-                if kind[2 * i + a] == FREE:
-                    kind[2 * i + a] = MIXED
+            c = per_pair * i + a
+            kind[c] = FIXED if dev_id < _EXACT else (FREE if dev_zero < _EXACT else MIXED)
+            mixed = mixed or kind[c] == MIXED
+        if mixed:  # a mixed row reads the whole pair
+            for a in range(per_pair):
+                if kind[per_pair * i + a] == FREE:
+                    kind[per_pair * i + a] = MIXED
     return kind
 
 
@@ -130,7 +136,8 @@ def structured_step(Zb, A, R, eps, dx):
     Parameters
     ----------
     Zb : (Nh + 1, 2 q, 2 q) blocks of ``Z`` by harmonic (:func:`harmonic_blocks`) (N/m).
-    A : (nc, 2 H, 2 H) the law's Jacobian blocks, ``q = 2 nc``. R : (q H,) residual (N).
+    A : (nc, d H, d H) the law's Jacobian blocks, ``d`` coordinates a pair (2: the coupled law, 3: the 2-D
+        friction law of :mod:`fretwear.hbm.cone`), ``q = d nc``. R : (q H,) residual (N).
     eps : (q,) penalty per coordinate (N/m). dx : (q H,) out, the step (m).
 
     Returns the number of mixed coordinates. A singular ``Z_OO`` or Schur
@@ -139,8 +146,9 @@ def structured_step(Zb, A, R, eps, dx):
     K = Zb.shape[0]
     H = 2 * K - 1
     nc = A.shape[0]
-    q = 2 * nc
-    kind = classify(A)
+    d = A.shape[1] // H
+    q = d * nc
+    kind = classify(A, d)
     nF, nO, nM = 0, 0, 0
     for c in range(q):
         if kind[c] == FIXED:
@@ -166,9 +174,12 @@ def structured_step(Zb, A, R, eps, dx):
     nP = 0
     posP = np.full(q, -1)
     for c in range(q):
-        if kind[c - c % 2] == MIXED or kind[c - c % 2 + 1] == MIXED:
-            posP[c] = nP
-            nP += 1
+        first = c - c % d
+        for b in range(d):
+            if kind[first + b] == MIXED:
+                posP[c] = nP
+                nP += 1
+                break
     Pi = np.empty(nP, np.int64)
     for c in range(q):
         if posP[c] >= 0:
@@ -218,21 +229,21 @@ def structured_step(Zb, A, R, eps, dx):
         Sflat = S.reshape(nP, H, nM * H)
         for mc in range(nM):
             c = Mi[mc]
-            i, a = c // 2, c % 2
+            i, a = c // d, c % d
             for r in range(H):
                 rhsM[mc, r] = -R[c * H + r] - g[posP[c], r]
             Kmat[mc] += Sflat[posP[c]]
-            for b in range(2):
-                d = 2 * i + b
-                Acd = np.ascontiguousarray(A[i, a * H : (a + 1) * H, b * H : (b + 1) * H])
-                Kmat[mc] -= Acd @ Sflat[posP[d]]
-                rhsM[mc] += Acd @ g[posP[d]]
-                if kind[d] == MIXED:
+            for b in range(d):
+                e = d * i + b
+                Ace = np.ascontiguousarray(A[i, a * H : (a + 1) * H, b * H : (b + 1) * H])
+                Kmat[mc] -= Ace @ Sflat[posP[e]]
+                rhsM[mc] += Ace @ g[posP[e]]
+                if kind[e] == MIXED:
                     for r in range(H):
                         for s in range(H):
-                            Kmat[mc, r, posM[d] * H + s] += Acd[r, s] * eps[d]
+                            Kmat[mc, r, posM[e] * H + s] += Ace[r, s] * eps[e]
                 else:  # fixed: its step is known
-                    rhsM[mc] -= eps[d] * (Acd @ dx[d * H : (d + 1) * H])
+                    rhsM[mc] -= eps[e] * (Ace @ dx[e * H : (e + 1) * H])
         dxM = np.linalg.solve(Kmat.reshape(nM * H, nM * H), rhsM.reshape(nM * H))
         for mc in range(nM):
             for r in range(H):

@@ -29,6 +29,18 @@ the soft stage is only a start. ``"dense"``: the dense Jacobian, factored by
 LAPACK after the stuck pairs are eliminated (the reference). The walks are dense.
 
 The full harmonic basis is used (static normal load: no half-wave symmetry).
+
+**Friction** (``friction``): ``"line"`` (default for 2-D pairs), the coupled law
+of :mod:`fretwear.hbm.coupled`, friction along each pair's tangent (on 3-D pairs
+the binormal slides freely); ``"cone"`` (default for 3-D pairs), the 2-D law of
+:mod:`fretwear.hbm.cone`: each pair has the coordinates ``(u_T1, u_T2, u_N)``
+(tangent, binormal ``n x t``, normal), the circular Coulomb cone ``|lambda_T| <=
+mu lambda_N`` and the slip reference a (nc, 2) array. The 1-D law is its
+special case: a motion along the tangents alone gives the same answer. Its
+quasi-static start is the 1-D one (:func:`~fretwear.interface.static.solve_static`,
+binormal free) with the binormal relative displacements of that state: the 3-D
+start whenever the normal load raises no binormal traction (identical
+materials, Dundurs' ``beta = 0``, as in the sphere-on-flat benchmark).
 """
 
 from __future__ import annotations
@@ -40,7 +52,9 @@ from functools import cached_property, partial
 import numpy as np
 
 from .._fields import item
-from ..hbm import strategy
+from ..hbm import cone, strategy
+from ..hbm.cone_problem import newton_kernel as cone_newton_kernel
+from ..hbm.cone_problem import walk_kernel as cone_walk_kernel
 from ..hbm.harmonics import HarmonicBasis, default_samples
 from ..hbm.newton import SINGULAR
 from ..hbm.strategy import NewtonResult, Steps, newton_message
@@ -73,6 +87,9 @@ SOFT_PENALTY, SOFT_TARGET, SOFT_STEPS = 0.1, 1e-3, 12
 #: the linear algebra of the Newton steps (module text)
 LINEAR = ("structured", "dense")
 
+#: the friction laws (module text): along the tangent, or the circular cone in the tangential plane
+FRICTION = ("line", "cone")
+
 
 @dataclass
 class InterfaceProblem:
@@ -85,16 +102,19 @@ class InterfaceProblem:
         As :func:`fretwear.solve_periodic`.
     wear : ndarray, shape (nc,), optional
         Worn depth per pair (m), >= 0; opens the gaps (eq. 17b).
-    xref : ndarray, shape (nc,), optional
+    xref : ndarray, shape (nc,) or (nc, 2) with the cone, optional
         Reference slip variables of pairs that stick all period (m); default:
         those of the quasi-static state under the static load.
-    eps : ndarray, shape (2 nc,), optional
+    eps : ndarray, shape (2 nc,) or (3 nc,) with the cone, optional
         Penalty per contact coordinate (N/m); default ``EPS_FACTOR`` times the
-        coordinate's largest diagonal entry of ``Z`` over the harmonics.
+        coordinate's largest diagonal entry of ``Z`` over the harmonics (with
+        the cone, the larger of the two tangents' for both: an isotropic law).
     force_scale : float
         Factor on the harmonic excitation (the static load is kept).
     linear : str
         The Newton steps' linear algebra, one of :data:`LINEAR` (module text); the answer is the same.
+    friction : str, optional
+        One of :data:`FRICTION` (module text); default ``"cone"`` for 3-D pairs, ``"line"`` for 2-D.
     """
 
     condensation: ContactCondensation
@@ -106,6 +126,7 @@ class InterfaceProblem:
     eps: np.ndarray | None = None
     force_scale: float = 1.0
     linear: str = "structured"
+    friction: str | None = None
     basis: HarmonicBasis = field(init=False)
 
     def __post_init__(self) -> None:
@@ -113,30 +134,54 @@ class InterfaceProblem:
             raise ValueError(f"omega must be a finite frequency > 0 rad/s, got {self.omega!r}")
         if self.linear not in LINEAR:
             raise ValueError(f"linear must be one of {LINEAR}, got {self.linear!r}")
+        contact = self.condensation.model.pairs
+        if self.friction is None:
+            self.friction = "cone" if contact.dim == 3 else "line"
+        if self.friction not in FRICTION:
+            raise ValueError(f"friction must be one of {FRICTION}, got {self.friction!r}")
+        if self.friction == "cone" and contact.dim != 3:
+            raise ValueError(f"friction='cone' needs 3-D contact pairs, got dim = {contact.dim}")
         self.samples = default_samples(self.harmonics) if self.samples is None else self.samples
         self.basis = HarmonicBasis(self.harmonics, self.samples, False)
-        contact = self.condensation.model.pairs
         nc = contact.count
+        d = self.per_pair
         self.wear = np.zeros(nc) if self.wear is None else np.asarray(self.wear, dtype=float)
         if self.wear.shape != (nc,) or not np.all(np.isfinite(self.wear)) or np.any(self.wear < 0):
             raise ValueError(f"wear must be {nc} finite depths >= 0 m (one per pair)")
-        self.Z, F = self.condensation.harmonic(self.omega, self.basis)
+        self.Z, F = self.condensation.harmonic(self.omega, self.basis, binormal=self.cone)
         H = self.basis.size
         static = np.zeros(F.shape, dtype=bool)
         static[::H] = True
         self.F_static = np.where(static, F, 0.0)
         self.F_exc = np.where(static, 0.0, F)
         if self.eps is None:
-            diag = np.abs(np.diag(self.Z)).reshape(2 * nc, H)
-            self.eps = EPS_FACTOR * diag.max(axis=1)
+            diag = np.abs(np.diag(self.Z)).reshape(nc, d, H).max(axis=2)
+            diag[:, : d - 1] = diag[:, : d - 1].max(axis=1, keepdims=True)  # an isotropic tangential penalty
+            self.eps = EPS_FACTOR * diag.ravel()
         self.eps = np.asarray(self.eps, dtype=float)
-        if self.eps.shape != (2 * nc,) or np.any(~np.isfinite(self.eps)) or np.any(self.eps <= 0):
-            raise ValueError(f"eps must be {2 * nc} finite penalties > 0 N/m (tangential, normal per pair)")
+        if self.eps.shape != (d * nc,) or np.any(~np.isfinite(self.eps)) or np.any(self.eps <= 0):
+            raise ValueError(
+                f"eps must be {d * nc} finite penalties > 0 N/m ({d} per pair: tangential, normal)"
+            )
         self.gap = contact.gap + self.wear
         self.mu = contact.mu
         if self.xref is None:
             self.xref = self._static_state()[1]
         self.xref = np.ascontiguousarray(self.xref, dtype=float)  # a column of a history is strided
+        shape = (nc, 2) if self.cone else (nc,)
+        if self.xref.shape != shape or not np.all(np.isfinite(self.xref)):
+            raise ValueError(f"xref must be finite reference slip variables (m) of shape {shape}, "
+                             f"got {self.xref.shape}")  # fmt: skip
+
+    @property
+    def cone(self) -> bool:
+        """Whether the law is the 2-D friction law (``friction == "cone"``)."""
+        return self.friction == "cone"
+
+    @property
+    def per_pair(self) -> int:
+        """Contact coordinates per pair: 2 ``(u_T, u_N)``, or 3 ``(u_T1, u_T2, u_N)`` with the cone."""
+        return 3 if self.cone else 2
 
     @cached_property
     def blocks(self) -> np.ndarray | None:
@@ -144,7 +189,7 @@ class InterfaceProblem:
         None for the dense ones."""
         if self.linear == "dense":
             return None
-        return harmonic_blocks(self.Z, 2 * self.n_pairs, self.basis.size)
+        return harmonic_blocks(self.Z, self.per_pair * self.n_pairs, self.basis.size)
 
     @property
     def n_pairs(self) -> int:
@@ -152,8 +197,8 @@ class InterfaceProblem:
 
     @property
     def size(self) -> int:
-        """Unknowns ``2 nc H``."""
-        return 2 * self.n_pairs * self.basis.size
+        """Unknowns ``2 nc H`` (``3 nc H`` with the cone)."""
+        return self.per_pair * self.n_pairs * self.basis.size
 
     @property
     def F(self) -> np.ndarray:
@@ -161,11 +206,23 @@ class InterfaceProblem:
         return self.F_static + self.force_scale * self.F_exc
 
     def _static_state(self) -> tuple[np.ndarray, np.ndarray]:
-        """Contact coordinates and slip variables of the quasi-static state under the static load."""
+        """Contact coordinates and slip variables of the quasi-static state under the static load.
+
+        With the cone (module text): the coordinates ``(u_T1, u_T2, u_N)`` per pair and the slip
+        variables (nc, 2), the binormal's its displacement in that state.
+        """
         res = solve_static(self.condensation, tangential_scale=0.0, wear=self.wear)
         if not res.converged:
             raise ValueError(f"no quasi-static state under the static load: {res.message}")
-        return res.final.q, res.final.slip_variable
+        q, X = res.final.q, res.final.slip_variable
+        if not self.cone:
+            return q, X
+        c = self.condensation
+        _, F, (fac, Xs) = c.schur(0.0, 0)
+        zs = Xs[:, -1] - Xs[:, :-1] @ q if fac is not None else np.zeros(0)  # z_s = D_ss^-1 (F_s - D_sq q)
+        b = np.zeros(self.n_pairs)
+        b[c.has_binormal] = zs[: int(c.has_binormal.sum())]
+        return np.column_stack([q[0::2], b, q[1::2]]).ravel(), np.column_stack([X, b])
 
     def start(self) -> np.ndarray:
         """Unknowns of the quasi-static state: its contact coordinates as mean harmonics, exact at zero
@@ -189,16 +246,25 @@ class InterfaceProblem:
         return new
 
     def evaluate(self, x: np.ndarray, jacobian: bool = False):
-        """Residual (N) and the time fields ``(lamT, lamN, X, state)`` of the march at unknowns ``x``."""
-        nc, H = self.n_pairs, self.basis.size
+        """Residual (N), Jacobian blocks (nc, d H, d H) and the time fields ``(lamT, lamN, X, state)`` of the
+        march at unknowns ``x``; ``lamT`` and ``X`` (nc, Ns), or (nc, Ns, 2) with the cone."""
+        nc, H, d = self.n_pairs, self.basis.size, self.per_pair
         Ns = self.basis.marched_samples
         R = np.empty(self.size)
-        A = np.empty((nc, 2 * H, 2 * H))
-        lamT, lamN, X = np.empty((nc, Ns)), np.empty((nc, Ns)), np.empty((nc, Ns))
+        A = np.empty((nc, d * H, d * H))
+        lamT, lamN, X = np.empty(((d - 1) * nc, Ns)), np.empty((nc, Ns)), np.empty(((d - 1) * nc, Ns))
         state = np.empty((nc, Ns), dtype=np.int8)
-        evaluate(x, self.Z, self.F, self.eps, self.gap, self.mu, self.xref, self.basis.synthesis,
-                 self.basis.analysis, jacobian, R, A, lamT, lamN, X, state)  # fmt: skip
+        law = cone.evaluate if self.cone else evaluate
+        law(np.ascontiguousarray(x, dtype=float), self.Z, self.F, self.eps, self.gap, self.mu, self.xref,
+            self.basis.synthesis, self.basis.analysis, jacobian, R, A, lamT, lamN, X, state)  # fmt: skip
+        if self.cone:
+            lamT, X = (v.reshape(nc, 2, Ns).transpose(0, 2, 1) for v in (lamT, X))
         return R, A, lamT, lamN, X, state
+
+    @property
+    def _kernels(self):
+        """The compiled Newton and walk of the problem's law (same signatures)."""
+        return (cone_newton_kernel, cone_walk_kernel) if self.cone else (newton_kernel, walk_kernel)
 
     def residual_scale(self) -> float:
         """Force scale (N) against which residuals are judged."""
@@ -210,7 +276,7 @@ def _newton(problem: InterfaceProblem, x0, eps: np.ndarray, tol: float, max_iter
     scale = problem.residual_scale()
     b = problem.basis
     try:
-        x, ok, it, r, code = newton_kernel(
+        x, ok, it, r, code = problem._kernels[0](
             np.asarray(x0, dtype=float).copy(), problem.Z, problem.F, eps, problem.gap, problem.mu,
             problem.xref, b.synthesis, b.analysis, tol * scale, max_iter, problem.blocks,
         )  # fmt: skip
@@ -241,7 +307,7 @@ def _walk(problem: InterfaceProblem, x0, F0, F1, r0, tol: float, max_pieces: int
     check_interrupt()
     b = problem.basis
     try:
-        x, p, pieces, _ = walk_kernel(
+        x, p, pieces, _ = problem._kernels[1](
             np.array(x0, dtype=float), 0.0, problem.Z, F0, F1, r0, problem.eps, problem.gap, problem.mu,
             problem.xref, b.synthesis, b.analysis, max_pieces,
         )  # fmt: skip
@@ -346,9 +412,11 @@ class InterfaceSolution:
         """Tributary area of each pair (m^2, or m per unit thickness)."""
         return self.problem.condensation.model.pairs.area
 
-    tangential_force = item("_fields", 0, "``lambda_T`` per pair and sample, shape (nc, N) (N).")
+    tangential_force = item("_fields", 0, "``lambda_T`` per pair and sample, shape (nc, N), (nc, N, 2) with "
+                            "the cone (N).")  # fmt: skip
     normal_force = item("_fields", 1, "``lambda_N >= 0`` per pair and sample, shape (nc, N) (N).")
-    slip_variable = item("_fields", 2, "``X_T`` per pair and sample, shape (nc, N) (m).")
+    slip_variable = item("_fields", 2, "``X_T`` per pair and sample, shape (nc, N), (nc, N, 2) with the cone "
+                         "(m).")  # fmt: skip
     state = item("_fields", 3, "STICK, SLIP or OPEN per pair and sample, shape (nc, N).")
 
     @property
@@ -363,6 +431,10 @@ class InterfaceSolution:
 
     @cached_property
     def _slip_work(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.problem.cone:  # the law's rows: the two tangents of pair i at 2 i, 2 i + 1
+            nc, Ns = self.normal_force.shape
+            X = np.ascontiguousarray(self.slip_variable.transpose(0, 2, 1).reshape(2 * nc, Ns))
+            return cone.slip_work(X, self.normal_force, self.state)
         return slip_work(self.slip_variable, self.normal_force, self.state)
 
     @property
@@ -386,9 +458,10 @@ class InterfaceSolution:
 
     @property
     def contact_harmonics(self) -> np.ndarray:
-        """Full harmonics of the contact coordinates ``(u_T, u_N)`` per pair, shape (2 nc, 2 Nh + 1) (m)."""
+        """Full harmonics of the contact coordinates ``(u_T, u_N)`` per pair, shape (2 nc, 2 Nh + 1), or
+        ``(u_T1, u_T2, u_N)``, (3 nc, 2 Nh + 1) with the cone (m)."""
         b = self.problem.basis
-        return b.to_full(self.unknowns.reshape(2 * self.problem.n_pairs, b.size))
+        return b.to_full(self.unknowns.reshape(self.problem.per_pair * self.problem.n_pairs, b.size))
 
     @cached_property
     def dof_harmonics(self) -> np.ndarray:
@@ -398,7 +471,18 @@ class InterfaceSolution:
         ``dof_harmonics[model.dof(name)]``.
         """
         p = self.problem
-        return p.condensation.full_harmonics(p.omega, p.harmonics, self.contact_harmonics)
+        return p.condensation.full_harmonics(p.omega, p.harmonics, self.condensation_harmonics)
+
+    @property
+    def condensation_harmonics(self) -> np.ndarray:
+        """:attr:`contact_harmonics` in the condensation's order (m): ``(u_T, u_N)`` per pair, then (with
+        the cone) the binormals of the pairs that have one, shape (2 nc + nb, 2 Nh + 1)."""
+        p = self.problem
+        q = self.contact_harmonics
+        if not p.cone:
+            return q
+        q = q.reshape(p.n_pairs, 3, -1)
+        return np.vstack([q[:, [0, 2]].reshape(2 * p.n_pairs, -1), q[p.condensation.has_binormal, 1]])
 
     @property
     def amplitude(self) -> np.ndarray:
@@ -432,10 +516,11 @@ class InterfaceSolution:
         Independent of the march's slip accounting: for a converged solution it
         equals :attr:`friction_energy` up to the time discretisation.
         """
-        b = self.problem.basis
-        H = b.size
-        q = self.unknowns.reshape(2 * self.problem.n_pairs, H)[0::2]  # tangential coordinates
-        a_l, a_q = b.to_full(self.tangential_force @ b.analysis.T), b.to_full(q)
+        p = self.problem
+        b, d = p.basis, p.per_pair
+        q = self.unknowns.reshape(p.n_pairs, d, b.size)[:, : d - 1]  # tangential coordinates
+        lam = self.tangential_force.transpose(0, 2, 1) if p.cone else self.tangential_force[:, None]
+        a_l, a_q = b.to_full(lam @ b.analysis.T), b.to_full(q)
         k = np.arange(1, self.problem.harmonics + 1)
         # oint lambda du = pi sum_k k (a_k^lam b_k^u - b_k^lam a_k^u)
-        return float(np.pi * np.sum(k * (a_l[:, 1::2] * a_q[:, 2::2] - a_l[:, 2::2] * a_q[:, 1::2])))
+        return float(np.pi * np.sum(k * (a_l[..., 1::2] * a_q[..., 2::2] - a_l[..., 2::2] * a_q[..., 1::2])))

@@ -28,8 +28,9 @@ from ..model import ContactPairs, Model
 __all__ = ["ContactCondensation"]
 
 
-def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, int]:
-    """Transformation ``T`` (size, size) with ``coords = T z``, ``z = (q, slaves)``; returns ``(T, n_q)``.
+def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, int, np.ndarray]:
+    """Transformation ``T`` (size, size) with ``coords = T z``, ``z = (q, slaves)``; returns ``(T, n_q,
+    has_binormal)``, the last (nc,) bool: the pairs with a binormal coordinate.
 
     ``q`` holds ``(u_T, u_N)`` per pair (pair-major); in 3-D the binormal
     relative displacements come next; then every coordinate not replaced. A
@@ -89,7 +90,7 @@ def _contact_coordinates(contact: ContactPairs, size: int) -> tuple[np.ndarray, 
             T[r, 2 * i + 1] = -sign * contact.normal[i, k]
             if has_binormal[i]:
                 T[r, b_col[i]] = sign * binormal[i, k]
-    return T, n_q
+    return T, n_q, has_binormal
 
 
 class ContactCondensation:
@@ -120,7 +121,7 @@ class ContactCondensation:
             )
         self.model = model
         self.full = model if model.reduction is None else model.reduction.full
-        T, self.n_q = _contact_coordinates(model.pairs, model.n_dofs)
+        T, self.n_q, self.has_binormal = _contact_coordinates(model.pairs, model.n_dofs)
         self.T = T
         self.K = T.T @ model.K @ T
         self.M = T.T @ model.M @ T
@@ -147,10 +148,14 @@ class ContactCondensation:
             return scale * self.force_harmonic
         return np.zeros(len(self.force_static))
 
-    def schur(self, omega: float, order: int) -> tuple[np.ndarray, np.ndarray, tuple]:
-        """``(Z_k, F_k at unit excitation scale, factors)`` for one harmonic order (complex for ``k > 0``)."""
+    def schur(
+        self, omega: float, order: int, keep: int | None = None
+    ) -> tuple[np.ndarray, np.ndarray, tuple]:
+        """``(Z_k, F_k at unit excitation scale, factors)`` for one harmonic order (complex for ``k > 0``),
+        on the first ``keep`` coordinates of ``z`` (default ``n_q``; ``n_q`` plus the binormals: all the
+        relative ones)."""
         D = self.dynamic_stiffness(omega, order)
-        q = self.n_q
+        q = self.n_q if keep is None else keep
         D_ss = D[q:, q:]
         if D_ss.size == 0:  # every coordinate is a contact coordinate
             return 0.5 * (D + D.T), self.forcing(order), (None, None)
@@ -180,19 +185,50 @@ class ContactCondensation:
         Fc = fc[:q] - self.K[:q, q:] @ sla.lu_solve(fac, fc[q:], check_finite=False)
         return Z, F, Fc
 
-    def harmonic(self, omega: float, basis: HarmonicBasis) -> tuple[np.ndarray, np.ndarray]:
+    def cone_coordinates(self) -> np.ndarray:
+        """Per pair the columns of ``z`` of its ``(u_T1, u_T2, u_N)``, shape (nc, 3): tangent, binormal
+        (``-1`` for a pair without one: a symmetry plane through it) and normal."""
+        nc = self.n_pairs
+        b = np.full(nc, -1)
+        b[self.has_binormal] = self.n_q + np.arange(int(self.has_binormal.sum()))
+        return np.column_stack([2 * np.arange(nc), b, 2 * np.arange(nc) + 1])
+
+    def harmonic(
+        self, omega: float, basis: HarmonicBasis, binormal: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Real ``Z`` (2 nc H, 2 nc H) and ``F`` (2 nc H,) in the contact-major layout of ``basis``.
 
         Entry ``c H + j`` is slot ``j`` of coordinate ``c`` (``c = 2 i`` tangential,
         ``2 i + 1`` normal, for pair ``i``).
+
+        With ``binormal`` (3-D pairs, the 2-D friction law): ``Z`` (3 nc H, 3 nc H) and ``F`` on
+        ``(u_T1, u_T2, u_N)`` of every pair (``c = 3 i``, ``3 i + 1``, ``3 i + 2``), the binormal kept
+        in the Schur complement instead of condensed. A pair without a binormal coordinate (both
+        nodes held along it: a symmetry plane through the pair, where the binormal displacement and
+        traction vanish) gets a decoupled one, ``Z`` its tangent's diagonal and no force: then ``u_T2
+        = 0``, ``lambda_T2 = 0`` is the law's solution for it, as the symmetry requires.
         """
         if basis.half_wave:
             raise ValueError("interfaces use the full harmonic basis (half_wave=False)")
-        nq, H = self.n_q, basis.size
+        H = basis.size
+        keep, order = self.n_q, None
+        if binormal:
+            if self.model.pairs.dim != 3:
+                raise ValueError(f"binormal needs 3-D contact pairs, got dim = {self.model.pairs.dim}")
+            cols = self.cone_coordinates()
+            keep = self.n_q + int(self.has_binormal.sum())
+            order = cols.ravel()
+        nq = len(order) if binormal else self.n_q
         Zr = np.zeros((nq, H, nq, H))
         Fr = np.zeros((nq, H))
         for k in range(basis.harmonics + 1):
-            Zk, Fk, _ = self.schur(omega, k)
+            Zk, Fk, _ = self.schur(omega, k, keep)
+            if binormal:  # to the pair-major (t, b, n) order, a dummy binormal where the pair has none
+                held = np.flatnonzero(order < 0)
+                idx = np.where(order < 0, 0, order)
+                Zk, Fk = Zk[np.ix_(idx, idx)], Fk[idx]
+                Zk[held, :], Zk[:, held], Fk[held] = 0.0, 0.0, 0.0
+                Zk[held, held] = np.abs(Zk[held - 1, held - 1])  # the pair's tangent, just before
             if k == 0:
                 Zr[:, 0, :, 0] = Zk.real
                 Fr[:, 0] = Fk.real
@@ -211,7 +247,8 @@ class ContactCondensation:
         self, omega: float, harmonics: int, q: np.ndarray, dofs: np.ndarray | None = None
     ) -> np.ndarray:
         """Full harmonics (n, 2 Nh + 1) of the DOFs of :attr:`full` (m) from those of the contact
-        coordinates ``q`` (n_q, 2 Nh + 1); only the rows ``dofs`` (full-model indices) when given."""
+        coordinates ``q`` (n_q, 2 Nh + 1), or with the binormals after them (``n_q`` plus their number:
+        the 2-D friction law's); only the rows ``dofs`` (full-model indices) when given."""
         coords = self.recover(omega, harmonics, q)
         reduction = self.model.reduction
         if dofs is None:
@@ -223,14 +260,16 @@ class ContactCondensation:
     def recover(self, omega: float, harmonics: int, q: np.ndarray) -> np.ndarray:
         """Reduced coordinates' full harmonics (n_r, 2 Nh + 1) from the contact coordinates' (n_q, 2 Nh + 1).
 
-        ``z_s = D_ss^{-1} (F_s - D_sq q)`` per harmonic: the contact forces act on ``q`` only.
+        ``z_s = D_ss^{-1} (F_s - D_sq q)`` per harmonic: the contact forces act on ``q`` only (``q`` with
+        the binormals: the first ``len(q)`` coordinates of ``z``).
         """
         out_z = np.zeros((self.T.shape[0], 2 * harmonics + 1))
+        nq = q.shape[0]
         for k in range(harmonics + 1):
             D = self.dynamic_stiffness(omega, k)
             qk = q[:, 0] if k == 0 else q[:, 2 * k - 1] - 1j * q[:, 2 * k]
-            rhs = self.forcing(k)[self.n_q :] - D[self.n_q :, : self.n_q] @ qk
-            zs = sla.solve(D[self.n_q :, self.n_q :], rhs, check_finite=False) if len(rhs) else rhs
+            rhs = self.forcing(k)[nq:] - D[nq:, :nq] @ qk
+            zs = sla.solve(D[nq:, nq:], rhs, check_finite=False) if len(rhs) else rhs
             z = np.concatenate([qk, zs])
             if k == 0:
                 out_z[:, 0] = z.real

@@ -57,11 +57,14 @@ __all__ = [
     "SphereOnFlat",
     "hertz_radius",
     "hertz_sphere_peak_pressure",
+    "holder_frequency",
     "mindlin_deresiewicz_dissipation",
     "mindlin_stick_radius",
     "sphere_cyclic_dissipation",
+    "sphere_dynamic_model",
     "sphere_fretting_loop",
     "sphere_on_flat",
+    "sphere_periodic",
     "sphere_static_benchmark",
     "sphere_static_model",
     "tangential_modulus",
@@ -268,8 +271,9 @@ def sphere_on_flat(params: SphereOnFlat | None = None, **changes) -> Model:
     )  # fmt: skip
 
 
-def _contact_schur(mesh: SphereOnFlatMesh, K: sp.csr_matrix) -> np.ndarray:
-    """Schur complement (2 nc, 2 nc) of the clamped flat on its contact nodes' ``x``, then ``z`` (N/m).
+def _contact_schur(mesh: SphereOnFlatMesh, K: sp.csr_matrix, with_y: bool = False) -> np.ndarray:
+    """Schur complement (2 nc, 2 nc) of the clamped flat on its contact nodes' ``x``, then ``z`` (N/m);
+    ``with_y``: on their ``x``, then ``y`` (the nodes off the symmetry plane), then ``z``.
 
     One LU factorization of ``K`` (bottom clamped, ``u_y = 0`` on the symmetry
     plane) ordered by nested dissection with the contact DOFs last, without
@@ -277,7 +281,8 @@ def _contact_schur(mesh: SphereOnFlatMesh, K: sp.csr_matrix) -> np.ndarray:
     complement, ``L_bb U_bb = K_bb - K_bi K_ii^-1 K_ib``.
     """
     n = K.shape[0]
-    boundary = np.concatenate([3 * mesh.contact, 3 * mesh.contact + 2])
+    y = 3 * mesh.contact[~np.isin(mesh.contact, mesh.symmetry)] + 1 if with_y else np.zeros(0, dtype=int)
+    boundary = np.concatenate([3 * mesh.contact, y, 3 * mesh.contact + 2])
     removed = np.zeros(n, dtype=bool)
     removed[(3 * mesh.bottom[:, None] + np.arange(3)).ravel()] = True
     removed[3 * mesh.symmetry + 1] = True
@@ -350,6 +355,85 @@ def sphere_static_model(params: SphereOnFlat | None = None, **changes) -> Model:
         M=np.zeros((n, n)), C=None, K=K, pairs=contact, force_static=force_static, force_cos=force_cos,
         names={"pad_x": n - 2, "pad_z": n - 1}, info=p.info(mesh),
     )  # fmt: skip
+
+
+def sphere_dynamic_model(params: SphereOnFlat | None = None, **changes) -> Model:
+    """The benchmark condensed exactly on its contact nodes and holder, with the holder's mass: 3-D pairs.
+
+    The flat's and the sphere's stiffness are condensed on every component of
+    their contact nodes (``x``, ``y`` off the symmetry plane, ``z``) by the
+    sparse LU of :func:`sphere_static_model`; the holder keeps its mass
+    (half of ``holder_mass`` on ``pad_x`` and ``pad_z``) and the damping is
+    the stiffness-proportional one of :func:`sphere_on_flat` (``C = beta K``,
+    condensed exactly with ``K``). The bodies' own inertia is left out: this is
+    the Craig-Bampton reduction with no fixed-interface mode (Guyan), exact up
+    to the bodies' first fixed-interface mode, of order ``c / (size a)`` (the
+    default's blocks are about 1 mm: ~MHz), far above the holder's mode on the
+    contact's tangential stiffness (a few kHz) that the fretting dynamics
+    excite. For the 2-D friction law of :class:`~fretwear.interface.periodic.InterfaceProblem`.
+
+    Returns
+    -------
+    Model
+        Dense, ``2 (2 nc + ny) + 2`` DOFs: the flat's contact nodes (``x`` of every pair, ``y`` of the
+        ``ny`` pairs off the symmetry plane, ``z``), the sphere's likewise, ``pad_x``, ``pad_z``; pairs
+        3-D (normal ``+z``, tangent ``+x``, the ``y`` of a pair on the symmetry plane fixed: ``-1``).
+        Loads and ``info`` as :func:`sphere_on_flat`'s.
+    """
+    p = _params(params, changes)
+    mesh = p.mesh()
+    K_flat, _, _ = assemble_boxes(mesh.flat, p.young, p.poisson, p.density)
+    S = _contact_schur(mesh, K_flat, with_y=True)
+    nc = len(mesh.contact)
+    has_y = ~np.isin(mesh.contact, mesh.symmetry)
+    ny = int(has_y.sum())
+    m = 2 * nc + ny  # DOFs of one body
+    flip = np.concatenate([np.ones(nc + ny), -np.ones(nc)])
+    S_pad = flip[:, None] * S * flip[None, :]  # the mirror image, top clamped
+    R = np.zeros((m, 2))  # the holder's translation at the sphere's contact nodes (x, z; y held)
+    R[:nc, 0] = R[nc + ny :, 1] = 1.0
+    n = 2 * m + 2
+    K = np.zeros((n, n))
+    K[:m, :m] = S
+    pad = slice(m, 2 * m)
+    K[pad, pad] = S_pad
+    K[pad, 2 * m :] = -S_pad @ R
+    K[2 * m :, pad] = -R.T @ S_pad
+    K[2 * m :, 2 * m :] = R.T @ S_pad @ R
+    K[n - 2, n - 2] += 0.5 * p.arm_stiffness
+    K = 0.5 * (K + K.T)
+    M = np.zeros((n, n))
+    M[n - 2, n - 2] = M[n - 1, n - 1] = 0.5 * p.holder_mass
+    C = (2 * p.damping_ratio / (2 * np.pi * p.damping_frequency)) * K
+    idx = np.arange(nc)
+    y_of = np.full(nc, -1)
+    y_of[has_y] = nc + np.arange(ny)
+    dofs_a = np.column_stack([idx, y_of, nc + ny + idx])
+    dofs_b = np.where(dofs_a >= 0, dofs_a + m, -1)
+    contact = ContactPairs(
+        dofs_a=dofs_a, dofs_b=dofs_b, normal=np.tile([0.0, 0.0, 1.0], (nc, 1)),
+        tangent=np.tile([1.0, 0.0, 0.0], (nc, 1)), area=mesh.tributary, mu=p.mu, gap=mesh.gap,
+        position=mesh.points[:, 0],
+    )  # fmt: skip
+    force_static, force_cos = np.zeros(n), np.zeros(n)
+    force_static[n - 1] = -0.5 * p.normal_load
+    force_cos[n - 2] = 0.5 * p.tangential_load
+    return Model(
+        M=M, C=C, K=K, pairs=contact, force_static=force_static, force_cos=force_cos,
+        names={"pad_x": n - 2, "pad_z": n - 1}, info=p.info(mesh),
+    )  # fmt: skip
+
+
+def holder_frequency(params: SphereOnFlat | None = None, **changes) -> float:
+    """First natural frequency (Hz) of the holder along ``x`` on the stuck contact, Mindlin's closed form.
+
+    ``sqrt(k_t / m) / (2 pi)`` with Mindlin's initial tangential stiffness ``k_t = 8 a G*`` (Johnson, sec.
+    7.2; :func:`tangential_modulus`) and the holder's mass ``m``: the first mode of
+    :func:`sphere_dynamic_model` (whose bodies have no mass) while no pair slips.
+    """
+    p = _params(params, changes)
+    k_t = 8.0 * p.contact_radius * tangential_modulus(p.young, p.poisson)
+    return float(np.sqrt(k_t / p.holder_mass) / (2 * np.pi))
 
 
 def sphere_static_benchmark(
@@ -541,3 +625,72 @@ def sphere_cyclic_dissipation(
         return dict(out, dissipation=None, error_dissipation=None)
     w = loop["friction_work"]
     return dict(out, dissipation=w, error_dissipation=(w - theory) / theory)
+
+
+def sphere_periodic(
+    q_ratio: float,
+    frequency_ratio: float,
+    harmonics: int = 3,
+    params: SphereOnFlat | None = None,
+    condensation: ContactCondensation | None = None,
+    linear: str = "structured",
+    **changes,
+) -> dict:
+    """Periodic response of the sphere on the flat under ``Q* cos(omega t)`` with the 2-D friction law.
+
+    Parameters
+    ----------
+    q_ratio : float
+        Load amplitude ``Q* / (mu P)`` (-), >= 0.
+    frequency_ratio : float
+        ``omega`` over the holder's first mode (:func:`holder_frequency`) (-), > 0: well below 1 the
+        response is quasi-static, and its dissipation per cycle is Mindlin-Deresiewicz's.
+    harmonics : int
+        ``Nh`` of the harmonic balance.
+    params, condensation, **changes
+        As :func:`sphere_static_benchmark`'s; ``condensation`` of a :func:`sphere_dynamic_model` to reuse.
+    linear : str
+        The Newton steps' linear algebra (:class:`~fretwear.interface.periodic.InterfaceProblem`).
+
+    Returns
+    -------
+    dict
+        ``solution`` (:class:`~fretwear.interface.periodic.InterfaceSolution`, half model), ``frequency``
+        (Hz), ``holder_frequency`` (Hz), ``dissipation`` (J per cycle, whole contact: twice the half
+        model's friction energy), ``mindlin_deresiewicz`` (J, for ``q_ratio < 1``) and
+        ``error_dissipation`` (-), ``holder_amplitude`` (m, first harmonic of ``pad_x``), ``pairs``,
+        ``unknowns``, ``converged``, ``iterations``.
+    """
+    from .periodic import InterfaceProblem, solve_interface
+
+    check_q_ratio(q_ratio)
+    if not (np.isfinite(frequency_ratio) and frequency_ratio > 0):
+        raise ValueError(f"frequency_ratio must be a finite ratio > 0, got {frequency_ratio!r}")
+    if condensation is None:
+        condensation = ContactCondensation(sphere_dynamic_model(params, **{**changes, "q_ratio": 0.5}))
+    info = condensation.full.info
+    p = SphereOnFlat(
+        **{k: info[k] for k in ("radius", "normal_load", "young", "poisson", "mu", "holder_mass")}
+    )
+    f1 = holder_frequency(p)
+    P, mu = info["normal_load"], info["mu"]
+    problem = InterfaceProblem(
+        condensation, 2 * np.pi * frequency_ratio * f1, harmonics=harmonics, linear=linear, friction="cone",
+        force_scale=q_ratio * mu * P / info["tangential_load"],
+    )  # fmt: skip
+    sol = solve_interface(problem)
+    sym = info["symmetry_factor"]
+    out = dict(
+        solution=sol, frequency=frequency_ratio * f1, holder_frequency=f1, pairs=problem.n_pairs,
+        unknowns=problem.size, converged=sol.converged, iterations=sol.iterations,
+        dissipation=sym * sol.friction_energy,
+    )  # fmt: skip
+    pad = condensation.full_harmonics(problem.omega, harmonics, sol.condensation_harmonics,
+                                      dofs=[condensation.model.names["pad_x"]])[0]  # fmt: skip
+    out["holder_amplitude"] = float(np.hypot(pad[1], pad[2]))
+    if q_ratio < 1:
+        a = hertz_radius(P, info["radius"], info["effective_modulus"])
+        md = mindlin_deresiewicz_dissipation(P, mu, a, tangential_modulus(info["young"], info["poisson"]),
+                                             q_ratio * mu * P)  # fmt: skip
+        out.update(mindlin_deresiewicz=md, error_dissipation=(out["dissipation"] - md) / md)
+    return out

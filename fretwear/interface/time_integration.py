@@ -34,6 +34,19 @@ Wear (optional): after every step each slipping pair's depth grows by Archard's
 law, ``dw_i = K_w (lambda_N,i / A_i) |Delta u_T,i|`` (eq. 15), and opens its gap
 for the next step: no slow-time approximation at all.
 
+**2-D friction** (3-D pairs, the law of :mod:`fretwear.hbm.cone`, slip
+variables (nc, 2)): the unknowns of a step are the contact forces on ``q``
+and on the binormals ``(u_T1, u_T2, u_N)`` of each pair (a pair without a
+binormal, on a symmetry plane, has none), the law its rigid limit: unilateral
+contact, and stick ``u_T = X`` with ``|lambda_T| <= mu lambda_N`` or slip with
+``lambda_T = mu lambda_N (u_T - X) / |u_T - X|`` (the friction along the
+step's slip increment, the DLFT's rule). Not piecewise linear: the step is
+solved by a semi-smooth Newton method on the Alart-Curnier equations
+``lambda_N = max(0, lambda_N + rho (u_N - g))``, ``lambda_T = P(lambda_T + rho
+(u_T - X))`` (``P`` the projection on the disk of radius ``mu lambda_N``,
+``rho`` per pair the inverse of the step compliance's normal diagonal), with a
+backtracking line search, to ``1e-12`` of the load (:func:`integrate_cone_kernel`).
+
 The step loop is compiled (:func:`integrate_kernel`).
 """
 
@@ -48,7 +61,9 @@ from .contact import OPEN, SLIP, STICK
 from .periodic import InterfaceSolution
 from .reduction import ContactCondensation
 
-__all__ = ["integrate_kernel", "InterfaceTransient", "integrate_interface", "initial_state"]
+__all__ = [
+    "integrate_kernel", "integrate_cone_kernel", "InterfaceTransient", "integrate_interface", "initial_state",
+]  # fmt: skip
 
 _SLIP_NEG = 3  # internal state: slip with u_T decreasing (SLIP is the increasing direction)
 
@@ -172,18 +187,164 @@ def integrate_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega, t0, 
     return -1
 
 
+@njit(cache=True, nogil=True)
+def _cone_residual(lam, r, W, cols, gap, mu, X, rho, G, D, want):
+    """Alart-Curnier residual ``G`` of the step's contact forces ``lam``; with ``want``, ``D = dG / dlam``.
+
+    ``cols`` (nc, 3): per pair the index in ``lam`` of ``(T1, T2, N)`` (-1: no binormal).
+    Returns ``max |G|`` (N).
+    """
+    nc = gap.shape[0]
+    n = lam.shape[0]
+    u = r - W @ lam
+    if want:
+        D[:, :] = 0.0
+        for a in range(n):
+            D[a, a] = 1.0
+    worst = 0.0
+    for i in range(nc):
+        t1, t2, m = cols[i, 0], cols[i, 1], cols[i, 2]
+        pN = lam[m] + rho[i] * (u[m] - gap[i])
+        closed = pN > 0.0
+        G[m] = lam[m] - (pN if closed else 0.0)
+        if want and closed:  # dG_N = dlam_N - (dlam_N - rho W_N dlam)
+            for b in range(n):
+                D[m, b] += rho[i] * W[m, b]
+            D[m, m] -= 1.0
+        L = mu[i] * pN if closed else 0.0
+        p1 = lam[t1] + rho[i] * (u[t1] - X[i, 0])
+        p2 = lam[t2] + rho[i] * (u[t2] - X[i, 1]) if t2 >= 0 else 0.0
+        norm = np.hypot(p1, p2)
+        if norm <= L:  # stick: P(p) = p
+            s, e1, e2, k = 1.0, 0.0, 0.0, 1.0
+        else:  # slip: P(p) = L p / |p|
+            e1, e2 = (p1 / norm, p2 / norm) if norm > 0.0 else (0.0, 0.0)
+            k = L / norm if norm > 0.0 else 0.0
+            s = 0.0
+        G[t1] = lam[t1] - (p1 if s == 1.0 else L * e1)
+        if t2 >= 0:
+            G[t2] = lam[t2] - (p2 if s == 1.0 else L * e2)
+        if want:
+            # dP = M dp + e dL, M = I (stick) or k (I - e e^T); dp = dlam_T - rho W_T dlam
+            m11, m12, m22 = (
+                (1.0, 0.0, 1.0) if s == 1.0 else (k * (1 - e1 * e1), -k * e1 * e2, k * (1 - e2 * e2))
+            )
+            rows = (t1, t2)
+            for a in range(2):
+                ra = rows[a]
+                if ra < 0:
+                    continue
+                ma = (m11, m12) if a == 0 else (m12, m22)
+                ea = e1 if a == 0 else e2
+                for c in range(2):
+                    rc = rows[c]
+                    if rc < 0:
+                        continue
+                    D[ra, rc] -= ma[c]
+                    for b in range(n):
+                        D[ra, b] += ma[c] * rho[i] * W[rc, b]
+                if closed and s == 0.0:  # dL = mu (dlam_N - rho W_N dlam)
+                    D[ra, m] -= ea * mu[i]
+                    for b in range(n):
+                        D[ra, b] += ea * mu[i] * rho[i] * W[m, b]
+        for c in (t1, t2, m):
+            if c >= 0:
+                worst = max(worst, abs(G[c]))
+    return worst
+
+
+@njit(cache=True, nogil=True)
+def _step_cone(r, W, cols, gap, mu, X, rho, tol_f, max_iter, lam):
+    """Contact forces of one step with 2-D friction (semi-smooth Newton, module text); True if found."""
+    n = lam.shape[0]
+    G, Gt, D = np.empty(n), np.empty(n), np.empty((n, n))
+    g = _cone_residual(lam, r, W, cols, gap, mu, X, rho, G, D, True)
+    for _ in range(max_iter):
+        if g <= tol_f:
+            return True
+        d = np.linalg.solve(D, -G)
+        step = 1.0
+        for _ in range(40):
+            trial = lam + step * d
+            gt = _cone_residual(trial, r, W, cols, gap, mu, X, rho, Gt, D, False)
+            if gt < (1.0 - 1e-4 * step) * g or gt <= tol_f:
+                break
+            step *= 0.5
+        lam[:] = trial
+        g = _cone_residual(lam, r, W, cols, gap, mu, X, rho, G, D, True)
+    return g <= tol_f
+
+
+@njit(cache=True, nogil=True)
+def integrate_cone_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega, t0, h, steps, gap0, mu,
+                          area, cols, kw, tol_f, every, rec_t, rec_q, rec_lam, rec_state, rec_wear,
+                          energy):  # fmt: skip
+    """:func:`integrate_kernel` with 2-D friction (module text): ``X`` (nc, 2), ``cols`` (nc, 3) the columns
+    of ``z`` of each pair's ``(u_T1, u_T2, u_N)`` (-1: no binormal), all among its first ``nk``; records of
+    ``q`` and ``lambda`` on those ``nk`` coordinates. Returns the first failed step, or -1."""
+    nc = gap0.shape[0]
+    nk = rec_q.shape[1]
+    W = np.ascontiguousarray(Kinv[:nk, :nk])
+    G = np.ascontiguousarray(Kinv[:, :nk])
+    rho = np.empty(nc)
+    for i in range(nc):
+        rho[i] = 1.0 / W[cols[i, 2], cols[i, 2]]
+    lam = np.zeros(nk)
+    gap = gap0 + wear
+    Mh = M / h**2
+    Ch = C / h
+    rec = 0
+    for k in range(steps):
+        t1 = t0 + (k + 1) * h
+        f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
+        zfree = Kinv @ (f + Mh @ z + (M @ v) / h + Ch @ z)
+        if not _step_cone(zfree[:nk], W, cols, gap, mu, X, rho, tol_f, 100, lam):
+            return k
+        z1 = zfree - G @ lam
+        for i in range(nc):
+            a, b, m = cols[i, 0], cols[i, 1], cols[i, 2]
+            d1, d2 = z1[a] - X[i, 0], (z1[b] - X[i, 1]) if b >= 0 else 0.0
+            lT1, lT2 = lam[a], lam[b] if b >= 0 else 0.0
+            if lam[m] <= 0.0:
+                state[i] = OPEN
+            elif np.hypot(lT1, lT2) < mu[i] * lam[m] * (1.0 - 1e-9):
+                state[i] = STICK
+            else:
+                state[i] = SLIP
+                energy[i] += lT1 * d1 + lT2 * d2
+                if kw > 0.0:
+                    wear[i] += kw * lam[m] / area[i] * np.hypot(d1, d2)
+                    gap[i] = gap0[i] + wear[i]
+            X[i, 0] = z1[a]
+            X[i, 1] = z1[b] if b >= 0 else 0.0
+        v[:] = (z1 - z) / h
+        z[:] = z1
+        if (k + 1) % every == 0 and rec < rec_t.shape[0]:
+            rec_t[rec] = t1
+            rec_q[rec] = z1[:nk]
+            rec_lam[rec] = lam
+            rec_state[rec] = state
+            rec_wear[rec] = wear
+            rec += 1
+    return -1
+
+
 def initial_state(solution: InterfaceSolution) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Coordinates ``z`` (m), velocities (m/s), slip variables (m) and pair states at ``t = 0`` of a periodic
-    harmonic-balance solution, in the condensation's coordinates."""
+    """Coordinates ``z`` (m), velocities (m/s), slip variables (m; (nc, 2) with the 2-D friction law) and pair
+    states at ``t = 0`` of a periodic harmonic-balance solution, in the condensation's coordinates."""
     prob = solution.problem
     cond = prob.condensation
     nh, w = prob.harmonics, prob.omega
-    coords = cond.recover(w, nh, solution.contact_harmonics)  # reduced coordinates' harmonics
+    coords = cond.recover(w, nh, solution.condensation_harmonics)  # reduced coordinates' harmonics
     zh = np.linalg.solve(cond.T, coords)
     k = np.arange(1, nh + 1)
     z = zh[:, 0] + zh[:, 1::2].sum(axis=1)
     v = (zh[:, 2::2] * (k * w)).sum(axis=1)
     state = np.where(solution.state[:, 0] == OPEN, OPEN, STICK).astype(np.int8)
+    if prob.cone:  # slip variables (nc, 2): the tangent's and the binormal's relative displacements
+        cols = cond.cone_coordinates()
+        X = np.column_stack([z[cols[:, 0]], np.where(cols[:, 1] >= 0, z[cols[:, 1]], 0.0)])
+        return z, v, X, state
     return z, v, z[: 2 * cond.n_pairs : 2].copy(), state
 
 
@@ -196,9 +357,10 @@ class InterfaceTransient:
     time : ndarray (m,)
         Times (s).
     contact : ndarray (m, 2 nc)
-        Contact coordinates ``(u_T, u_N)`` per pair (m).
+        Contact coordinates ``(u_T, u_N)`` per pair (m); with 2-D friction (m, 2 nc + nb), the
+        binormals after them (the condensation's order, :meth:`ContactCondensation.cone_coordinates`).
     forces : ndarray (m, 2 nc)
-        Contact forces ``(lambda_T, lambda_N)`` per pair (N).
+        Contact forces ``(lambda_T, lambda_N)`` per pair (N); with 2-D friction as ``contact``.
     state : ndarray (m, nc)
         STICK, SLIP or OPEN per pair.
     wear : ndarray (m, nc)
@@ -207,7 +369,7 @@ class InterfaceTransient:
         Friction work of each pair in each period (J).
     z, v : ndarray (n,)
         Final coordinates and velocities (continue with :func:`integrate_interface`).
-    slip_variable : ndarray (nc,)
+    slip_variable : ndarray (nc,) or (nc, 2)
         Final slip variables (m).
     converged : bool
         Every step's contact problem was solved.
@@ -252,8 +414,9 @@ def integrate_interface(
     z0, v0 : ndarray (n,)
         Initial coordinates (m) and velocities (m/s) in the condensation's coordinates
         (e.g. :func:`initial_state`).
-    slip0 : ndarray (nc,)
-        Initial slip variables (m). state0 : ndarray (nc,) initial pair states (a guess).
+    slip0 : ndarray (nc,) or (nc, 2)
+        Initial slip variables (m); (nc, 2): the 2-D friction law (3-D pairs, module text).
+        state0 : ndarray (nc,) initial pair states (a guess).
     periods : int
         Periods to integrate, >= 1.
     steps_per_period : int
@@ -290,20 +453,35 @@ def integrate_interface(
     wear = np.zeros(nc) if wear0 is None else np.array(wear0, dtype=float)
     scale_f = max(float(np.abs(fs).max()), float(np.abs(fc).max()), float(np.abs(fsin).max()), 1e-300)
     scale_u = max(float(np.abs(z[: 2 * nc]).max()), 1e-300)
+    cone = X.ndim == 2
+    if X.shape != ((nc, 2) if cone else (nc,)):
+        raise ValueError(f"slip0 must be ({nc},) or ({nc}, 2) slip variables (m), got shape {X.shape}")
+    if cone and contact.dim != 3:
+        raise ValueError(
+            f"slip0 of shape ({nc}, 2) (2-D friction) needs 3-D contact pairs, got dim = {contact.dim}"
+        )
+    nk = c.n_q + int(c.has_binormal.sum()) if cone else 2 * nc
     every = steps_per_period // samples
     m = periods * samples
-    rec_t, rec_q, rec_lam = np.empty(m), np.empty((m, 2 * nc)), np.empty((m, 2 * nc))
+    rec_t, rec_q, rec_lam = np.empty(m), np.empty((m, nk)), np.empty((m, nk))
     rec_state, rec_wear = np.empty((m, nc), dtype=np.int8), np.empty((m, nc))
     energy = np.zeros((periods, nc))
     failed, message = -1, ""
     for p in range(periods):  # one compiled call per period: the friction work per period
         e = np.zeros(nc)
         sl = slice(p * samples, (p + 1) * samples)
-        failed = integrate_kernel(
-            z, v, X, state, wear, c.M, c.C, Kinv, fs, fc, fsin, omega, p * 2 * np.pi / omega, h,
-            steps_per_period, contact.gap, contact.mu, contact.area, kw, 1e-12 * scale_f, 1e-12 * scale_u,
-            every, rec_t[sl], rec_q[sl], rec_lam[sl], rec_state[sl], rec_wear[sl], e,
-        )  # fmt: skip
+        if cone:
+            failed = integrate_cone_kernel(
+                z, v, X, state, wear, c.M, c.C, Kinv, fs, fc, fsin, omega, p * 2 * np.pi / omega, h,
+                steps_per_period, contact.gap, contact.mu, contact.area, c.cone_coordinates(), kw,
+                1e-12 * scale_f, every, rec_t[sl], rec_q[sl], rec_lam[sl], rec_state[sl], rec_wear[sl], e,
+            )  # fmt: skip
+        else:
+            failed = integrate_kernel(
+                z, v, X, state, wear, c.M, c.C, Kinv, fs, fc, fsin, omega, p * 2 * np.pi / omega, h,
+                steps_per_period, contact.gap, contact.mu, contact.area, kw, 1e-12 * scale_f, 1e-12 * scale_u,
+                every, rec_t[sl], rec_q[sl], rec_lam[sl], rec_state[sl], rec_wear[sl], e,
+            )  # fmt: skip
         energy[p] = e
         if failed >= 0:
             message = f"contact states kept cycling at step {failed} of period {p}"

@@ -76,7 +76,8 @@ def wear_scale(sol: InterfaceSolution) -> float:
     """
     problem = sol.problem
     H = problem.basis.size
-    stiffness = np.abs(np.diag(problem.Z)).reshape(2 * problem.n_pairs, H)[1::2, 0]
+    d = problem.per_pair  # the normal coordinate is a pair's last (2-D friction: after two tangents)
+    stiffness = np.abs(np.diag(problem.Z)).reshape(d * problem.n_pairs, H)[d - 1 :: d, 0]
     return float(np.max(sol.normal_force.mean(axis=1) / stiffness))
 
 

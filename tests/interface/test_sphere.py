@@ -12,14 +12,17 @@ from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from fretwear.cli.interface import add_arguments, run
+from fretwear.interface.contact import SLIP, STICK
 from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.sphere import (
     SphereOnFlat,
     _contact_schur,
     mindlin_deresiewicz_dissipation,
     sphere_cyclic_dissipation,
+    sphere_dynamic_model,
     sphere_fretting_loop,
     sphere_on_flat,
+    sphere_periodic,
     sphere_static_benchmark,
     sphere_static_model,
     tangential_modulus,
@@ -168,6 +171,8 @@ def test_cli_sphere_static_json(capsys):
     assert _cli(["--geometry", "sphere", "--divisions", "6"]) == 2  # periodic solves: not yet
     assert _cli(["--static", "--divisions", "6"]) == 2  # --divisions is the sphere's
     assert "--divisions" in capsys.readouterr().err
+    assert _cli(["--static", "--geometry", "sphere", "--divisions", "6", "--contact-nodes", "64"]) == 2
+    assert "--contact-nodes" in capsys.readouterr().err  # the cylinder's: refused, not ignored
 
 
 @pytest.mark.slow
@@ -255,3 +260,51 @@ def test_gross_slip_loop_is_a_parallelogram_with_mindlin_corners():
     assert np.allclose(d[half:], -d[: half + 1], atol=1e-9 * np.abs(d).max())
     assert loop["loop_work"] == pytest.approx(loop["friction_work"], rel=1e-9)
     assert 0.5 < loop["loop_work"] / (4 * mu_p * np.abs(d).max()) < 1  # a parallelogram's area, corners cut
+
+
+@pytest.fixture(scope="module")
+def dynamic():
+    return ContactCondensation(sphere_dynamic_model(**CHEAP))
+
+
+def test_dynamic_model_is_the_static_one_in_x_and_z(dynamic, cond):
+    """Condensed with the binormal free, the dynamic model (contact nodes' x, y, z kept) has the static
+    model's stiffness and loads on (u_T, u_N): the y components condensed either way."""
+    for x, y in zip(dynamic.static, cond.static, strict=True):
+        assert np.abs(x - y).max() < 1e-9 * np.abs(y).max()
+    assert dynamic.model.pairs.dim == 3 and dynamic.has_binormal.sum() < dynamic.n_pairs  # a symmetry plane
+
+
+def test_periodic_dissipation_far_below_the_holder_mode_is_mindlin_deresiewicz(dynamic):
+    """The 2-D friction law on the 3-D patch (63 pairs) at 1/20 of the holder's mode (quasi-static): the
+    dissipation per cycle of the periodic solution (Nh = 7) is Mindlin-Deresiewicz's within 5 % (measured
+    3.4e-3; 4.4e-2 at Nh = 5, 1.2e-1 at Nh = 3), every traction inside the cone."""
+    d = sphere_periodic(0.6, 0.05, harmonics=7, condensation=dynamic)
+    assert d["converged"] and abs(d["error_dissipation"]) < 0.05, d["error_dissipation"]
+    sol = d["solution"]
+    lam = np.hypot(sol.tangential_force[..., 0], sol.tangential_force[..., 1])
+    assert np.all(lam <= 0.6 * sol.normal_force * (1 + 1e-9) + 1e-12)
+    assert np.any(sol.state == SLIP) and np.any(sol.state_fraction(STICK) == 1)  # partial slip
+
+
+@pytest.mark.slow
+def test_partial_slip_wears_an_annulus_of_the_3d_patch(dynamic):
+    """Archard wear over the 3-D patch (63 pairs, cone law, Nh = 3, 1e5 cycles at Q* = 0.6 mu P, quasi-
+    static): no wear inside 0.9 of Mindlin's stick radius, wear in the slip annulus, the normal load
+    integral P / 2 (half model) kept at every step (measured ~20 s)."""
+    from fretwear.interface.periodic import InterfaceProblem
+    from fretwear.interface.sphere import holder_frequency, mindlin_stick_radius
+    from fretwear.interface.wear import wear_interface
+
+    info = dynamic.full.info
+    scale = 0.6 / info["q_ratio"]
+    prob = InterfaceProblem(dynamic, 2 * np.pi * 0.05 * holder_frequency(), harmonics=3, force_scale=scale)
+    h = wear_interface(prob, 1e-14, 1e5)
+    assert h.converged
+    a = info["hertz_radius"]
+    c = mindlin_stick_radius(a, 0.6)
+    r = np.hypot(*info["pair_points"].T)
+    w = h.wear[-1]
+    assert w.max() > 0 and np.all(w[r < 0.9 * c] == 0)
+    assert w[(r > c) & (r < a)].max() > 0.5 * w.max()
+    assert np.allclose(h.normal_force_sum, info["normal_load"] / 2, rtol=1e-9)
