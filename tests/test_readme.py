@@ -74,7 +74,10 @@ def shrink(argv: list[str]) -> list[str]:
     out = [
         SHRINK[prev] if prev in SHRINK else word for prev, word in zip(["", *argv[:-1]], argv, strict=True)
     ]
-    for option, value in EXTRA.get(out[0], ()):
+    extra = EXTRA.get(out[0], ())
+    if out[0] == "interface" and "sphere" in out:  # the sphere's mesh is set by its divisions
+        extra = (("--divisions", "6"), *extra[1:])
+    for option, value in extra:
         if option not in out:
             out += [option] if value is None else [option, value]
     return out
