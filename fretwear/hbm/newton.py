@@ -60,7 +60,8 @@ from .structured import structured_step
 
 __all__ = [
     "DLFT", "COUPLED", "CONE", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
-    "coupled_law", "cone_law", "newton", "walk", "tangent", "step_past", "keep_full_step",
+    "coupled_law", "cone_law", "block_matvec", "evaluate_blocks", "newton", "walk", "tangent", "step_past",
+    "keep_full_step",
 ]  # fmt: skip
 
 #: law codes: the 1-D friction/unilateral law, the coupled normal/tangential pair law, its 2-D friction form
@@ -176,9 +177,62 @@ def _boundary(law, lu, dlu, eps, tau_max):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def _residual(law, x, Z, F, eps, R, J, buffers):
-    """Residual ``R`` and Jacobian ``J`` at ``x``; returns ``max |R|`` (N)."""
+def block_matvec(Zb, x):
+    """``Z x`` from ``Z``'s harmonic blocks ``Zb`` (Nh + 1, 2 q, 2 q) (the layout of
+    :func:`fretwear.hbm.structured.harmonic_blocks`) for ``x`` (q H,) contact-major: ``(Nh + 1) 4 q^2``
+    products against ``(q H)^2`` for the dense ``Z``."""
+    K = Zb.shape[0]
+    H = 2 * K - 1
+    q = Zb.shape[1] // 2
+    y = np.zeros(q * H)
+    xk = np.zeros(2 * q)  # the mean's block is on its first q coordinates: the sine half stays 0
+    for c in range(q):
+        xk[c] = x[c * H]
+    yk = Zb[0] @ xk
+    for c in range(q):
+        y[c * H] = yk[c]
+    for k in range(1, K):
+        for c in range(q):
+            xk[c] = x[c * H + 2 * k - 1]
+            xk[q + c] = x[c * H + 2 * k]
+        yk = Zb[k] @ xk
+        for c in range(q):
+            y[c * H + 2 * k - 1] = yk[c]
+            y[c * H + 2 * k] = yk[q + c]
+    return y
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def evaluate_blocks(law, x, Zb, F, eps, want_blocks, R, A, lam, lamN, X, state):
+    """:func:`_evaluate` of a pair law (coupled or 2-D friction), ``Z`` given by harmonic blocks ``Zb``.
+
+    ``Z x`` is taken block by block (:func:`block_matvec`), then every pair is
+    the law's own evaluation on its ``d H`` unknowns alone, with ``F - Z x`` as its force and a zero
+    ``Z``: ``R = Z x + Lambda(x) - F`` is the same (eq. 12), and the law is local per pair.
+    """
+    code, kinds, limits, half_wave, gap, mu, xref, Phi, Psi = law
+    nc = gap.shape[0]
+    m = x.shape[0] // nc
+    d = eps.shape[0] // nc
+    t = lam.shape[0] // nc  # rows of tangential fields a pair
+    f = F - block_matvec(Zb, x)
+    Z0 = np.zeros((m, m))
+    for i in range(nc):
+        r = slice(i * m, (i + 1) * m)
+        sub = (code, kinds, limits, half_wave, gap[i : i + 1], mu[i : i + 1], xref[i : i + 1], Phi, Psi)
+        rt = slice(i * t, (i + 1) * t)
+        _law_evaluate(sub, x[r], Z0, f[r], eps[i * d : (i + 1) * d], want_blocks, R[r], A[i : i + 1], lam[rt],
+                      lamN[i : i + 1], X[rt], state[i : i + 1])  # fmt: skip
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _residual(law, x, Z, F, eps, R, J, buffers, blocks=None):
+    """Residual ``R`` and Jacobian ``J`` at ``x`` (with ``Z``'s harmonic ``blocks``: from them, no ``J``);
+    returns ``max |R|`` (N)."""
     A, lam, lamN, X, state = buffers
+    if blocks is not None:
+        evaluate_blocks(law, x, blocks, F, eps, np.bool_(True), R, A, lam, lamN, X, state)
+        return np.abs(R).max()
     _evaluate(law, x, Z, F, eps, np.bool_(True), R, A, lam, lamN, X, state)  # not a literal: one version
     if J.shape[0] > 0:  # else the structured step works from the blocks A alone
         dlft.jacobian_of_kinds(Z, eps, A, law[1], J)
@@ -274,8 +328,9 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
     x0 : (n,) start (m). Z, F : dynamic stiffness (n, n) (N/m) and force (n,) (N).
     eps : penalty per coordinate (N/m). target : float, converged when ``max |R| <= target`` (N).
     max_iter : int, Newton steps at most.
-    blocks : (Nh + 1, 2 q, 2 q) ``Z`` by harmonic (:func:`fretwear.hbm.structured.harmonic_blocks`), coupled
-        law only: the steps by :func:`~fretwear.hbm.structured.structured_step`, no dense ``J``.
+    blocks : (Nh + 1, 2 q, 2 q) ``Z`` by harmonic (:func:`fretwear.hbm.structured.harmonic_blocks`), pair
+        laws only: the residuals by :func:`evaluate_blocks` and the steps by
+        :func:`~fretwear.hbm.structured.structured_step`, no dense ``Z`` or ``J`` (``Z`` may then be empty).
 
     Returns ``(x, converged, iterations, max|R|, code)``, ``code`` one of
     ``CONVERGED``, ``NON_FINITE``, ``LINE_SEARCH``, ``BUDGET``, and ``(x0,
@@ -290,7 +345,7 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
     J, Jt = np.empty((nJ, nJ)), np.empty((nJ, nJ))
     piv = np.empty(n, dtype=np.int64)
     x = x0.copy()
-    r = _residual(law, x, Z, F, eps, R, J, buffers)
+    r = _residual(law, x, Z, F, eps, R, J, buffers, blocks)
     best_r, best_x = r, x.copy()
     it = 0
     damped = False
@@ -304,12 +359,12 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
                 return x, False, it, r, NON_FINITE
             damped = True
             x = best_x.copy()
-            r = _residual(law, x, Z, F, eps, R, J, buffers)
+            r = _residual(law, x, Z, F, eps, R, J, buffers, blocks)
             continue
         it += 1
         if not damped:
             xt = x + dx
-            rt = _residual(law, xt, Z, F, eps, Rt, Jt, buffers)
+            rt = _residual(law, xt, Z, F, eps, Rt, Jt, buffers, blocks)
             if keep_full_step(rt, best_r, it, max_iter):
                 x, r = xt, rt
                 R[:] = Rt
@@ -319,7 +374,7 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
                 continue
             damped = True
             x = best_x.copy()
-            r = _residual(law, x, Z, F, eps, R, J, buffers)
+            r = _residual(law, x, Z, F, eps, R, J, buffers, blocks)
             continue
         step = 1.0
         accepted = False
@@ -327,7 +382,7 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
         rt = r
         for _ in range(30):
             xt = x + step * dx
-            rt = _residual(law, xt, Z, F, eps, Rt, Jt, buffers)
+            rt = _residual(law, xt, Z, F, eps, Rt, Jt, buffers, blocks)
             if rt < (1 - 1e-4 * step) * r:
                 accepted = True
                 break

@@ -2,7 +2,8 @@
 
 Both are written once for every contact law in :mod:`fretwear.hbm.newton`
 (non-monotone Newton; the exact piecewise-linear walk); these are their calls
-with the coupled normal/tangential law of the interface's node pairs.
+with the coupled normal/tangential law of the interface's node pairs, and the residual of either pair law
+(coupled, or the 2-D friction law) from ``Z``'s harmonic blocks (:func:`evaluate_kernel`).
 """
 
 from __future__ import annotations
@@ -11,9 +12,9 @@ import numpy as np
 from numba import njit
 
 from ..hbm.dense import FASTMATH
-from ..hbm.newton import coupled_law, newton, walk
+from ..hbm.newton import cone_law, coupled_law, evaluate_blocks, newton, walk
 
-__all__ = ["newton_kernel", "walk_kernel"]
+__all__ = ["newton_kernel", "walk_kernel", "evaluate_kernel"]
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -44,3 +45,12 @@ def walk_kernel(x0, p0, Z, F0, F1, r0, eps, gap, mu, xref, Phi, Psi, max_pieces)
         none, np.empty(0), np.empty(0),
     )  # fmt: skip
     return x, p, pieces, arrived
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def evaluate_kernel(x, Zb, F, eps, gap, mu, xref, Phi, Psi, want_blocks, R, A, lamT, lamN, X, state):
+    """The law's residual (eq. 12) into ``R`` and, with ``want_blocks``, its blocks into ``A``, with ``Z``
+    given by its harmonic blocks ``Zb`` (:func:`fretwear.hbm.newton.evaluate_blocks`); the arguments as
+    :func:`fretwear.hbm.coupled.evaluate`'s, or :func:`fretwear.hbm.cone.evaluate`'s for ``xref`` (nc, 2)."""
+    law = cone_law(gap, mu, xref, Phi, Psi) if xref.ndim == 2 else coupled_law(gap, mu, xref, Phi, Psi)
+    evaluate_blocks(law, x, Zb, F, eps, want_blocks, R, A, lamT, lamN, X, state)

@@ -58,10 +58,9 @@ from ..hbm.cone_problem import walk_kernel as cone_walk_kernel
 from ..hbm.harmonics import HarmonicBasis, default_samples
 from ..hbm.newton import SINGULAR
 from ..hbm.strategy import NewtonResult, Steps, newton_message
-from ..hbm.structured import harmonic_blocks
 from .contact import STICK, evaluate, slip_work
 from .interrupt import check_interrupt
-from .kernels import newton_kernel, walk_kernel
+from .kernels import evaluate_kernel, newton_kernel, walk_kernel
 from .reduction import ContactCondensation
 from .static import solve_static
 
@@ -83,6 +82,9 @@ EPS_FACTOR = 10.0
 #: in at most ``SOFT_STEPS`` iterations (measured on the cylinder, 32-128 pairs: 0.1 converges in 5-8
 #: steps where 0.2 can wander; 1e-3 lets the stiff stage start from settled patterns)
 SOFT_PENALTY, SOFT_TARGET, SOFT_STEPS = 0.1, 1e-3, 12
+
+#: the dense Z handed to the compiled Newton of the structured path, which works from the blocks alone
+_NO_Z = np.zeros((0, 0))
 
 #: the linear algebra of the Newton steps (module text)
 LINEAR = ("structured", "dense")
@@ -148,14 +150,15 @@ class InterfaceProblem:
         self.wear = np.zeros(nc) if self.wear is None else np.asarray(self.wear, dtype=float)
         if self.wear.shape != (nc,) or not np.all(np.isfinite(self.wear)) or np.any(self.wear < 0):
             raise ValueError(f"wear must be {nc} finite depths >= 0 m (one per pair)")
-        self.Z, F = self.condensation.harmonic(self.omega, self.basis, binormal=self.cone)
+        self._blocks, F = self.condensation.harmonic_blocks(self.omega, self.basis, binormal=self.cone)
         H = self.basis.size
         static = np.zeros(F.shape, dtype=bool)
         static[::H] = True
         self.F_static = np.where(static, F, 0.0)
         self.F_exc = np.where(static, 0.0, F)
         if self.eps is None:
-            diag = np.abs(np.diag(self.Z)).reshape(nc, d, H).max(axis=2)
+            q = d * nc  # each coordinate's largest diagonal entry of Z over the harmonics' blocks
+            diag = np.abs(np.diagonal(self._blocks[:, :q, :q], axis1=1, axis2=2)).max(axis=0).reshape(nc, d)
             diag[:, : d - 1] = diag[:, : d - 1].max(axis=1, keepdims=True)  # an isotropic tangential penalty
             self.eps = EPS_FACTOR * diag.ravel()
         self.eps = np.asarray(self.eps, dtype=float)
@@ -183,13 +186,24 @@ class InterfaceProblem:
         """Contact coordinates per pair: 2 ``(u_T, u_N)``, or 3 ``(u_T1, u_T2, u_N)`` with the cone."""
         return 3 if self.cone else 2
 
-    @cached_property
+    @property
     def blocks(self) -> np.ndarray | None:
-        """``Z`` by harmonic (:func:`~fretwear.hbm.structured.harmonic_blocks`) for the structured steps, or
-        None for the dense ones."""
-        if self.linear == "dense":
-            return None
-        return harmonic_blocks(self.Z, self.per_pair * self.n_pairs, self.basis.size)
+        """``Z`` by harmonic (:meth:`~.reduction.ContactCondensation.harmonic_blocks`) for the structured
+        path, or None for the dense one."""
+        return None if self.linear == "dense" else self._blocks
+
+    @cached_property
+    def Z(self) -> np.ndarray:
+        """The dense reduced dynamic stiffness (size, size) (N/m), formed from the blocks on first use: the
+        dense path and the walks need it, the structured Newton steps do not."""
+        Zb, H, q = self._blocks, self.basis.size, self.per_pair * self.n_pairs
+        Z = np.zeros((q, H, q, H))
+        Z[:, 0, :, 0] = Zb[0, :q, :q]
+        for k in range(1, self.harmonics + 1):
+            for a, sa in ((0, 2 * k - 1), (1, 2 * k)):
+                for b, sb in ((0, 2 * k - 1), (1, 2 * k)):
+                    Z[:, sa, :, sb] = Zb[k, a * q : (a + 1) * q, b * q : (b + 1) * q]
+        return Z.reshape(q * H, q * H)
 
     @property
     def n_pairs(self) -> int:
@@ -254,9 +268,15 @@ class InterfaceProblem:
         A = np.empty((nc, d * H, d * H))
         lamT, lamN, X = np.empty(((d - 1) * nc, Ns)), np.empty((nc, Ns)), np.empty(((d - 1) * nc, Ns))
         state = np.empty((nc, Ns), dtype=np.int8)
-        law = cone.evaluate if self.cone else evaluate
-        law(np.ascontiguousarray(x, dtype=float), self.Z, self.F, self.eps, self.gap, self.mu, self.xref,
-            self.basis.synthesis, self.basis.analysis, jacobian, R, A, lamT, lamN, X, state)  # fmt: skip
+        x = np.ascontiguousarray(x, dtype=float)
+        if self.blocks is not None:  # Z x by harmonic: the dense Z is never formed
+            b = self.basis
+            evaluate_kernel(x, self.blocks, self.F, self.eps, self.gap, self.mu, self.xref, b.synthesis,
+                            b.analysis, jacobian, R, A, lamT, lamN, X, state)  # fmt: skip
+        else:
+            law = cone.evaluate if self.cone else evaluate
+            law(x, self.Z, self.F, self.eps, self.gap, self.mu, self.xref, self.basis.synthesis,
+                self.basis.analysis, jacobian, R, A, lamT, lamN, X, state)  # fmt: skip
         if self.cone:
             lamT, X = (v.reshape(nc, 2, Ns).transpose(0, 2, 1) for v in (lamT, X))
         return R, A, lamT, lamN, X, state
@@ -277,7 +297,8 @@ def _newton(problem: InterfaceProblem, x0, eps: np.ndarray, tol: float, max_iter
     b = problem.basis
     try:
         x, ok, it, r, code = problem._kernels[0](
-            np.asarray(x0, dtype=float).copy(), problem.Z, problem.F, eps, problem.gap, problem.mu,
+            np.asarray(x0, dtype=float).copy(), _NO_Z if problem.blocks is not None else problem.Z, problem.F,
+            eps, problem.gap, problem.mu,
             problem.xref, b.synthesis, b.analysis, tol * scale, max_iter, problem.blocks,
         )  # fmt: skip
     except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix

@@ -199,7 +199,8 @@ class ContactCondensation:
         """Real ``Z`` (2 nc H, 2 nc H) and ``F`` (2 nc H,) in the contact-major layout of ``basis``.
 
         Entry ``c H + j`` is slot ``j`` of coordinate ``c`` (``c = 2 i`` tangential,
-        ``2 i + 1`` normal, for pair ``i``).
+        ``2 i + 1`` normal, for pair ``i``). ``Z`` is the dense form of :meth:`harmonic_blocks`' blocks
+        (it has no entry between two harmonics).
 
         With ``binormal`` (3-D pairs, the 2-D friction law): ``Z`` (3 nc H, 3 nc H) and ``F`` on
         ``(u_T1, u_T2, u_N)`` of every pair (``c = 3 i``, ``3 i + 1``, ``3 i + 2``), the binormal kept
@@ -207,6 +208,30 @@ class ContactCondensation:
         nodes held along it: a symmetry plane through the pair, where the binormal displacement and
         traction vanish) gets a decoupled one, ``Z`` its tangent's diagonal and no force: then ``u_T2
         = 0``, ``lambda_T2 = 0`` is the law's solution for it, as the symmetry requires.
+        """
+        Zb, F = self.harmonic_blocks(omega, basis, binormal)
+        H = basis.size
+        nq = Zb.shape[1] // 2
+        Zr = np.zeros((nq, H, nq, H))
+        Zr[:, 0, :, 0] = Zb[0, :nq, :nq]
+        for k in range(1, basis.harmonics + 1):
+            c, s = 2 * k - 1, 2 * k
+            Zr[:, c, :, c] = Zb[k, :nq, :nq]
+            Zr[:, c, :, s] = Zb[k, :nq, nq:]
+            Zr[:, s, :, c] = Zb[k, nq:, :nq]
+            Zr[:, s, :, s] = Zb[k, nq:, nq:]
+        return Zr.reshape(nq * H, nq * H), F
+
+    def harmonic_blocks(
+        self, omega: float, basis: HarmonicBasis, binormal: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``Z`` by harmonic, shape (Nh + 1, 2 q, 2 q), and ``F`` (q H,) as :meth:`harmonic`'s (``q`` = 2 nc,
+        or 3 nc with ``binormal``), never forming the dense ``Z`` (eq. 11 holds harmonic by harmonic).
+
+        ``Zb[0, :q, :q]`` is the mean's block (real ``Z_0``); for ``k >= 1`` the block on the cosine slots
+        then the sine slots of the coordinates, ``[[Re Z_k, Im Z_k], [-Im Z_k, Re Z_k]]`` (N/m): the
+        layout of :func:`fretwear.hbm.structured.harmonic_blocks`, ``(Nh + 1) 4 q^2`` numbers against
+        ``q^2 H^2`` for the dense ``Z``.
         """
         if basis.half_wave:
             raise ValueError("interfaces use the full harmonic basis (half_wave=False)")
@@ -219,7 +244,7 @@ class ContactCondensation:
             keep = self.n_q + int(self.has_binormal.sum())
             order = cols.ravel()
         nq = len(order) if binormal else self.n_q
-        Zr = np.zeros((nq, H, nq, H))
+        Zb = np.zeros((basis.harmonics + 1, 2 * nq, 2 * nq))
         Fr = np.zeros((nq, H))
         for k in range(basis.harmonics + 1):
             Zk, Fk, _ = self.schur(omega, k, keep)
@@ -230,18 +255,16 @@ class ContactCondensation:
                 Zk[held, :], Zk[:, held], Fk[held] = 0.0, 0.0, 0.0
                 Zk[held, held] = np.abs(Zk[held - 1, held - 1])  # the pair's tangent, just before
             if k == 0:
-                Zr[:, 0, :, 0] = Zk.real
+                Zb[0, :nq, :nq] = Zk.real
                 Fr[:, 0] = Fk.real
                 continue
-            c, s = 2 * k - 1, 2 * k
             X, Y = Zk.real, Zk.imag
-            Zr[:, c, :, c] = X
-            Zr[:, s, :, s] = X
-            Zr[:, c, :, s] = Y
-            Zr[:, s, :, c] = -Y
-            Fr[:, c] = Fk.real
-            Fr[:, s] = -Fk.imag
-        return Zr.reshape(nq * H, nq * H), Fr.reshape(nq * H)
+            Zb[k, :nq, :nq] = Zb[k, nq:, nq:] = X
+            Zb[k, :nq, nq:] = Y
+            Zb[k, nq:, :nq] = -Y
+            Fr[:, 2 * k - 1] = Fk.real
+            Fr[:, 2 * k] = -Fk.imag
+        return Zb, Fr.reshape(nq * H)
 
     def full_harmonics(
         self, omega: float, harmonics: int, q: np.ndarray, dofs: np.ndarray | None = None
