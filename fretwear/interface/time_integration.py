@@ -152,13 +152,10 @@ def integrate_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega, t0, 
     G = np.ascontiguousarray(Kinv[:, :nq])
     lam, A, b = np.empty(nq), np.empty((nq, nq)), np.empty(nq)
     gap = gap0 + wear
-    Mh = M / h**2
-    Ch = C / h
     rec = 0
     for k in range(steps):
         t1 = t0 + (k + 1) * h
-        f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
-        zfree = Kinv @ (f + Mh @ z + (M @ v) / h + Ch @ z)
+        zfree = _free_step(M, C, Kinv, fs, fc, fsin, omega, t1, h, z, v)
         r = zfree[:nq]
         st = state.copy()
         ok = _step_contact(r, W, gap, mu, X, st, tol_f, tol_u, 200, lam, A, b)
@@ -185,6 +182,13 @@ def integrate_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega, t0, 
             rec_wear[rec] = wear
             rec += 1
     return -1
+
+
+@njit(cache=True, nogil=True)
+def _free_step(M, C, Kinv, fs, fc, fsin, omega, t1, h, z, v):
+    """Coordinates at ``t1 = t + h`` of the backward-Euler step from ``(z, v)`` without contact forces (m)."""
+    f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
+    return Kinv @ (f + (M @ z) / h**2 + (M @ v) / h + (C @ z) / h)
 
 
 @njit(cache=True, nogil=True)
@@ -291,13 +295,10 @@ def integrate_cone_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega,
         rho[i] = 1.0 / W[cols[i, 2], cols[i, 2]]
     lam = np.zeros(nk)
     gap = gap0 + wear
-    Mh = M / h**2
-    Ch = C / h
     rec = 0
     for k in range(steps):
         t1 = t0 + (k + 1) * h
-        f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
-        zfree = Kinv @ (f + Mh @ z + (M @ v) / h + Ch @ z)
+        zfree = _free_step(M, C, Kinv, fs, fc, fsin, omega, t1, h, z, v)
         if not _step_cone(zfree[:nk], W, cols, gap, mu, X, rho, tol_f, 100, lam):
             return k
         z1 = zfree - G @ lam
