@@ -101,3 +101,41 @@ def test_the_examples_print_the_exact_answer_and_the_error_of_each_approximation
     errors = dict(found)
     assert abs(float(errors["Nh = 7"]) + 18.13) < 0.05  # the wear page: 18 % early at Nh = 7
     assert -8 < float(errors["Nh = 21"]) < -6  # 7 % early at Nh = 21
+
+
+def _conf():
+    """``docs/conf.py`` as a module (its checks of the public names, its reference settings)."""
+    spec = importlib.util.spec_from_file_location("fretwear_docs_conf", ROOT / "docs" / "conf.py")
+    conf = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(conf)
+    return conf
+
+
+def test_broken_references_fail_the_build_and_only_other_libraries_are_ignored():
+    conf = _conf()
+    assert conf.nitpicky and conf.numpydoc_xref_param_type
+    own = ["fretwear", "fretwear.hbm.sweep", "fretwear.model.Model", "fretwear.front.SOLVERS"]
+    for _, pattern in conf.nitpick_ignore_regex:
+        assert not any(re.fullmatch(pattern, name) for name in own), pattern
+    assert re.fullmatch(conf.nitpick_ignore_regex[1][1], "numpy.ndarray")
+    public = {n for p in conf.API_PACKAGES for n in importlib.import_module(p).__all__}
+    assert not public & set(conf.numpydoc_xref_ignore)  # fretwear's names in a type field are links
+
+
+def test_an_undocumented_public_name_fails_the_build(build, monkeypatch):
+    from sphinx.util.inventory import InventoryFile
+
+    with open(build / "objects.inv", "rb") as f:
+        inventory = InventoryFile.load(f, "", lambda base, uri: uri)
+    objects = {name for kind, entries in inventory.items() if kind.startswith("py:") for name in entries}
+    conf = _conf()
+    assert conf.undocumented(objects) == []
+    assert conf.undocumented(objects - {"fretwear.hbm.sweep"}) == ["fretwear.hbm.sweep"]
+    assert conf.undocumented(objects - {"fretwear.model.craig_bampton"}) == [
+        "fretwear.reduce", "fretwear.model.craig_bampton"]  # fmt: skip
+    warned = []
+    monkeypatch.setattr(conf._log, "warning", lambda msg, **kw: warned.append(msg))
+    conf._no_docstring(None, "function", "fretwear.hbm.sweep", None, {}, ["", "  "])
+    conf._no_docstring(None, "function", "fretwear.hbm.sweep", None, {}, ["Sweep."])
+    conf._no_docstring(None, "method", "fretwear.hbm.Sweep.to_xarray", None, {}, [])  # a member: its class's
+    assert warned == ["public name fretwear.hbm.sweep has no docstring"]
