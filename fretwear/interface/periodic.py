@@ -456,6 +456,12 @@ class InterfaceSolution:
         """Fraction of the period each pair spends in state ``which`` (STICK, SLIP, OPEN)."""
         return np.mean(self.state == which, axis=1)
 
+    def to_xarray(self):
+        """The solution as an ``xarray.Dataset`` (units, long names): signals per ``pair`` on ``time``."""
+        from .._xarray import interface_solution_dataset
+
+        return interface_solution_dataset(self)
+
     @property
     def contact_harmonics(self) -> np.ndarray:
         """Full harmonics of the contact coordinates ``(u_T, u_N)`` per pair, shape (2 nc, 2 Nh + 1), or
