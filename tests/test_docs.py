@@ -95,7 +95,7 @@ def test_every_gallery_example_ran_and_drew_its_figures(build):
 
 
 def test_the_examples_print_the_exact_answer_and_the_error_of_each_approximation(build):
-    """The exact-versus-DLFT example prints its cycles to 0.5 u0 and each method's error (README figures)."""
+    """The exact-versus-DLFT example prints its cycles to 0.5 u0 and each method's error (the wear page's)."""
     page = (build / "gallery" / "plot_02_exact_vs_dlft.html").read_text(encoding="utf-8")
     found = re.findall(r"(Nh = \d+): \d+ cycles to 0.5 u0, ([-+][\d.]+)% against the exact", page)
     errors = dict(found)
