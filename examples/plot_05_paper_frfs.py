@@ -37,8 +37,8 @@ ax.legend(fontsize=7, ncol=2)
 fig.tight_layout()
 
 # %%
-# The relative displacement of the contact: zero while it sticks (Fig. 6). The open FRF of the
-# relative displacement is ``B u`` with the contact's relative map ``B``.
+# The relative displacement of the contact: zero while it sticks (Fig. 6; round-off below the axis).
+# The open FRF of the relative displacement is ``B u`` with the contact's relative map ``B``.
 
 B = models[10.0].relative_map()[0]
 fig, ax = plt.subplots(figsize=(6, 3.5))
@@ -47,6 +47,7 @@ for fex, frf in frfs.items():
     ax.semilogy(f, rel, label=f"{fex:g} N, DLFT $N_h$ = 7")
 for fex in (levels[0], levels[-1]):
     ax.semilogy(f, np.abs(linear[fex, "open"] @ B), "k:", lw=0.8, label=f"linear open, {fex:g} N")
+ax.set_ylim(bottom=1e-3)
 ax.set(xlabel="frequency (Hz)", ylabel="$x_1 - x_2$, half peak-to-peak (m)",
        title="Fig. 6: FRF of the relative displacement")  # fmt: skip
 ax.legend(fontsize=7)

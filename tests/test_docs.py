@@ -47,7 +47,8 @@ PAGES = (
 )  # fmt: skip
 #: the gallery: each example and the number of figures it draws
 EXAMPLES = {"plot_01_paper_frf_wear": 2, "plot_02_exact_vs_dlft": 1, "plot_03_interface_scar": 1,
-            "plot_04_wear_life": 1}  # fmt: skip
+            "plot_04_wear_life": 1, "plot_05_paper_frfs": 2, "plot_06_paper_wear_maps": 4,
+            "plot_07_paper_harmonics_and_methods": 2, "plot_08_paper_polynomial_map": 2}  # fmt: skip
 
 
 @pytest.fixture(scope="module")
@@ -92,6 +93,19 @@ def test_every_gallery_example_ran_and_drew_its_figures(build):
             assert image in page, f"{name}: figure {k} not drawn"
             assert (build / "_images" / image).stat().st_size > 10_000
     assert len(EXAMPLES) == len(list((ROOT / "examples").glob("plot_*.py")))
+
+
+def test_the_gallery_draws_the_papers_figures_5_to_14(build):
+    """Each of the paper's Fig. 5-14 is drawn by an executed example (its figure's title names it)."""
+    pages = "".join((build / "gallery" / f"{name}.html").read_text(encoding="utf-8") for name in EXAMPLES)
+    drawn = {int(n) for n in re.findall(r"Fig\. (\d+)", re.sub(r"<[^>]+>", "", pages))}
+    assert drawn >= set(range(5, 15)), sorted(set(range(5, 15)) - drawn)
+    # the approximations are named as such: the harmonics of Fig. 10 against the exact answer
+    page = (build / "gallery" / "plot_07_paper_harmonics_and_methods.html").read_text(encoding="utf-8")
+    errors = dict(re.findall(r"(Nh = \d+): \d+ cycles to 0.5 u0, ([-+][\d.]+)% against the exact", page))
+    assert [float(errors[f"Nh = {n}"]) for n in (1, 3, 7, 15, 21)] == sorted(
+        float(errors[f"Nh = {n}"]) for n in (1, 3, 7, 15, 21))  # fmt: skip
+    assert -8 < float(errors["Nh = 21"]) < -5
 
 
 def test_the_examples_print_the_exact_answer_and_the_error_of_each_approximation(build):
