@@ -3,8 +3,9 @@
 The build is the README's command (``python -m sphinx -W --keep-going -b html
 docs ...``), into a temporary folder, with ``FRETWEAR_DOCS_RERUN=1`` so that
 every example of ``examples/`` runs even if an earlier build in this checkout
-ran it: a failing example, a broken link between pages, a missing image or a
-docstring that does not render fails the test. About 50 s on the 2-core
+ran it: a failing example, a broken link between pages or cross-reference
+(nitpicky, type fields included), an undocumented public name, a missing image
+or a docstring that does not render fails the test. About 30 s on the 2-core
 machine under load (the Numba kernels from the cache). Skipped, with the
 reason, when the ``docs`` extra is not installed (``pip install -e ".[docs]"``;
 ``.ci/run`` installs it).

@@ -130,6 +130,31 @@ def test_an_interface_solution_keeps_its_signals_per_pair(results):
     assert float(ds.friction_energy) == sol.friction_energy and ds.friction_energy.attrs["units"] == "J"
 
 
+def test_an_interface_solution_with_the_cone_has_two_tangent_directions(results, tmp_path):
+    """With the Coulomb cone the tangential signals are (pair, time, direction): a solution stand-in with
+    the cone's shapes (the 1-D solution's signals along t1, zero along t2)."""
+    from types import SimpleNamespace
+
+    from fretwear._xarray import interface_solution_dataset
+
+    sol = results["interface_solution"]
+    fields = {name: getattr(sol, name) for name in (
+        "model", "frequency", "omega", "position", "area", "normal_force", "pressure", "state",
+        "mean_pressure", "slip_distance", "state_fraction", "amplitude", "friction_energy", "contact_work",
+        "path", "harmonics", "converged", "iterations", "residual", "message")}  # fmt: skip
+    lam = np.stack([sol.tangential_force, np.zeros_like(sol.tangential_force)], axis=-1)
+    slip = np.stack([sol.slip_variable, np.zeros_like(sol.slip_variable)], axis=-1)
+    problem = SimpleNamespace(cone=True)
+    cone = SimpleNamespace(**fields, tangential_force=lam, slip_variable=slip, problem=problem)
+    ds = interface_solution_dataset(cone)
+    assert ds.tangential_force.dims == ("pair", "time", "direction")
+    assert list(ds.direction.values) == ["t1", "t2"]
+    np.testing.assert_array_equal(ds.slip_variable.sel(direction="t1").values, sol.slip_variable)
+    assert ds.normal_force.dims == ("pair", "time") and ds.attrs["cone"] is True
+    ds.to_zarr(tmp_path / "cone.zarr", consolidated=False)
+    xr.testing.assert_identical(xr.open_zarr(tmp_path / "cone.zarr", consolidated=False).load(), ds)
+
+
 def test_a_sweep_is_an_frf_along_frequency(results):
     for kind in ("sweep", "shooting_sweep"):
         sweep = results[kind]
