@@ -153,7 +153,8 @@ def undocumented(objects: set[str]) -> list[str]:
 def _no_docstring(app, what, name, obj, options, lines) -> None:
     """Warn about a public module-level name of the API packages that has no docstring."""
     package, _, member = name.rpartition(".")
-    if package in API_PACKAGES and not member.startswith("_") and not any(line.strip() for line in lines):
+    text = [line for line in lines if line.strip() not in ("", "..", "!! processed by numpydoc !!")]
+    if package in API_PACKAGES and not member.startswith("_") and not text:
         _log.warning(f"public name {name} has no docstring", type="fretwear", subtype="undocumented")
 
 
@@ -163,5 +164,5 @@ def _check_public_names(app, env) -> None:
 
 
 def setup(app) -> None:
-    app.connect("autodoc-process-docstring", _no_docstring)
+    app.connect("autodoc-process-docstring", _no_docstring, priority=400)  # before numpydoc's (500)
     app.connect("env-check-consistency", _check_public_names)

@@ -151,6 +151,10 @@ def test_an_undocumented_public_name_fails_the_build(build, monkeypatch):
     warned = []
     monkeypatch.setattr(conf._log, "warning", lambda msg, **kw: warned.append(msg))
     conf._no_docstring(None, "function", "fretwear.hbm.sweep", None, {}, ["", "  "])
+    numpydoc = ["", "..", "    !! processed by numpydoc !!"]  # its mark, on an empty docstring
+    conf._no_docstring(None, "function", "fretwear.wear_map", None, {}, numpydoc)
     conf._no_docstring(None, "function", "fretwear.hbm.sweep", None, {}, ["Sweep."])
     conf._no_docstring(None, "method", "fretwear.hbm.Sweep.to_xarray", None, {}, [])  # a member: its class's
-    assert warned == ["public name fretwear.hbm.sweep has no docstring"]
+    assert warned == [
+        f"public name {n} has no docstring" for n in ("fretwear.hbm.sweep", "fretwear.wear_map")
+    ]
