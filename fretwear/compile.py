@@ -10,7 +10,7 @@ computations that need them, so that a command compiles only its own:
   (:func:`fretwear.sweep`, :func:`fretwear.solve_periodic`; ``fretwear frf``,
   ``fretwear point``, the dashboard's FRF scenes);
 * ``"solver"``: the periodic solver's loops as the slow-time (wear) methods
-  and the branch continuation use them (:func:`fretwear.hbm.periodic.solve_problem`,
+  and the branch continuation use them (``fretwear.hbm.periodic.solve_problem()``,
   :func:`fretwear.hbm.periodic.walk`; ``fretwear wear``, ``fretwear map``,
   ``fretwear frf --continuation``);
 * ``"polynomial"``: the polynomial slow-time method on DLFT dynamics

@@ -1,7 +1,7 @@
 """The record of a nodal wear history of an interface: profiles of wear, pressure and slip over ``N``.
 
-Shared by the slow-time methods of :mod:`fretwear.interface.wear` (stepping)
-and :mod:`fretwear.interface.polynomial`.
+Shared by the slow-time methods of ``fretwear.interface.wear`` (stepping)
+and ``fretwear.interface.polynomial``.
 """
 
 from __future__ import annotations
@@ -62,7 +62,7 @@ class InterfaceWearHistory:
         ``"stepping"`` or ``"polynomial"``.
     info : dict
         Method-specific diagnostics (polynomial: see
-        :func:`~fretwear.interface.polynomial.wear_polynomial_interface`).
+        :func:`~fretwear.interface.wear_polynomial_interface`).
     """
 
     position: np.ndarray

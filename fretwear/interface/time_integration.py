@@ -34,7 +34,7 @@ Wear (optional): after every step each slipping pair's depth grows by Archard's
 law, ``dw_i = K_w (lambda_N,i / A_i) |Delta u_T,i|`` (eq. 15), and opens its gap
 for the next step: no slow-time approximation at all.
 
-**2-D friction** (3-D pairs, the law of :mod:`fretwear.hbm.cone`, slip
+**2-D friction** (3-D pairs, the law of ``fretwear.hbm.cone``, slip
 variables (nc, 2)): the unknowns of a step are the contact forces on ``q``
 and on the binormals ``(u_T1, u_T2, u_N)`` of each pair (a pair without a
 binormal, on a symmetry plane, has none), the law its rigid limit: unilateral
@@ -414,7 +414,7 @@ def integrate_interface(
         Excitation frequency (rad/s), > 0.
     z0, v0 : ndarray (n,)
         Initial coordinates (m) and velocities (m/s) in the condensation's coordinates
-        (e.g. :func:`initial_state`).
+        (e.g. ``initial_state()``).
     slip0 : ndarray (nc,) or (nc, 2)
         Initial slip variables (m); (nc, 2): the 2-D friction law (3-D pairs, module text).
         state0 : ndarray (nc,) initial pair states (a guess).
