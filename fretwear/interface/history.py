@@ -13,10 +13,20 @@ from scipy.interpolate import CubicHermiteSpline
 from scipy.optimize import brentq
 
 from ..hbm.harmonics import full_synthesis
-from .contact import STICK
+from .contact import SLIP, STICK
 from .periodic import InterfaceSolution
 
-__all__ = ["InterfaceWearHistory", "fretting_loop", "shear_traction"]
+__all__ = ["InterfaceWearHistory", "cycle_state", "fretting_loop", "shear_traction"]
+
+
+def cycle_state(state: np.ndarray) -> np.ndarray:
+    """What each pair does over the cycle, from its states at the samples (nc, N): one code per pair.
+
+    1 where the pair slips at some sample, else 0 where it is in contact at some sample (it sticks, never
+    slips: Mindlin's stick zone), else 2 (open the whole cycle: outside the contact).
+    """
+    state = np.asarray(state)
+    return np.where((state == SLIP).any(axis=1), 1, np.where((state == STICK).any(axis=1), 0, 2))
 
 
 def shear_traction(sol: InterfaceSolution) -> np.ndarray:
