@@ -273,6 +273,7 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
             "solves": h.solves,
             "normal_force_sum": h.normal_force_sum,
             "shear": h.shear,
+            "peak_pressure": h.peak_pressure,
             "info": info,
             # the sphere's: the pairs' (x, y) (a half model, y >= 0), its radii (m)
             "points": info.get("pair_points"),
@@ -491,7 +492,7 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
                 "Mindlin stick radius c": r["stick_radius"] * 1e3,
             }
         else:
-            points, values = np.array([[0.0, 0.0], [1.0, 0.0]]), np.full(2, np.nan)
+            points, values = np.array([[0.0, 0.0], [0.1, 0.0], [0.0, 0.1], [0.1, 0.1]]), np.full(4, np.nan)
             title = f"Interface: 3-D patch, {what} (sphere only)"
             circles = {"Hertz radius a": np.nan, "Mindlin stick radius c": np.nan}
         return patch_figure(points, values, zlabel=zlabel, title=title, circles=circles, states=states)
