@@ -374,13 +374,13 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
 
     def hertz(self) -> tuple[np.ndarray, np.ndarray]:
         """Hertz pressure ``p0 sqrt(1 - (x/a)^2)`` of the benchmark at N = 0 (x in mm, Pa), or empty; for
-        the sphere over ``-a < r < a`` (``a`` its contact radius)."""
+        the sphere over ``0 <= r <= a`` (``a`` its contact radius)."""
         info = self.results.get("info", {})
         a = info.get("hertz_half_width", info.get("hertz_radius"))  # the cylinder's, the sphere's
         if a is None:
             return np.zeros(0), np.zeros(0)
         p0 = info["hertz_peak_pressure"]
-        x = np.linspace(-a, a, 201)
+        x = np.linspace(0.0 if self.sphere else -a, a, 201)  # the sphere's profiles are over r >= 0
         return x * 1e3, p0 * np.sqrt(np.clip(1 - (x / a) ** 2, 0, None))
 
     def _figure_pressure_profile(self):

@@ -314,6 +314,11 @@ def test_the_sphere_shows_its_patch_from_above(sphere):
     # the profiles are drawn against r, sorted
     x = layer(sphere.figure("wear_profile"), "record 1").dimension_values(0)
     np.testing.assert_allclose(x, np.sort(rad) * 1e3, rtol=1e-12)
+    # and the pressure with Hertz's over 0 <= r <= a: the first record's peak is p0
+    hertz = layer(sphere.figure("pressure_profile"), "Hertz (N = 0)").dimension_values(0)
+    assert hertz.min() == 0 and hertz.max() == pytest.approx(info["hertz_radius"] * 1e3, rel=1e-12)
+    first = layer(sphere.figure("pressure_profile"), "record 1").dimension_values(1)
+    assert first.max() == pytest.approx(info["hertz_peak_pressure"] / 1e6, rel=0.05)
     # exports: every patch figure, and the patch's table (half model: x, y >= 0)
     for name in PATCH_FIGURES:
         assert sphere.export_figure(name, "png")[:8] == b"\x89PNG\r\n\x1a\n"
