@@ -135,4 +135,4 @@ def patch_figure(
     for (label, r), colour in zip((circles or {}).items(), CIRCLE_COLOURS * len(circles or ()), strict=False):
         layers.append(_circle(hv, float(r), label, colour, xd, yd))
     overlay = overlay_options(hv.Overlay(layers), title, xlabel, ylabel, False, False, True)
-    return styled(overlay, None, None, {"aspect": "equal"})  # a disk drawn round in the exports
+    return overlay  # axes of any aspect: a square one cut the title at a column's width (issue 26)

@@ -372,3 +372,22 @@ def test_the_patch_is_the_spheres_only(run):
     title = scene.figure("patch_wear").opts.get("plot").kwargs["title"]
     assert title == "Interface: 3-D patch, worn depth (sphere only)"
     assert "patch" not in scene.datasets() and "loop" in scene.datasets()
+
+
+@pytest.mark.parametrize("size", sorted(figures.SIZES))
+def test_the_patch_and_loop_exports_have_no_overlaps(sphere, size):
+    """Issue 26's standard for the new figures: laid out at each export size, no text over text or axes."""
+    import matplotlib.pyplot as plt
+
+    from app.scenes.interface import PATCH_FIGURES
+
+    figures.load_backend("matplotlib")
+    faults = {}
+    for name in ("loop", *PATCH_FIGURES):
+        figure = figures.matplotlib_figure(sphere.figure(name), figures.ExportOptions(size=size),
+                                           sphere.caption())  # fmt: skip
+        try:
+            faults[name] = figures.layout_faults(figure)[:3]
+        finally:
+            plt.close(figure)
+    assert {k: v for k, v in faults.items() if v} == {}
