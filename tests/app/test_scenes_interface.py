@@ -372,6 +372,12 @@ def test_the_patch_is_the_spheres_only(run):
     title = scene.figure("patch_wear").opts.get("plot").kwargs["title"]
     assert title == "Interface: 3-D patch, worn depth (sphere only)"
     assert "patch" not in scene.datasets() and "loop" in scene.datasets()
+    # the cylinder's loop in gross slip: its force plateaus at mu P, per unit length of the 2-D contact
+    info, loop = scene.results["info"], scene.figure("loop")
+    assert loop.opts.get("plot").kwargs["ylabel"] == "tangential force Q, whole contact (N/m)"
+    for label in ("first record", "last record"):
+        Q = layer(loop, label).dimension_values(1)
+        assert np.abs(Q).max() == pytest.approx(info["mu"] * info["normal_load"], rel=1e-6)
 
 
 @pytest.mark.parametrize("size", sorted(figures.SIZES))
