@@ -2,6 +2,7 @@
 
 ``fretwear.figures.plots`` builds HoloViews figures from library results,
 ``fretwear.figures.sketch`` draws the paper's 2-DOF model,
+``fretwear.figures.patch`` draws a 3-D contact patch seen from above,
 ``fretwear.figures.export`` writes figures (PNG, SVG, PDF, HTML) and tables (CSV),
 ``fretwear.figures.layout`` lays them out for a file and checks that nothing overlaps,
 ``fretwear.figures.record`` stamps them with their parameters and reads and
@@ -25,6 +26,7 @@ from .export import (
 )
 from .layout import lay_out, layout_faults
 from .paper import paper_figures
+from .patch import patch_figure
 from .plots import (
     holoviews,
     line_figure,
@@ -70,6 +72,7 @@ __all__ = [
     "marker_line",
     "overlay_options",
     "paper_figures",
+    "patch_figure",
     "save_csv",
     "save_figure",
     "signals_figure",
