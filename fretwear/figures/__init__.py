@@ -26,7 +26,7 @@ from .export import (
 )
 from .layout import lay_out, layout_faults
 from .paper import paper_figures
-from .patch import patch_figure
+from .patch import patch_figure, patch_grid
 from .plots import (
     holoviews,
     line_figure,
@@ -73,6 +73,7 @@ __all__ = [
     "overlay_options",
     "paper_figures",
     "patch_figure",
+    "patch_grid",
     "save_csv",
     "save_figure",
     "signals_figure",

@@ -94,12 +94,12 @@ def patch_figure(
         The colour bar's title: the value and its unit.
     mirror : bool
         Reflect the points ``y -> -y`` (a half model; :func:`patch_grid`).
-    circles : mapping, optional
+    circles : dict, optional
         ``label -> radius`` (axes' unit): dashed circles about the origin (red, then black), one legend
         entry each,
         e.g. ``{"Hertz radius a": 0.19}``. The figure has the same layers whatever the radii (NaN hides
         one), as a ``DynamicMap`` needs.
-    states : mapping, optional
+    states : dict, optional
         ``code -> (name, colour)`` for discrete values (e.g. ``{0: ("stick", "#4c72b0"), ...}``): one
         colour per code, named on the colour bar and in the legend.
     clim : (float, float), optional
