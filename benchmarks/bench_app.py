@@ -67,11 +67,17 @@ STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
 WEAR_MAP_CHANGE = 0.5
 #: the lower end of the wear map's frequency axis, from BokehJS
 MAP_START_JS = """
-() => {
-  for (const doc of Bokeh.documents)
-    for (const m of doc._all_models.values())
-      if (m.title && typeof m.title.text === "string" && m.title.text.startsWith("Wear map ("))
-        return m.x_range.start;
+() => {  // the plot on screen (a replaced plot's model stays in the document for a while)
+  const stack = Object.values(Bokeh.index), seen = new Set();
+  while (stack.length) {
+    const v = stack.pop();
+    if (!v || seen.has(v)) continue;
+    seen.add(v);
+    const m = v.model;
+    if (m && m.title && typeof m.title.text === "string" && m.title.text.startsWith("Wear map (") && v.frame
+        && v.canvas_view.el.getBoundingClientRect().width > 0) return m.x_range.start;
+    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
+  }
   return null;
 }
 """
@@ -80,18 +86,28 @@ ACCURACY_TAB = 3.0
 #: frames per second of the animation of one period (a lower bound)
 ANIMATION_FPS = 20.0
 #: counts, over ``ms`` milliseconds of the browser's frames, the changes of the animation's cursor line
+#: on screen
 FPS_JS = """
 async (ms) => {
-  const line = () => {
-    for (const doc of Bokeh.documents)
-      for (const m of doc._all_models.values()) if (m.name === "fw-anim-cursor-force") return m.location;
+  const line = () => {  // the cursor of the force plot on screen (the player writes only those)
+    const stack = Object.values(Bokeh.index), seen = new Set();
+    while (stack.length) {
+      const v = stack.pop();
+      if (!v || seen.has(v)) continue;
+      seen.add(v);
+      const m = v.model;
+      if (m && m.title && v.frame && v.canvas_view.el.getBoundingClientRect().width > 0)
+        for (const r of [...(m.center ?? []), ...(m.renderers ?? [])])
+          if (r.name === "fw-anim-cursor-force") return r.location;
+      if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
+    }
   };
   let changes = 0, last = line();
   const start = performance.now();
   while (performance.now() - start < ms) {
     await new Promise(resolve => requestAnimationFrame(resolve));
     const now = line();
-    if (now !== last) changes += 1;
+    if (now !== last && !(Number.isNaN(now) && Number.isNaN(last))) changes += 1;  // NaN: no frame yet
     last = now;
   }
   return changes * 1000 / (performance.now() - start);
@@ -280,7 +296,10 @@ def animation_fps(browser, url: str, repeats: int) -> list[float]:
         page.goto(f"{url}?{query}")
         page.wait_for_function(shows([title]), timeout=120_000)
         page.get_by_role("button", name="Play", exact=True).click()
-        time.sleep(1.0)
+        # counted once it plays: its frames come a moment after the press (then the browser plays them)
+        moved = (f"() => {{ const t = ({TITLES_JS})(); return t.some(s => s.startsWith('t / T =')) "
+                 "&& !t.some(s => s.startsWith('t / T = 0.00')); }")  # fmt: skip
+        page.wait_for_function(moved, timeout=60_000, polling=50)
         rates.append(page.evaluate(FPS_JS, 3000))
         context.close()
     return rates
