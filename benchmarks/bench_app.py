@@ -65,21 +65,27 @@ FIRST_PAGE, SLIDER = 3.0, 0.3
 STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
 #: a change of k_w, Nh, method or band on the wear map, warm (issue 26)
 WEAR_MAP_CHANGE = 0.5
-#: the lower end of the wear map's frequency axis, from BokehJS
-MAP_START_JS = """
-() => {  // the plot on screen (a replaced plot's model stays in the document for a while)
-  const stack = Object.values(Bokeh.index), seen = new Set();
+#: calls ``visit(view)`` on every plot on screen until it returns a value (a replaced plot's model stays
+#: in the document for a while: only the views on screen say what the page shows)
+ON_SCREEN_JS = """
+(visit) => {
+  const stack = window.Bokeh ? Object.values(Bokeh.index) : [], seen = new Set();
   while (stack.length) {
     const v = stack.pop();
     if (!v || seen.has(v)) continue;
     seen.add(v);
-    const m = v.model;
-    if (m && m.title && typeof m.title.text === "string" && m.title.text.startsWith("Wear map (") && v.frame
-        && v.canvas_view.el.getBoundingClientRect().width > 0) return m.x_range.start;
+    if (v.model && v.model.title && typeof v.model.title.text === "string" && v.frame
+        && v.canvas_view.el.getBoundingClientRect().width > 0) {
+      const found = visit(v);
+      if (found !== undefined) return found;
+    }
     if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
   }
-  return null;
 }
+"""
+#: the lower end of the wear map's frequency axis
+MAP_START_JS = f"""
+() => ({ON_SCREEN_JS})(v => v.model.title.text.startsWith("Wear map (") ? v.model.x_range.start : undefined)
 """
 #: the Accuracy tab's first opening (its default ladder computed by the warm-up, after the first page's)
 ACCURACY_TAB = 3.0
@@ -89,19 +95,10 @@ ANIMATION_FPS = 20.0
 #: on screen
 FPS_JS = """
 async (ms) => {
-  const line = () => {  // the cursor of the force plot on screen (the player writes only those)
-    const stack = Object.values(Bokeh.index), seen = new Set();
-    while (stack.length) {
-      const v = stack.pop();
-      if (!v || seen.has(v)) continue;
-      seen.add(v);
-      const m = v.model;
-      if (m && m.title && v.frame && v.canvas_view.el.getBoundingClientRect().width > 0)
-        for (const r of [...(m.center ?? []), ...(m.renderers ?? [])])
-          if (r.name === "fw-anim-cursor-force") return r.location;
-      if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
-    }
-  };
+  const line = () => (ON_SCREEN)(v => {  // the cursor of the force plot (the player writes only those)
+    for (const r of [...(v.model.center ?? []), ...(v.model.renderers ?? [])])
+      if (r.name === "fw-anim-cursor-force") return r.location;
+  });
   let changes = 0, last = line();
   const start = performance.now();
   while (performance.now() - start < ms) {
@@ -112,7 +109,7 @@ async (ms) => {
   }
   return changes * 1000 / (performance.now() - start);
 }
-"""
+""".replace("ON_SCREEN", ON_SCREEN_JS)
 #: the title of the Accuracy tab's plot at the default quantity
 PARETO = f"{QUANTITY_LABELS[AccuracyScene.param.quantity.default]} vs wall time"
 #: scene -> (address query, tab clicked after loading or None, a plot title the computed scene shows)
@@ -128,19 +125,8 @@ SCREENSHOTS = {
     "study": ("", "Study", "Study: wear life"),
 }
 #: the visible plot titles of a page, from BokehJS
-TITLES_JS = """
-() => {
-  const out = [], stack = window.Bokeh ? Object.values(Bokeh.index) : [], seen = new Set();
-  while (stack.length) {
-    const v = stack.pop();
-    if (!v || seen.has(v)) continue;
-    seen.add(v);
-    if (v.model && v.model.title && typeof v.model.title.text === "string" && v.frame
-        && v.canvas_view.el.getBoundingClientRect().width > 0) out.push(v.model.title.text);
-    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
-  }
-  return out;
-}
+TITLES_JS = f"""
+() => {{ const out = []; ({ON_SCREEN_JS})(v => {{ out.push(v.model.title.text); }}); return out; }}
 """
 
 
