@@ -1,4 +1,4 @@
-"""The fretwear dashboard: ``panel serve app/app.py`` (see the README's "Dashboard" section).
+"""The fretwear dashboard: ``panel serve app/app.py`` (user guide: ``docs/user_guide/dashboard.md``).
 
 Bokeh executes this file for every new session: it builds a :class:`Session`
 whose runs go to the server's shared threads and whose results come from the

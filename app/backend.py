@@ -87,6 +87,7 @@ class Library:
     reduce = staticmethod(fretwear.reduce)
     cylinder_on_flat = staticmethod(_lazy("fretwear", "cylinder_on_flat"))
     paper_interface = staticmethod(_lazy("fretwear", "paper_interface"))
+    sphere_dynamic_model = staticmethod(_lazy("fretwear.interface.sphere", "sphere_dynamic_model"))
     read_interface_model = staticmethod(_lazy("fretwear.interface", "read_interface_model"))
     open_study = staticmethod(_lazy("fretwear.studies.store", "open_study"))
     bladed_disk = staticmethod(fretwear.bladed_disk)
@@ -161,12 +162,16 @@ class ModelSpec:
         return ModelSpec(self.fex, 1.0, 1.0, self.kn)
 
 
+#: the interface models the backend builds by name (:class:`InterfaceModel`)
+BUILDERS = ("cylinder_on_flat", "sphere_dynamic_model", "paper_interface")
+
+
 @dataclass(frozen=True)
 class InterfaceModel:
     """A model with contact pairs as a hashable cache key: its builder and the builder's arguments.
 
-    ``builder`` is ``"cylinder_on_flat"`` or ``"paper_interface"`` (``parameters``: their keyword
-    arguments as ``(name, value)`` pairs), or ``"file"`` (an interface model file at ``path``, whose
+    ``builder`` is one of :data:`BUILDERS` (``parameters``: its keyword arguments as ``(name, value)``
+    pairs), or ``"file"`` (an interface model file at ``path``, whose
     modification time ``stamp`` makes a changed file another key).
     """
 
@@ -524,12 +529,12 @@ class Backend:
         if spec.builder == "file":
             self._tally("read_interface_model")
             model = lib.read_interface_model(spec.path)
-        elif spec.builder in ("cylinder_on_flat", "paper_interface"):
+        elif spec.builder in BUILDERS:
             self._tally(spec.builder)
             model = getattr(lib, spec.builder)(**dict(spec.parameters))
         else:
             raise ValueError(
-                f"builder must be 'cylinder_on_flat', 'paper_interface' or 'file', got {spec.builder!r}"
+                f"builder must be one of {', '.join(map(repr, BUILDERS))} or 'file', got {spec.builder!r}"
             )
         self._tally("reduce")
         return lib.reduce(model, f_max)

@@ -437,7 +437,7 @@ class Controls(param.Parameterized):
         return Settings(model=model, method=self.method, dynamics=self.dynamics, **values)
 
     def record(self) -> dict[str, Any]:
-        """The controls as a settings record (:mod:`fretwear.figures.record` keys), as they stand."""
+        """The controls as a settings record (``fretwear.figures.record`` keys), as they stand."""
         out = {}
         for name, key in CONTROL_KEYS.items():
             value = getattr(self, name)
@@ -778,7 +778,7 @@ class Tasks:
     def exact_wear_map(self, s: Settings) -> Task:
         """The reference wear map: the exact method on the exact dynamics, over the map's grids.
 
-        Built on the sliding tables of :mod:`fretwear.wear.sliding`, cached per
+        Built on the sliding tables of ``fretwear.wear.sliding``, cached per
         structure and frequency: a first map costs about 0.1 s per frequency,
         later changes of ``F_ex``, ``mu``, ``k_w`` or ``u0`` milliseconds.
         """

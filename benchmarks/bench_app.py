@@ -11,8 +11,10 @@ browser download):
 * F_ex slider: the slider's handle is dragged and released (a new value each
   time: a new FRF is computed); the time from the release to the redrawn FRF
   (its title shows the new value);
-* k_w on the wear map: a new value typed in its box; the time from Enter to the
-  map drawn for it (its title shows the new value);
+* changes on the wear map: a new k_w typed in its box, a new Nh (on the DLFT
+  dynamics, where the map depends on it), another slow-time method clicked, a
+  new lower end of the band typed; the time from Enter (or the click) to the
+  map drawn for it (its title shows the new value, its axis the new band);
 * Study tab (the server opens a study, ``--args --study``: the shipped example
   ``fretwear/data/wear_life.toml`` at 200 samples, run first, or ``--study PATH``):
   the time from the tab's click to its histogram drawn, in new pages (nothing is
@@ -61,30 +63,53 @@ ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--n
 FIRST_PAGE, SLIDER = 3.0, 0.3
 #: Study tab drawn (a stored study: "instantly"), Interface tab computed (first run) and from the cache
 STUDY_TAB, INTERFACE_RUN, INTERFACE_CACHED = 1.0, 20.0, 1.0
-#: a change of k_w on the wear map (the exact map from the warm sliding tables)
+#: a change of k_w, Nh, method or band on the wear map, warm (issue 26)
 WEAR_MAP_CHANGE = 0.5
+#: calls ``visit(view)`` on every plot on screen until it returns a value (a replaced plot's model stays
+#: in the document for a while: only the views on screen say what the page shows)
+ON_SCREEN_JS = """
+(visit) => {
+  const stack = window.Bokeh ? Object.values(Bokeh.index) : [], seen = new Set();
+  while (stack.length) {
+    const v = stack.pop();
+    if (!v || seen.has(v)) continue;
+    seen.add(v);
+    if (v.model && v.model.title && typeof v.model.title.text === "string" && v.frame
+        && v.canvas_view.el.getBoundingClientRect().width > 0) {
+      const found = visit(v);
+      if (found !== undefined) return found;
+    }
+    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
+  }
+}
+"""
+#: the lower end of the wear map's frequency axis
+MAP_START_JS = f"""
+() => ({ON_SCREEN_JS})(v => v.model.title.text.startsWith("Wear map (") ? v.model.x_range.start : undefined)
+"""
 #: the Accuracy tab's first opening (its default ladder computed by the warm-up, after the first page's)
 ACCURACY_TAB = 3.0
 #: frames per second of the animation of one period (a lower bound)
 ANIMATION_FPS = 20.0
 #: counts, over ``ms`` milliseconds of the browser's frames, the changes of the animation's cursor line
+#: on screen
 FPS_JS = """
 async (ms) => {
-  const line = () => {
-    for (const doc of Bokeh.documents)
-      for (const m of doc._all_models.values()) if (m.name === "fw-anim-cursor-force") return m.location;
-  };
+  const line = () => (ON_SCREEN)(v => {  // the cursor of the force plot (the player writes only those)
+    for (const r of [...(v.model.center ?? []), ...(v.model.renderers ?? [])])
+      if (r.name === "fw-anim-cursor-force") return r.location;
+  });
   let changes = 0, last = line();
   const start = performance.now();
   while (performance.now() - start < ms) {
     await new Promise(resolve => requestAnimationFrame(resolve));
     const now = line();
-    if (now !== last) changes += 1;
+    if (now !== last && !(Number.isNaN(now) && Number.isNaN(last))) changes += 1;  // NaN: no frame yet
     last = now;
   }
   return changes * 1000 / (performance.now() - start);
 }
-"""
+""".replace("ON_SCREEN", ON_SCREEN_JS)
 #: the title of the Accuracy tab's plot at the default quantity
 PARETO = f"{QUANTITY_LABELS[AccuracyScene.param.quantity.default]} vs wall time"
 #: scene -> (address query, tab clicked after loading or None, a plot title the computed scene shows)
@@ -100,19 +125,8 @@ SCREENSHOTS = {
     "study": ("", "Study", "Study: wear life"),
 }
 #: the visible plot titles of a page, from BokehJS
-TITLES_JS = """
-() => {
-  const out = [], stack = window.Bokeh ? Object.values(Bokeh.index) : [], seen = new Set();
-  while (stack.length) {
-    const v = stack.pop();
-    if (!v || seen.has(v)) continue;
-    seen.add(v);
-    if (v.model && v.model.title && typeof v.model.title.text === "string" && v.frame
-        && v.canvas_view.el.getBoundingClientRect().width > 0) out.push(v.model.title.text);
-    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
-  }
-  return out;
-}
+TITLES_JS = f"""
+() => {{ const out = []; ({ON_SCREEN_JS})(v => {{ out.push(v.model.title.text); }}); return out; }}
 """
 
 
@@ -174,26 +188,56 @@ def slider_moves(browser, url: str, moves: int) -> list[float]:
     return seconds
 
 
-def kw_changes(browser, url: str, moves: int) -> list[float]:
-    """Seconds from typing a new k_w on the wear-map scene to the map drawn for it, ``moves`` times."""
+def map_changes(browser, url: str, moves: int) -> dict[str, list[float]]:
+    """Seconds from a change on the wear-map scene to the map drawn for it, per kind of change.
+
+    ``moves`` new values of k_w, then of Nh on the DLFT dynamics (on the exact
+    dynamics the map does not depend on Nh) and of the band's lower end; each
+    other slow-time method once (its first map at these settings).
+    """
     context = browser.new_context(viewport={"width": 1500, "height": 1200})
     page = context.new_page()
     page.goto(url + "?scene=wearmap")
+    idle = f"() => !({TEXT_JS})().includes('Computing')"
+
+    def timed(act, drawn) -> float:
+        page.wait_for_function(idle, polling=200, timeout=300_000)
+        start = time.perf_counter()
+        act()
+        page.wait_for_function(drawn, polling=10, timeout=300_000)
+        return time.perf_counter() - start
+
+    def typed(name: str, text: str):
+        box = page.locator(f"input[placeholder='{name}']").first
+        box.fill(text)
+        return lambda: box.press("Enter")
+
+    def click(label: str):
+        return lambda: page.get_by_role("button", name=label, exact=True).first.click()
+
     page.wait_for_function(shows(["Wear map (", "Wear history at"]), timeout=300_000)
-    page.wait_for_function(f"() => !({TEXT_JS})().includes('Computing')", polling=200, timeout=300_000)
-    box = page.locator("input[placeholder='kw']").first
-    seconds = []
+    out: dict[str, list[float]] = {"k_w": [], "Nh": [], "method": [], "band": []}
     for k in range(moves):
         kw = f"{1.1 + 0.1 * k:.2g}e-11"
-        box.fill(kw)
-        start = time.perf_counter()
-        box.press("Enter")
-        page.wait_for_function(shows([f"Wear map (exact, wear coefficient {float(kw):.3g}"]), polling=10,
-                               timeout=120_000)  # fmt: skip
-        seconds.append(time.perf_counter() - start)
-        page.wait_for_function(f"() => !({TEXT_JS})().includes('Computing')", polling=200, timeout=120_000)
+        drawn = shows([f"Wear map (exact, wear coefficient {float(kw):.3g}"])
+        out["k_w"].append(timed(typed("kw", kw), drawn))
+    timed(click("DLFT (Nₕ)"), shows(["Wear map (exact slow time on DLFT, Nh = 7"]))
+    for nh in (9, 5, 11, 3, 13)[:moves]:
+        drawn = shows([f"Wear map (exact slow time on DLFT, Nh = {nh},"])
+        out["Nh"].append(timed(typed("harmonics", str(nh)), drawn))
+    timed(typed("harmonics", "7"), shows(["Wear map (exact slow time on DLFT, Nh = 7,"]))
+    timed(click("exact (shooting)"), shows(["Wear map (exact, "]))
+    others = (("polynomial", "Wear map (polynomial on DLFT"), ("stepping", "Wear map (stepping on the exact"))
+    for method, title in others:
+        out["method"].append(timed(click(method), shows([title])))
+    timed(click("exact"), shows(["Wear map (exact, "]))
+    for k in range(moves):
+        fmin = 0.31 + 0.02 * k
+        # the map's axis starts half a cell (< 0.02 Hz) below the band's new lower end
+        drawn = f"() => {{ const x = ({MAP_START_JS})(); return x > {fmin - 0.02} && x < {fmin}; }}"
+        out["band"].append(timed(typed("fmin", f"{fmin:g}"), drawn))
     context.close()
-    return seconds
+    return out
 
 
 def make_study(folder: Path) -> Path:
@@ -238,7 +282,10 @@ def animation_fps(browser, url: str, repeats: int) -> list[float]:
         page.goto(f"{url}?{query}")
         page.wait_for_function(shows([title]), timeout=120_000)
         page.get_by_role("button", name="Play", exact=True).click()
-        time.sleep(1.0)
+        # counted once it plays: its frames come a moment after the press (then the browser plays them)
+        moved = (f"() => {{ const t = ({TITLES_JS})(); return t.some(s => s.startsWith('t / T =')) "
+                 "&& !t.some(s => s.startsWith('t / T = 0.00')); }")  # fmt: skip
+        page.wait_for_function(moved, timeout=60_000, polling=50)
         rates.append(page.evaluate(FPS_JS, 3000))
         context.close()
     return rates
@@ -298,7 +345,7 @@ def main() -> None:
                 browser = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=ARGS)
                 first, whole = first_pages(browser, url, pages)
                 slider = slider_moves(browser, url, moves)
-                kw = kw_changes(browser, url, moves)
+                changes = map_changes(browser, url, moves)
                 study_tab = tab_times(browser, url, "Study", "Study: wear life", pages)
                 interface = tab_times(browser, url, "Interface", "Interface: FRF of pad_x", pages)
                 accuracy = tab_times(browser, url, "Accuracy vs cost", PARETO, pages)
@@ -316,7 +363,13 @@ def main() -> None:
     print(line("first page: first plot drawn", first, FIRST_PAGE))
     print(line("first page: the whole first scene", whole, FIRST_PAGE))
     print(line("F_ex slider release -> redrawn FRF", slider, SLIDER))
-    print(line("wear map: k_w typed -> redrawn map", kw, WEAR_MAP_CHANGE))
+    for kind, what in (
+        ("k_w", "k_w typed"),
+        ("Nh", "Nh typed (DLFT)"),
+        ("method", "method clicked"),
+        ("band", "band's f_min typed"),
+    ):
+        print(line(f"wear map: {what} -> redrawn map", changes[kind], WEAR_MAP_CHANGE))
     print(line(f"Study tab -> histogram ({study.name})", study_tab, STUDY_TAB))
     print(line("Interface tab -> FRF, first run", interface[:1], INTERFACE_RUN))
     print(line("Interface tab -> FRF, from the cache", interface[1:], INTERFACE_CACHED))

@@ -27,3 +27,9 @@ top.set(ylabel="worn depth $w$ (µm)", title="cylinder on flat, partial slip")
 bottom.set(xlabel="position $x$ (mm)", ylabel="pressure $p$ (MPa)")
 top.legend(fontsize=8)
 fig.tight_layout()
+
+# %%
+# In a notebook, the history is also an ``xarray.Dataset`` (``w`` per ``cycles`` and ``pair``, with the
+# pairs' ``position``, units and long names):
+
+hist.to_xarray()

@@ -5,7 +5,7 @@ the periodic response, exact event-driven dynamics (shooting) as the
 reference, and Archard wear on a slow time scale, after Salles et al.,
 "Dynamic analysis of fretting-wear in friction contact interfaces".
 
-The layers, bottom up: :mod:`fretwear.model` (one :class:`Model` type for every
+The layers, bottom up: :mod:`fretwear.model` (one :class:`~fretwear.model.Model` type for every
 structure, its contacts, Craig-Bampton reduction, model files),
 :mod:`fretwear.hbm` (harmonic balance + DLFT, sweeps), :mod:`fretwear.time`
 (exact integration, shooting), :mod:`fretwear.wear` (slow-time methods),
@@ -13,9 +13,9 @@ structure, its contacts, Craig-Bampton reduction, model files),
 :mod:`fretwear.studies` (maps, convergence, regimes, accuracy vs cost). Plotting
 lives in :mod:`fretwear.figures`, which the numerical layers never import.
 
-The front functions :func:`solve_periodic`, :func:`sweep`, :func:`wear_history`
+The front functions :func:`solve_periodic`, :func:`sweep`, :func:`~fretwear.wear_history`
 and :func:`static_contact` take any model and pick the solver of its contact
-kind (:mod:`fretwear.front`).
+kind (``fretwear.front``).
 """
 
 from . import _kernel_cache  # noqa: F401 - first, before any kernel: their caches track every kernel source

@@ -34,6 +34,7 @@ __all__ = [
     "contact_names",
     "cost_dataset",
     "interface_history_dataset",
+    "interface_solution_dataset",
     "periodic_dataset",
     "sweep_dataset",
     "wear_history_dataset",
@@ -73,6 +74,10 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "residual": ("-", "final relative residual of the solver"),
     "iterations": ("-", "solver iterations"),
     "pressure": ("Pa", "contact pressure of each pair, mean over the cycle"),
+    "tangential_force": ("N", "tangential contact force lambda_T of each pair over one period"),
+    "normal_force": ("N", "normal contact force lambda_N of each pair over one period"),
+    "slip_variable": ("m", "slip variable X_T of each pair over one period (DLFT, eq. 18-19)"),
+    "contact_work": ("J", "work of the contact forces per period, from the harmonics"),
     "peak_pressure": ("Pa", "largest contact pressure of each pair over the cycle"),
     "slip": ("m", "distance slid per cycle by each pair"),
     "stick_fraction": ("-", "fraction of the cycle each pair sticks"),
@@ -376,6 +381,84 @@ def wear_map_dataset(m: Any):
     return _dataset(data, coords, _attrs(m, f"wear map ({m.label})", label=m.label))
 
 
+def _pair_coords(position: np.ndarray) -> dict[str, tuple]:
+    """The ``pair`` coordinate (``pair1, pair2, ...``) and its ``position`` (m)."""
+    names = [f"pair{j + 1}" for j in range(len(position))]
+    return {
+        "pair": ("pair", names, {"long_name": "contact pair"}),
+        "position": ("pair", position, POSITION_ATTRS),
+    }
+
+
+def interface_solution_dataset(sol: Any):
+    """The dataset of an :class:`~fretwear.interface.InterfaceSolution` (DLFT on the contact pairs).
+
+    Dimensions ``time`` (the ``N`` samples of one period, s), ``pair`` (with
+    its ``position``, m), ``dof`` (the model's reported DOFs) and, with the
+    Coulomb cone, ``direction`` (the two tangents ``t1``, ``t2``); the scalar
+    coordinate ``frequency`` (Hz). Time signals per pair: ``tangential_force``,
+    ``normal_force``, ``slip_variable``, ``pressure``, ``state`` (flags); per
+    pair: ``mean_pressure``, ``slip_distance``, ``stick_fraction``, ``area``;
+    per DOF: ``amplitude``; per period: ``friction_energy`` and
+    ``contact_work``. Attributes: the solve's status.
+    """
+    normal = np.asarray(sol.normal_force)
+    samples = normal.shape[1]
+    dofs, index = _dof_coords(sol.model)
+    period = 1.0 / sol.frequency
+    coords = {
+        "time": ("time", np.arange(samples) * period / samples,
+                 {"units": "s", "long_name": "time over one period t_k = k T / N"}),
+        "frequency": ((), sol.frequency, _frequency_attrs()),
+        **dofs,
+        **_pair_coords(np.asarray(sol.position)),
+    }  # fmt: skip
+    pt = ("pair", "time")
+    tangential = pt
+    if sol.problem.cone:  # (nc, N, 2): the two tangents of each pair
+        coords["direction"] = ("direction", ["t1", "t2"], {"long_name": "tangent direction"})
+        tangential = ("pair", "time", "direction")
+    data = {
+        "tangential_force": _var("tangential_force", tangential, sol.tangential_force),
+        "normal_force": _var("normal_force", pt, normal),
+        "slip_variable": _var("slip_variable", tangential, sol.slip_variable),
+        "pressure": _var("pressure", pt, sol.pressure,
+                         long_name="contact pressure of each pair over one period"),
+        "state": (
+            pt,
+            np.asarray(sol.state, dtype=np.int8),
+            {"long_name": "state of each pair over one period", **STATE_FLAGS},
+        ),
+        "mean_pressure": _var("mean_pressure", ("pair",), sol.mean_pressure),
+        "slip_distance": _var("slip_distance", ("pair",), sol.slip_distance),
+        "stick_fraction": _var("stick_fraction", ("pair",), sol.state_fraction(STICK),
+                               long_name="fraction of the period each pair sticks"),
+        "area": _var("area", ("pair",), sol.area),
+        "amplitude": _var("amplitude", ("dof",), np.asarray(sol.amplitude)[index]),
+        "friction_energy": _var(
+            "friction_energy", (), sol.friction_energy,
+            long_name="energy dissipated per period by friction on the interface (J per m in 2-D)",
+        ),
+        "contact_work": _var("contact_work", (), sol.contact_work),
+    }  # fmt: skip
+    method = f"{sol.path}, Nh = {sol.harmonics}"
+    attrs = _attrs(
+        sol,
+        f"interface periodic solution at {sol.frequency:.6g} Hz ({method})",
+        method=method,
+        path=sol.path,
+        omega=sol.omega,
+        converged=sol.converged,
+        iterations=sol.iterations,
+        residual=sol.residual,
+        message=sol.message,
+        harmonics=sol.harmonics,
+        samples=samples,
+        cone=bool(sol.problem.cone),
+    )
+    return _dataset(data, coords, attrs)
+
+
 def interface_history_dataset(h: Any):
     """The dataset of an :class:`~fretwear.interface.InterfaceWearHistory` along ``cycles`` and ``pair``.
 
@@ -389,8 +472,7 @@ def interface_history_dataset(h: Any):
     coords = {
         "cycles": ("cycles", h.cycles, CYCLES_ATTRS),
         "frequency": ((), h.frequency, _frequency_attrs()),
-        "pair": ("pair", [f"pair{j + 1}" for j in range(n_pairs)], {"long_name": "contact pair"}),
-        "position": ("pair", h.position, POSITION_ATTRS),
+        **_pair_coords(np.asarray(h.position)),
         "phase": (
             "phase",
             np.arange(state.shape[2]) / max(state.shape[2], 1),

@@ -10,7 +10,7 @@ computations that need them, so that a command compiles only its own:
   (:func:`fretwear.sweep`, :func:`fretwear.solve_periodic`; ``fretwear frf``,
   ``fretwear point``, the dashboard's FRF scenes);
 * ``"solver"``: the periodic solver's loops as the slow-time (wear) methods
-  and the branch continuation use them (:func:`fretwear.hbm.periodic.solve_problem`,
+  and the branch continuation use them (``fretwear.hbm.periodic.solve_problem()``,
   :func:`fretwear.hbm.periodic.walk`; ``fretwear wear``, ``fretwear map``,
   ``fretwear frf --continuation``);
 * ``"polynomial"``: the polynomial slow-time method on DLFT dynamics
@@ -171,6 +171,7 @@ def _run_cone() -> None:
     cond = ContactCondensation(sphere_dynamic_model(divisions=2, size=2.0, q_ratio=0.9))
     sol = solve_interface(InterfaceProblem(cond, 2 * np.pi * 100.0, harmonics=1))
     integrate_interface(cond, sol.problem.omega, *initial_state(sol), periods=1, steps_per_period=16)
+    _ = sol.slip_distance  # the cone's slip work: the wear of the sphere in the dashboard's Interface tab
 
 
 #: the kernel groups, by name

@@ -2,7 +2,7 @@
 
 A :class:`~fretwear.model.Model` holds 1-D contacts (``friction``, ``normal``:
 kind ``"contacts"``) or contact node pairs (``pairs``: kind ``"pairs"``). The
-table :data:`SOLVERS` names, per kind and job, the function that does the
+table ``SOLVERS`` names, per kind and job, the function that does the
 job; the front functions look it up and call it with the same arguments:
 
 ============== ======================================= =================================================
@@ -10,8 +10,8 @@ job            ``"contacts"`` (1-D friction, normal)   ``"pairs"`` (coupled norm
 ============== ======================================= =================================================
 solve_periodic :func:`fretwear.hbm.solve_periodic`     :func:`fretwear.interface.jobs.solve_periodic`
 sweep          :func:`fretwear.hbm.sweep`              :func:`fretwear.interface.jobs.sweep`
-wear_history   :func:`fretwear.wear.wear_history`      :func:`fretwear.interface.jobs.wear_history`
-static_contact (none)                                  :func:`fretwear.interface.jobs.static_contact`
+wear_history   :func:`fretwear.wear.wear_history`      ``fretwear.interface.jobs.wear_history()``
+static_contact (none)                                  :func:`~fretwear.static_contact`
 continuation   :func:`fretwear.hbm.continuation`       (none)
 linear_frf     :func:`fretwear.hbm.linear_frf`         (none)
 shooting       :func:`fretwear.time.shooting`          (none)
@@ -136,13 +136,13 @@ def solve_periodic(model: Model, omega: float, harmonics: int = 7, **options) ->
             Newton iterations per solve (default 50).
         factor : float
             Pairs only: the reduction's mode count criterion
-            (:func:`fretwear.interface.jobs.condense`, default 2).
+            (``fretwear.interface.jobs.condense()``, default 2).
 
     Returns
     -------
     PeriodicSolution or InterfaceSolution
         With ``converged``, ``residual``, ``iterations``, ``message`` and
-        ``path`` (the strategy of :mod:`fretwear.hbm.strategy`).
+        ``path`` (the strategy of ``fretwear.hbm.strategy``).
     """
     return _solver("solve_periodic", model)(model, omega, harmonics, **options)
 
@@ -174,7 +174,7 @@ def wear_history(model: Model, omega: float, method: str = "auto", *, kw: float 
         Horizon (cycles), > 0.
     **options
         The method's options (:func:`fretwear.wear.wear_history`,
-        :func:`fretwear.interface.jobs.wear_history`).
+        ``fretwear.interface.jobs.wear_history()``).
 
     Returns
     -------
@@ -188,7 +188,7 @@ def static_contact(model: Model, tangential_scale: float = 0.0, **options) -> An
     """Quasi-static contact state of a model with contact pairs under its static load.
 
     ``tangential_scale`` times the ``cos`` load pattern is then applied
-    statically (-). Options as :func:`fretwear.interface.jobs.static_contact`.
+    statically (-). Options as :func:`~fretwear.static_contact`.
     """
     return _solver("static_contact", model)(model, tangential_scale, **options)
 
@@ -201,8 +201,8 @@ def _front(job: str) -> Callable[..., Any]:
         return _solver(job, model)(model, *args, **options)
 
     front.__name__ = front.__qualname__ = job
-    front.__doc__ = f"""``{job}`` of any model: :func:`{module}.{name}` for a model of the kind that has it
-    (:data:`SOLVERS`); same arguments and result. Other kinds raise ``ValueError``."""
+    front.__doc__ = f"""``{job}`` of any model: :func:`{module.rsplit(".", 1)[0]}.{name}` for a model of
+    the kind that has it (``SOLVERS``); same arguments and result. Other kinds raise ``ValueError``."""
     return front
 
 

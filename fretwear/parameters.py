@@ -2,7 +2,7 @@
 
 The command line (:mod:`fretwear.cli`, ``fretwear interface``, ``fretwear study``),
 the settings files it reads (``--settings``), the study specs
-(:mod:`fretwear.studies.spec`) and the dashboard (``app.state.Controls``, its
+(``fretwear.studies.spec``) and the dashboard (``app.state.Controls``, its
 sidebar) check their numbers against this table, before any work starts, with
 one message format::
 
@@ -63,7 +63,7 @@ class Parameter:
     flag : str
         The command-line option, when not ``--name`` with dashes (:attr:`option`).
     symbol : str
-        Its ASCII symbol in a figure's parameter record (:mod:`fretwear.figures.record`), default ``label``.
+        Its ASCII symbol in a figure's parameter record (``fretwear.figures.record``), default ``label``.
     html : str
         Label of its dashboard control, in HTML (symbols with subscripts).
     glossary : str or None

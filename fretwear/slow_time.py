@@ -3,8 +3,8 @@
 Wear follows ``dw/dN = g(w)`` over the cycle count ``N`` (paper eq. 24 in the
 limit of small steps), where each evaluation of the rate ``g`` is a periodic
 solve of the structure at wear ``w``: the 2-DOF model's contacts
-(:mod:`fretwear.wear.stepping`) and an interface's pairs
-(:mod:`fretwear.interface.wear`) hand :func:`integrate` their own rate and
+(``fretwear.wear.stepping``) and an interface's pairs
+(``fretwear.interface.wear``) hand :func:`integrate` their own rate and
 keep their own records; the step control lives here.
 
 Bogacki-Shampine 3(2) with first-same-as-last: three new rate evaluations a

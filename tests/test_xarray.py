@@ -34,6 +34,7 @@ def results(model):
             "shooting": fw.shooting(model, OMEGA, samples=64),
             "sweep": fw.sweep(model, 2 * np.pi * np.array([0.6, 0.7, 0.8]), 3),
             "shooting_sweep": Sweep(fw.shooting_sweep(model, 2 * np.pi * np.array([0.6, 0.7]), samples=32)),
+            "interface_solution": fw.solve_periodic(fw.paper_interface(), OMEGA, 3),
             "interface_sweep": fw.sweep(fw.paper_interface(), 2 * np.pi * np.array([0.6, 0.7]), 3),
             "history": fw.wear_history(model, OMEGA, "stepping", harmonics=3, kw=1e-11, cycles=1e4),
             "map": fw.wear_map(model, [0.6, 0.7], [0.0, 1e3, 1e4], method="stepping", harmonics=3, workers=1),
@@ -59,6 +60,7 @@ KINDS = (
     "shooting",
     "sweep",
     "shooting_sweep",
+    "interface_solution",
     "interface_sweep",
     "history",
     "map",
@@ -108,6 +110,49 @@ def test_a_periodic_solution_keeps_its_values_and_names(results, model):
     assert results["dlft"].to_xarray().attrs["harmonics"] == 3
     shooting = results["shooting"].to_xarray()
     assert shooting.attrs["method"] == "shooting" and "harmonics" not in shooting.attrs  # None: left out
+
+
+def test_an_interface_solution_keeps_its_signals_per_pair(results):
+    sol = results["interface_solution"]
+    ds = sol.to_xarray()
+    assert ds.normal_force.dims == ("pair", "time") and ds.state.dims == ("pair", "time")
+    np.testing.assert_array_equal(ds.normal_force.values, sol.normal_force)
+    np.testing.assert_array_equal(ds.tangential_force.values, sol.tangential_force)
+    np.testing.assert_array_equal(ds.slip_distance.values, sol.slip_distance)
+    np.testing.assert_array_equal(ds.position.values, sol.position)
+    assert list(ds.dof.values) == ["x1", "x2", "y"]  # the reported DOFs, as the interface sweep's
+    np.testing.assert_array_equal(ds.amplitude.values, sol.amplitude)
+    # the pressure is the normal force over the tributary area, sampled on one period
+    np.testing.assert_allclose(ds.pressure * ds.area, ds.normal_force, rtol=1e-12)
+    assert ds.time.size == sol.normal_force.shape[1] and float(ds.time[-1]) < 1 / 0.7
+    assert float(ds.frequency) == pytest.approx(0.7) and ds.state.attrs["flag_meanings"] == "stick slip open"
+    assert ds.attrs["method"] == "dlft, Nh = 3" and ds.attrs["converged"] is True
+    assert float(ds.friction_energy) == sol.friction_energy and ds.friction_energy.attrs["units"] == "J"
+
+
+def test_an_interface_solution_with_the_cone_has_two_tangent_directions(results, tmp_path):
+    """With the Coulomb cone the tangential signals are (pair, time, direction): a solution stand-in with
+    the cone's shapes (the 1-D solution's signals along t1, zero along t2)."""
+    from types import SimpleNamespace
+
+    from fretwear._xarray import interface_solution_dataset
+
+    sol = results["interface_solution"]
+    fields = {name: getattr(sol, name) for name in (
+        "model", "frequency", "omega", "position", "area", "normal_force", "pressure", "state",
+        "mean_pressure", "slip_distance", "state_fraction", "amplitude", "friction_energy", "contact_work",
+        "path", "harmonics", "converged", "iterations", "residual", "message")}  # fmt: skip
+    lam = np.stack([sol.tangential_force, np.zeros_like(sol.tangential_force)], axis=-1)
+    slip = np.stack([sol.slip_variable, np.zeros_like(sol.slip_variable)], axis=-1)
+    problem = SimpleNamespace(cone=True)
+    cone = SimpleNamespace(**fields, tangential_force=lam, slip_variable=slip, problem=problem)
+    ds = interface_solution_dataset(cone)
+    assert ds.tangential_force.dims == ("pair", "time", "direction")
+    assert list(ds.direction.values) == ["t1", "t2"]
+    np.testing.assert_array_equal(ds.slip_variable.sel(direction="t1").values, sol.slip_variable)
+    assert ds.normal_force.dims == ("pair", "time") and ds.attrs["cone"] is True
+    ds.to_zarr(tmp_path / "cone.zarr", consolidated=False)
+    xr.testing.assert_identical(xr.open_zarr(tmp_path / "cone.zarr", consolidated=False).load(), ds)
 
 
 def test_a_sweep_is_an_frf_along_frequency(results):

@@ -324,7 +324,7 @@ class Scene(Exports, param.Parameterized):
 
     def record(self) -> dict[str, Any]:
         """The parameter record of the published results (settings record keys, see
-        :mod:`fretwear.figures.record`): what every export of this scene is stamped with."""
+        ``fretwear.figures.record``): what every export of this scene is stamped with."""
         out = self.settings.record(wear=self.wears)
         if self.uses_selection:
             out["f"] = self.selection.frequency

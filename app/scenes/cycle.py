@@ -272,8 +272,8 @@ the contact slips longer and the loop flattens."""
             ylabel="friction force (N)",
             padding=0.08,
             dashed=(EXACT,),
-            title=f"Hysteresis loop: dissipated energy {energy['hysteresis loop']:.4g} J per cycle "
-            f"(exact {energy[EXACT]:.4g})",
+            # short: the title fits the plot's width at every layout (the energy is the loop's area)
+            title=f"Hysteresis loop: {energy['hysteresis loop']:.4g} J/cycle (exact {energy[EXACT]:.4g})",
             extra=self._cursor("loop", live),
         )
 

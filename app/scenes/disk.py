@@ -8,7 +8,7 @@ One run is five tasks of the session's machinery (:class:`~app.session.Runner`,
 (:meth:`~app.backend.Backend.disk_frf`), the wear of every shroud contact at the
 chosen frequency (:meth:`~app.backend.Backend.disk_history`), and the FRF and
 the response at that frequency after wear. A tuned disk is solved on one
-sector (cyclic symmetry, :mod:`fretwear.disk.cyclic`); a mistuned one (level >
+sector (cyclic symmetry, ``fretwear.disk.cyclic``); a mistuned one (level >
 0, a seeded pattern) as a whole. The figures: the disk seen from the front
 (blades displaced by the response at the chosen phase, magnified; tips
 coloured by worn depth), the ZZENF diagram (frequency against nodal diameter,

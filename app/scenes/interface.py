@@ -2,6 +2,9 @@
 
 Models: the cylinder-on-flat fretting benchmark in partial slip (force
 control, ``Q0 / (mu P) = 0.5``) or in gross slip (displacement control), the
+3-D sphere on a flat (:func:`fretwear.interface.sphere.sphere_dynamic_model`,
+2-D friction on a coarse half mesh of 29 pairs: partial slip at ``Q* / (mu P)
+= 0.6``, or gross slip driven through a loading arm), the
 paper's 2-DOF example as a one-pair interface (its single node drawn as a
 short segment in the profiles), or a
 model file given to the server (``panel serve app/app.py --args
@@ -15,8 +18,14 @@ wear (:meth:`~app.backend.Backend.interface_frf`, :func:`fretwear.sweep`, the
 worn profile of the history at the horizon). The figures show
 ``w(x)`` and ``p(x)`` at several ``N`` (with the Hertz pressure for the
 benchmark), the stick/slip state over ``(x, phase of the cycle)`` at the last
-record, and the FRFs. Nothing computes until the tab is first shown; results
-are kept in the server's shared cache.
+record, the FRFs, and the fretting loop (tangential force against the driven
+DOF's displacement over one period, at the first and last records). For the
+sphere, the profiles are drawn against the distance ``r`` from the centre and
+the 3-D patch is shown from above at the last record
+(:func:`fretwear.figures.patch.patch_figure`): mean pressure, peak shear
+traction, where the pairs stick, slip or open over the cycle, worn depth.
+Nothing computes until the tab is first shown; results are kept in the
+server's shared cache.
 """
 
 from __future__ import annotations
@@ -32,6 +41,7 @@ import panel as pn
 import param
 
 from fretwear import figures
+from fretwear.figures.patch import patch_figure
 from fretwear.figures.plots import ensure_backend, holoviews, overlay_options, styled
 from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
@@ -46,16 +56,38 @@ __all__ = ["InterfaceScene", "InterfaceSettings", "interface_tab", "MODELS", "PA
 
 PARTIAL, GROSS, FILE = "benchmark, partial slip", "benchmark, gross slip", "model file"
 PAPER = "paper's 2-DOF (one pair)"
-#: settings each model choice starts from (the benchmark at 50 Hz; the paper's case at 0.7 Hz)
+SPHERE_PARTIAL, SPHERE_GROSS = "sphere (3-D), partial slip", "sphere (3-D), gross slip"
+#: settings each model choice starts from (the benchmark at 50 Hz; the paper's case at 0.7 Hz; the sphere
+#: at 150 Hz, 1/20 of its holder's mode: quasi-static, Nh = 3 for a first run in seconds, its gross slip to
+#: 1e4 cycles, a scar about Hertz's approach a^2 / R deep)
 DEFAULTS = {
-    GROSS: {"frequency": 50.0, "kw": 1e-14, "cycles": 3e4},
-    PARTIAL: {"frequency": 50.0, "kw": 1e-14, "cycles": 3e4},
-    PAPER: {"frequency": 0.7, "kw": 1e-11, "cycles": 2e4},
+    GROSS: {"frequency": 50.0, "kw": 1e-14, "cycles": 3e4, "harmonics": 5},
+    PARTIAL: {"frequency": 50.0, "kw": 1e-14, "cycles": 3e4, "harmonics": 5},
+    SPHERE_PARTIAL: {"frequency": 150.0, "kw": 1e-14, "cycles": 1e5, "harmonics": 3},
+    SPHERE_GROSS: {"frequency": 150.0, "kw": 1e-14, "cycles": 1e4, "harmonics": 3},
+    PAPER: {"frequency": 0.7, "kw": 1e-11, "cycles": 2e4, "harmonics": 5},
 }
 #: benchmark settings of each model choice (``fretwear.interface.cylinder_on_flat`` parameters)
 MODELS = {
     PARTIAL: {"q_ratio": 0.5},
     GROSS: {"window": 3.0, "arm_stiffness": 2e10, "drive_displacement": 2e-5},
+}
+#: the sphere's coarse half mesh (``sphere_dynamic_model`` parameters): 29 pairs, a first run in seconds
+SPHERE_MESH = {"divisions": 4, "size": 4.0}
+#: sphere settings of each model choice: Q* = 0.6 mu P; or the holder driven through an arm, k_a delta0 =
+#: 300 N = 5 mu P
+SPHERES = {
+    SPHERE_PARTIAL: {**SPHERE_MESH, "q_ratio": 0.6},
+    SPHERE_GROSS: {**SPHERE_MESH, "arm_stiffness": 2e7, "drive_displacement": 1.5e-5},
+}
+#: the 3-D patch figures (the sphere's only)
+PATCH_FIGURES = ("patch_pressure", "patch_shear", "patch_state", "patch_wear")
+#: the patch's stick/slip/open map (:func:`fretwear.interface.history.cycle_state`): code -> (name, colour),
+#: the colours of the stick/slip map over the cycle
+PATCH_STATES = {
+    0: ("sticks (never slips)", "#4c72b0"),
+    1: ("slips", "#dd8452"),
+    2: ("open all cycle", "#dddddd"),
 }
 #: records of the history drawn as profiles (the first, the last, and log-spaced ones between)
 PROFILES = 4
@@ -117,6 +149,8 @@ class InterfaceSettings:
             return InterfaceModel("file", path=self.path, stamp=self.stamp)
         if self.model == PAPER:
             return InterfaceModel("paper_interface")
+        if self.model in SPHERES:
+            return InterfaceModel("sphere_dynamic_model", tuple(SPHERES[self.model].items()))
         return InterfaceModel(
             "cylinder_on_flat", (("contact_nodes", self.contact_nodes), *MODELS[self.model].items())
         )
@@ -172,10 +206,12 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
     key = "interface"
     title = "Interface"
     address_params = ("model", "contact_nodes", "frequency", "harmonics", "kw", "cycles")
-    figure_names = ("wear_profile", "pressure_profile", "stick_slip", "frf")
-    dataset_names = ("profiles", "frf")
+    figure_names = ("wear_profile", "pressure_profile", "stick_slip", "frf", "loop", *PATCH_FIGURES)
+    dataset_names = ("profiles", "frf", "loop", "patch")
 
-    model = param.Selector(default=GROSS, objects=[GROSS, PARTIAL, PAPER], doc="Model")
+    model = param.Selector(
+        default=GROSS, objects=[GROSS, PARTIAL, SPHERE_PARTIAL, SPHERE_GROSS, PAPER], doc="Model"
+    )
     contact_nodes = param.Selector(default=16, objects=[16, 32], doc="Benchmark pairs across the contact")
     frequency = param.Number(50.0, doc="Excitation frequency (Hz)")
     harmonics = param.Integer(5, doc="Harmonics Nh")
@@ -189,7 +225,7 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
         super().__init__(**options)
         self.path = None if path is None else str(path)
         if self.path is not None:
-            self.param.model.objects = [GROSS, PARTIAL, PAPER, FILE]
+            self.param.model.objects = [*self.param.model.objects, FILE]
         self.param.watch(self._defaults, ["model"])  # first: the run below sees the model's settings
         self.param.watch(
             self.refresh, ["model", "contact_nodes", "frequency", "harmonics", "kw", "cycles", "typed"]
@@ -224,6 +260,7 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
             return
         model, h, before, after = (results[k] for k in ("interface_model", "interface_history", "frf_before",
                                                          "frf_after"))  # fmt: skip
+        info = dict(model.info)
         self.results = results = {
             "position": h.position,
             "cycles": h.cycles,
@@ -235,7 +272,14 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
             "message": h.message,
             "solves": h.solves,
             "normal_force_sum": h.normal_force_sum,
-            "info": dict(model.info),
+            "shear": h.shear,
+            "peak_pressure": h.peak_pressure,
+            "info": info,
+            # the sphere's: the pairs' (x, y) (a half model, y >= 0), its radii (m)
+            "points": info.get("pair_points"),
+            **self._radii(info),
+            # the fretting loops (delta, Q) of the first and last records, on the FRF's DOF
+            "loops": [h.loop(before["dof"], k) for k in (0, -1)],
             "dof": before["dof"],
             "dof_name": before["dof_name"],
             "frf_hz": before["f_hz"],
@@ -255,7 +299,40 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
         self.notes = notes
         self.version += 1
 
+    @staticmethod
+    def _radii(info: dict) -> dict[str, float]:
+        """The sphere's Hertz radius ``a`` and Mindlin's stick radius ``c`` (0 in gross slip), or none."""
+        if "pair_points" not in info:
+            return {}
+        from fretwear.interface.sphere import mindlin_stick_radius
+
+        a = info["hertz_radius"]
+        q = 1.0 if "drive_displacement" in info else info["q_ratio"]  # driven by the arm: gross slip
+        return {"hertz_radius": a, "stick_radius": mindlin_stick_radius(a, q)}
+
+    @property
+    def sphere(self) -> bool:
+        """Whether the published results are of a 3-D patch (the sphere's pairs have points)."""
+        return self.results.get("points") is not None
+
+    def _check_export(self, name: str) -> None:
+        super()._check_export(name)
+        if name in PATCH_FIGURES and not self.sphere:
+            raise ValueError(f"{name} is the 3-D patch of the sphere: choose a sphere model to draw it")
+
     # -- figures -----------------------------------------------------------------------------
+    def abscissa(self) -> tuple[np.ndarray, np.ndarray, str]:
+        """The profiles' abscissa (mm), the order of the pairs along it and its label: ``x``, or for the
+        sphere the distance ``r`` from the centre (pairs sorted by ``r``)."""
+        r = self.results
+        if not r:
+            return np.zeros(0), np.zeros(0, dtype=int), "x (mm)"
+        if self.sphere:
+            radius = np.hypot(*r["points"].T) * 1e3
+            order = np.argsort(radius, kind="stable")
+            return radius[order], order, "distance r from the centre (mm)"
+        return r["position"] * 1e3, np.arange(len(r["position"])), "x (mm)"
+
     def records(self) -> np.ndarray:
         """Indices of the history records drawn as profiles: first, last, log-spaced between."""
         n = len(self.results.get("cycles", ()))
@@ -267,11 +344,13 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
         """Profiles of ``name`` keyed ``record 1..PROFILES`` (a DynamicMap keeps its layers' labels)."""
         r, empty = self.results, (np.zeros(0), np.zeros(0))
         records = self.records()
-        x = r["position"] * 1e3 if r else np.zeros(0)
+        x, order, _ = self.abscissa()
         single = len(x) == 1  # one pair (the paper's model): its value drawn over +-0.5 mm
         return {
             f"record {k + 1}": (
-                (x + [-0.5, 0.5], np.repeat(r[name][records[k]], 2)) if single else (x, r[name][records[k]])
+                (x + [-0.5, 0.5], np.repeat(r[name][records[k]], 2))
+                if single
+                else (x, r[name][records[k]][order])
             )
             if k < len(records)
             else empty
@@ -287,19 +366,21 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
         curves = {k: (x, y * 1e6) for k, (x, y) in self._profiles("wear").items()}
         return figures.line_figure(
             curves,
-            xlabel="x (mm)",
+            xlabel=self.abscissa()[2],
             ylabel="worn depth w (µm)",
             legend_labels=self._legend(),
-            title="Interface: wear profile w(x) at several N",
+            title=f"Interface: wear profile w({'r' if self.sphere else 'x'}) at several N",
         )
 
     def hertz(self) -> tuple[np.ndarray, np.ndarray]:
-        """Hertz pressure ``p0 sqrt(1 - (x/a)^2)`` of the benchmark at N = 0 (x in mm, Pa), or empty."""
+        """Hertz pressure ``p0 sqrt(1 - (x/a)^2)`` of the benchmark at N = 0 (x in mm, Pa), or empty; for
+        the sphere over ``0 <= r <= a`` (``a`` its contact radius)."""
         info = self.results.get("info", {})
-        if "hertz_half_width" not in info:
+        a = info.get("hertz_half_width", info.get("hertz_radius"))  # the cylinder's, the sphere's
+        if a is None:
             return np.zeros(0), np.zeros(0)
-        a, p0 = info["hertz_half_width"], info["hertz_peak_pressure"]
-        x = np.linspace(-a, a, 201)
+        p0 = info["hertz_peak_pressure"]
+        x = np.linspace(0.0 if self.sphere else -a, a, 201)  # the sphere's profiles are over r >= 0
         return x * 1e3, p0 * np.sqrt(np.clip(1 - (x / a) ** 2, 0, None))
 
     def _figure_pressure_profile(self):
@@ -308,20 +389,23 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
         curves = {k: (x, y / 1e6) for k, (x, y) in curves.items()}
         return figures.line_figure(
             curves,
-            xlabel="x (mm)",
+            xlabel=self.abscissa()[2],
             ylabel="pressure p, cycle mean (MPa)",
             dashed=["Hertz (N = 0)"],
             legend_labels=self._legend(),
-            title="Interface: pressure p(x) at several N",
+            title=f"Interface: pressure p({'r' if self.sphere else 'x'}) at several N",
         )
 
     def _figure_stick_slip(self):
         hv = holoviews()
         ensure_backend()
         r = self.results
+        ylabel = "x (mm)"
         if r:
-            state = np.asarray(r["state"][-1], dtype=float)
-            x = r["position"] * 1e3
+            x, order, ylabel = self.abscissa()
+            state = np.asarray(r["state"][-1], dtype=float)[order]
+            if self.sphere:  # the pairs in the order of r, which repeats: one row each
+                x, ylabel = np.arange(len(x), dtype=float), "pairs, in the order of r from the centre"
             phase = np.arange(state.shape[1]) / state.shape[1] * 360.0
             title = f"Interface: stick / slip / open at N = {r['cycles'][-1]:.3g}"
         else:
@@ -334,7 +418,7 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
         codes = np.select([state == STICK, state == SLIP, state == OPEN], [0.0, 1.0, 2.0], np.nan)
         mesh = hv.QuadMesh(
             (phase, x, codes),
-            [hv.Dimension("phase", label="phase of the cycle (°)"), hv.Dimension("x", label="x (mm)")],
+            [hv.Dimension("phase", label="phase of the cycle (°)"), hv.Dimension("x", label=ylabel)],
             [hv.Dimension("state")],
         )
         mesh = styled(
@@ -351,7 +435,7 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
             {"color_levels": 3, "cbar_ticks": list(STATE_NAMES.items())},
         )  # fmt: skip
         return overlay_options(
-            hv.Overlay([mesh]), title, "phase of the cycle (°)", "x (mm)", False, False, False
+            hv.Overlay([mesh]), title, "phase of the cycle (°)", ylabel, False, False, False
         )
 
     def _figure_frf(self):
@@ -370,6 +454,66 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
             vline=self.frequency,
             title=f"Interface: FRF of {name} before/after wear",
         )
+
+    def _figure_loop(self):
+        r = self.results
+        empty = (np.zeros(0), np.zeros(0))
+        names = ("first record", "last record")
+        curves = {k: ((d * 1e6, q) if r else empty) for k, (d, q) in zip(names, r.get("loops", [empty] * 2),
+                                                                           strict=True)}  # fmt: skip
+        labels = {k: f"N = {r['cycles'][i]:.3g}" for k, i in zip(names, (0, -1), strict=True)} if r else {}
+        # the cylinder is 2-D: its forces are per unit length of contact
+        unit = "N/m" if "hertz_half_width" in r.get("info", {}) else "N"
+        name = r.get("dof_name", "") if r else ""
+        return figures.line_figure(
+            curves,
+            xlabel=f"{name} displacement δ (µm)",
+            ylabel=f"tangential force Q, whole contact ({unit})",
+            legend_labels=labels,
+            padding=0.06,
+            title=f"Interface: fretting loop Q(δ) of {name}",
+        )
+
+    @staticmethod
+    def _cycle_state(state: np.ndarray) -> np.ndarray:
+        from fretwear.interface.history import cycle_state  # the interface stack loads with a run
+
+        return cycle_state(state)
+
+    def _patch(self, values: np.ndarray | None, zlabel: str, what: str, states: dict | None = None):
+        """The 3-D patch seen from above with one value per pair (empty for a model that is not the
+        sphere), Hertz's and Mindlin's circles."""
+        r = self.results
+        if self.sphere and values is not None:
+            points, n = r["points"] * 1e3, r["cycles"][-1]
+            title = f"Interface: 3-D patch, {what} at N = {n:.3g}"
+            circles = {
+                "Hertz radius a": r["hertz_radius"] * 1e3,
+                "Mindlin stick radius c": r["stick_radius"] * 1e3,
+            }
+        else:
+            points, values = np.array([[0.0, 0.0], [0.1, 0.0], [0.0, 0.1], [0.1, 0.1]]), np.full(4, np.nan)
+            title = f"Interface: 3-D patch, {what} (sphere only)"
+            circles = {"Hertz radius a": np.nan, "Mindlin stick radius c": np.nan}
+        return patch_figure(points, values, zlabel=zlabel, title=title, circles=circles, states=states)
+
+    def _figure_patch_pressure(self):
+        r = self.results
+        return self._patch(r["pressure"][-1] / 1e6 if r else None, "pressure p, cycle mean (MPa)", "pressure")
+
+    def _figure_patch_shear(self):
+        r = self.results
+        return self._patch(r["shear"][-1] / 1e6 if r else None, "shear traction |q|, cycle peak (MPa)",
+                           "shear")  # fmt: skip
+
+    def _figure_patch_state(self):
+        r = self.results
+        codes = self._cycle_state(r["state"][-1]) if r else None
+        return self._patch(codes, "over the cycle", "stick / slip / open", PATCH_STATES)
+
+    def _figure_patch_wear(self):
+        r = self.results
+        return self._patch(r["wear"][-1] * 1e6 if r else None, "worn depth w (µm)", "worn depth")
 
     # -- exports -----------------------------------------------------------------------------
     def datasets(self) -> dict[str, dict[str, np.ndarray]]:
@@ -391,7 +535,25 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
             "after": r["frf_after"],
             "converged": r["frf_ok"],
         }
-        return {"profiles": profiles, "frf": frf}
+        (d0, q0), (d1, q1) = r["loops"]
+        loop = {
+            "sample": np.arange(len(d0)),
+            "delta_first": d0,
+            "q_first": q0,
+            "delta_last": d1,
+            "q_last": q1,
+        }
+        out = {"profiles": profiles, "frf": frf, "loop": loop}
+        if self.sphere:  # the 3-D patch at the last record (half model, y >= 0)
+            out["patch"] = {
+                "x": r["points"][:, 0],
+                "y": r["points"][:, 1],
+                "w": r["wear"][-1],
+                "pressure": r["pressure"][-1],
+                "shear_peak": r["shear"][-1],
+                "state": self._cycle_state(r["state"][-1]),
+            }
+        return out
 
     def csv_header(self) -> str:
         """``#`` lines of a CSV export: the model, the settings and the version."""
@@ -416,6 +578,8 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         label="pairs (benchmark)", options=[16, 32], value=scene.contact_nodes, width=130
     )
     nodes.link(scene, value="contact_nodes")
+    # the sphere's 3-D patch: its own row of figures, shown with a sphere model only; its pairs are its mesh's
+    patch = figure_grid([])
     boxes = [
         typed_box(scene, name, label)
         for name, label in (
@@ -426,16 +590,30 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         )
     ]
     status, notes = run_status(scene), message_list(scene, "notes")
-    panes = [
-        live_pane(partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])])
+    panes = {
+        name: live_pane(
+            partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])]
+        )
         for name in scene.figure_names
-    ]
+    }
+    patch.objects = [panes.pop(name) for name in PATCH_FIGURES]
+
+    def follow(*_events: Any) -> None:
+        patch.visible = scene.model in SPHERES
+        nodes.disabled = scene.model in SPHERES
+
+    scene.param.watch(follow, ["model"])
+    follow()
     explanation = pn.pane.Markdown(
         "A contact interface of many node pairs, each with Coulomb friction, unilateral contact and "
         "Archard wear: the worn depth opens the local gap and the pressure redistributes. **Partial slip** "
         "wears only the slip annulus around the stick zone; **gross slip** widens the scar and lowers the "
         "peak pressure. Left: the wear and pressure profiles at several N (dashed: Hertz at N = 0); right: "
-        "which pairs stick, slip or open over one cycle, and the FRF before and after wear.",
+        "which pairs stick, slip or open over one cycle, and the FRF before and after wear; then the "
+        "fretting loop, tangential force against displacement over one period. The **sphere** (3-D, 29 "
+        "pairs of a coarse half mesh, 2-D friction) adds its contact patch seen from above at the last "
+        "record: pressure, shear, stick/slip map and worn depth, with Hertz's contact radius a and Mindlin's "
+        "stick radius c; its scar is an annulus in partial slip, a disk in gross slip.",
         sizing_mode="stretch_width",
     )
     scene.activate()
@@ -443,7 +621,8 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         explanation,
         control_row(model, nodes, *boxes),
         status,
-        figure_grid(panes),
+        figure_grid(list(panes.values())),
+        patch,
         notes,
         export_card(scene),
     ]

@@ -50,7 +50,8 @@ QUANTITIES = {
 }
 #: statuses drawn as markers of their own (their value is NaN or inf)
 FAILED = tuple(s for s in STATUS if s in ("not_computed", "not_converged", "invalid", "error"))
-HOW_TO = """**No study is open.** Run a study (see the README's "Parameter studies"), e.g.
+HOW_TO = """**No study is open.** Run a study (see the user guide's page
+`docs/user_guide/studies.md`), e.g.
 
     fretwear study fretwear/data/wear_life.toml --out wear_life.zarr --samples 200
 

@@ -12,7 +12,7 @@ other quantity is SI (m, N, N/m, J).
 
 The model is the 2-DOF example of the paper (:func:`fretwear.paper_model`,
 options ``--fex --mu --fn --kn --u0``) or a TOML model file (``--model``, see
-:mod:`fretwear.model.modelfile`).
+``fretwear.model.modelfile``).
 
 Output columns (CSV) and keys (JSON)
 ------------------------------------
@@ -47,11 +47,11 @@ resumes when rerun.
 
 Layout
 ------
-One module per command (:mod:`~fretwear.cli.frf`, ``linear``, ``point``,
+One module per command (``fretwear.cli.frf``, ``linear``, ``point``,
 ``wear``, ``map``, ``cost``, ``figures``, ``interface``, ``study``, ``disk``), each with
 its ``HELP`` and ``DESCRIPTION``, ``add_arguments(parser)`` and ``run(args)``
 (and ``kernel_needs(args, model)`` where it runs compiled kernels); what
-several use is in :mod:`fretwear.cli.shared`.
+several use is in ``fretwear.cli.shared``.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ interrupted by Ctrl-C: one line, no output file). Three modes:
   ``stick_half_width``, ``peak_pressure``, ``normal_load_per_length``,
   ``tangential_load_per_length``, ``radius``, ``effective_modulus``, ``mu``,
   the Hertz and Mindlin values and the relative errors; ``--geometry sphere``: the 3-D
-  sphere on flat (:mod:`fretwear.interface.sphere`), ``contact_radius``, ``stick_radius``,
+  sphere on flat (``fretwear.interface.sphere``), ``contact_radius``, ``stick_radius``,
   ``peak_pressure``, ``normal_load``, ``tangential_load`` (N), ``radius``,
   ``effective_modulus``, ``mu``, ``pairs`` and the errors against Hertz and Mindlin;
 * ``--kw K --cycles N``: a wear history at ``--f`` (``--method stepping`` or

@@ -1,6 +1,6 @@
 """``fretwear study SPEC.toml --out RESULT.zarr``: a parameter study of a TOML spec on Dask, in Zarr.
 
-The spec (:mod:`fretwear.studies.spec`) defines the points of the study: the
+The spec (``fretwear.studies.spec``) defines the points of the study: the
 outer product of its grid axes, times ``samples`` random draws when some
 parameters are random. The points are cut into rectangular blocks
 (:mod:`fretwear.studies.layout`), one Dask task each

@@ -1,8 +1,8 @@
 """The bladed disk beyond its model (:func:`fretwear.bladed_disk`): cyclic symmetry and mistuning.
 
-* :mod:`~fretwear.disk.cyclic`: the tuned disk with its shroud solved on one
+* ``fretwear.disk.cyclic``: the tuned disk with its shroud solved on one
   sector (harmonic balance with the cyclic condition), equal to the full disk.
-* :mod:`~fretwear.disk.mistuning`: linear forced response of mistuned disks by
+* ``fretwear.disk.mistuning``: linear forced response of mistuned disks by
   modal superposition, amplitude magnification factors and Whitehead's bound.
 """
 

@@ -14,7 +14,7 @@ mass-normalised modes at ``theta`` (the tuned disk's modal damping, exactly).
 Shroud contact 0 joins tip 0 to tip 1: its relative displacement is ``x_k =
 (1 - e^{i theta_k}) u_tip,k`` and the tip carries ``(1 - e^{-i theta_k})
 Lambda_k`` (contact 0 and, delayed, contact ``N - 1``), so the one contact of
-the sector obeys the receptance form of :mod:`fretwear.hbm.receptance` with
+the sector obeys the receptance form of ``fretwear.hbm.receptance`` with
 
     g_k = |1 - e^{i theta_k}|^2 h_k,    u_lin,k = (1 - e^{i theta_k}) h_k F_ex [k = 1],
 

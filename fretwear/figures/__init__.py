@@ -1,13 +1,14 @@
 """Plotting and export, kept out of the numerical layers.
 
-:mod:`~fretwear.figures.plots` builds HoloViews figures from library results,
-:mod:`~fretwear.figures.sketch` draws the paper's 2-DOF model,
-:mod:`~fretwear.figures.export` writes figures (PNG, SVG, PDF, HTML) and tables (CSV),
-:mod:`~fretwear.figures.layout` lays them out for a file and checks that nothing overlaps,
-:mod:`~fretwear.figures.record` stamps them with their parameters and reads and
+``fretwear.figures.plots`` builds HoloViews figures from library results,
+``fretwear.figures.sketch`` draws the paper's 2-DOF model,
+``fretwear.figures.patch`` draws a 3-D contact patch seen from above,
+``fretwear.figures.export`` writes figures (PNG, SVG, PDF, HTML) and tables (CSV),
+``fretwear.figures.layout`` lays them out for a file and checks that nothing overlaps,
+``fretwear.figures.record`` stamps them with their parameters and reads and
 writes the settings files of the dashboard and the CLI,
-:mod:`~fretwear.figures.paper` computes and writes the paper's figure set,
-:mod:`~fretwear.figures.study` draws the result of a study (``fretwear study``).
+``fretwear.figures.paper`` computes and writes the paper's figure set,
+``fretwear.figures.study`` draws the result of a study (``fretwear study``).
 """
 
 from .export import (
@@ -25,6 +26,7 @@ from .export import (
 )
 from .layout import lay_out, layout_faults
 from .paper import paper_figures
+from .patch import patch_figure, patch_grid
 from .plots import (
     holoviews,
     line_figure,
@@ -70,6 +72,8 @@ __all__ = [
     "marker_line",
     "overlay_options",
     "paper_figures",
+    "patch_figure",
+    "patch_grid",
     "save_csv",
     "save_figure",
     "signals_figure",

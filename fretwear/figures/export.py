@@ -1,8 +1,8 @@
 """Export of figures (PNG, SVG, standalone HTML) and tables (CSV), with their parameter record.
 
 :class:`ExportOptions` sets the size, resolution and font size of a figure;
-a caption (:func:`fretwear.figures.record.caption`) goes under the figure and a
-comment block (:func:`fretwear.figures.record.csv_header`) above a table.
+a caption (:func:`~fretwear.figures.caption`) goes under the figure and a
+comment block (:func:`~fretwear.figures.csv_header`) above a table.
 """
 
 from __future__ import annotations
@@ -124,8 +124,8 @@ def figure_bytes(
 
     ``options`` sets the size, the resolution and the font size; ``caption``
     (the parameter record: its text, or a function of the markup, see
-    :func:`fretwear.figures.record.caption`) is written under the figure. The
-    Matplotlib formats are laid out by :func:`fretwear.figures.layout.lay_out`
+    :func:`~fretwear.figures.caption`) is written under the figure. The
+    Matplotlib formats are laid out by :func:`~fretwear.figures.lay_out`
     and carry the figure's own title (else ``title``), ``fretwear <version>``
     as their creator and the record as their description in their metadata.
     The HTML page, titled ``title``, embeds BokehJS and the data: it opens offline. Load the backend
@@ -183,7 +183,7 @@ def figure_title(figure) -> str:
 def matplotlib_figure(
     fig: hv.core.Dimensioned, options: ExportOptions | None = None, caption: Caption = None
 ):
-    """``fig`` drawn by Matplotlib and laid out for a file (:func:`fretwear.figures.layout.lay_out`).
+    """``fig`` drawn by Matplotlib and laid out for a file (:func:`~fretwear.figures.lay_out`).
 
     The figure is ``options``' size (or its own) with ``caption`` under it, on
     an Agg canvas; the caller closes it (``matplotlib.pyplot.close``). Load the
@@ -322,7 +322,7 @@ def save_figures(
 def csv_text(columns: Mapping[str, Any], header: str = "") -> str:
     """CSV text of equal-length ``columns`` (name -> values), column names first; floats with 10 digits.
 
-    ``header`` (e.g. :func:`fretwear.figures.record.csv_header`: ``#`` comment
+    ``header`` (e.g. :func:`~fretwear.figures.csv_header`: ``#`` comment
     lines) comes before the column names.
     """
     names = list(columns)

@@ -327,7 +327,7 @@ def _move_apart(figure: Figure, texts: list[Text], area: Bbox, renderer: Rendere
 
 def _separate_labels(figure: Figure, renderer: RendererBase) -> bool:
     """Labels drawn in an axes (``hv.Labels``) moved apart and into the axes where they touch or leave
-    it, and made smaller (to :data:`MIN_LABEL_SIZE`) while that is not enough; whether any changed."""
+    it, and made smaller (to ``MIN_LABEL_SIZE``) while that is not enough; whether any changed."""
     changed = False
     for ax in figure.axes:
         texts = [t for t in ax.texts if t.get_visible() and t.get_text().strip()]
@@ -367,7 +367,7 @@ def lay_out(
     Matplotlib's constrained layout places the axes, their colour bars,
     legends and labels; the caption (``caption_size`` pt, wrapped to the
     figure's width) sits under the layout's ``rect``. Tick labels that would
-    touch are thinned and labels in the axes shrunk (to :data:`MIN_LABEL_SIZE`)
+    touch are thinned and labels in the axes shrunk (to ``MIN_LABEL_SIZE``)
     and moved apart, each followed by a new layout.
     """
     from matplotlib.layout_engine import ConstrainedLayoutEngine

@@ -106,7 +106,7 @@ def paper_figures(
     Each figure ``figNN`` is written in every format of ``formats`` (``png``,
     ``svg``, ``pdf``, ``html``, and ``csv`` for its data), the figures with a caption and
     the tables with a header block that record their parameters
-    (:mod:`fretwear.figures.record`). Excitation levels 6, 10 and 14 N,
+    (``fretwear.figures.record``). Excitation levels 6, 10 and 14 N,
     ``mu = 1``, ``F_N = 10`` N (section 2.1):
 
     * fig05, fig06: nonlinear FRFs of mass 1 and of the relative displacement,

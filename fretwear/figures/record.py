@@ -140,7 +140,7 @@ def _check(key: str, value: Any, source: str) -> Any:
 def parse_settings(text: str, source: str = "settings", ranges: bool = False) -> dict[str, Any]:
     """The settings record in the JSON ``text`` (``ValueError`` naming every bad key and what it must be).
 
-    The object may hold any of :data:`SETTINGS_KEYS` and the ``"fretwear"``
+    The object may hold any of ``SETTINGS_KEYS`` and the ``"fretwear"``
     version that wrote it. With ``ranges``, the numbers of
     :data:`fretwear.parameters.PARAMETERS` are checked against their ranges
     too (the dashboard's loader: every problem of a file at once); without,

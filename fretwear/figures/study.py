@@ -15,7 +15,7 @@ def wear_life_figure(ds, fraction: float = 0.5, bins: int = 40):
     Parameters
     ----------
     ds : xarray.Dataset
-        As for :func:`wear_life_summary`.
+        As for ``wear_life_summary()``.
     fraction : float
         Wear fraction of ``u0`` (one of the study's ``fraction`` coordinates).
     bins : int

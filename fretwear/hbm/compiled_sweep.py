@@ -1,7 +1,7 @@
 """The compiled frequency sweep: every frequency of a sweep in one compiled call.
 
 :func:`sweep_kernel` solves the DLFT equations (eq. 12, 17-23) at each
-frequency in turn with the logic of :func:`fretwear.hbm.periodic.solve_problem`
+frequency in turn with the logic of ``fretwear.hbm.periodic.solve_problem()``
 (the exact stuck solution when it holds; Newton from a prediction, then the
 global Newton homotopy; a cold start by the exact load continuation), with no
 Python between frequencies. Two things make it fast:
@@ -513,7 +513,7 @@ def sweep_kernel(
     else, from the better of the secant prediction and the pattern prediction,
     ``GUESS_STEPS`` full Newton steps, then the global Newton homotopy from
     the best iterate and a polish; else the cold start of
-    :func:`~fretwear.hbm.periodic.solve_problem` (Newton from the stuck
+    ``solve_problem()`` (Newton from the stuck
     start, then the exact load continuation and a polish).
 
     Parameters
@@ -798,7 +798,7 @@ _PATHS = {
 
 
 def _message(code: int, budget: int, pieces: int, load: float) -> str:
-    """The failure message of :func:`fretwear.hbm.periodic.solve_problem` from a ``status`` row."""
+    """The failure message of ``fretwear.hbm.periodic.solve_problem()`` from a ``status`` row."""
     if code == ZERO_LOAD:
         return "no solution at zero load"
     return f"load continuation ended at load factor {load:.6g} after {pieces} pieces; " + newton_message(

@@ -11,7 +11,7 @@ exact for any number of DOFs (the paper's eq. 11). When the relative
 coordinates are dependent (contacts in a closed ring: a shroud around a
 bladed disk, where they sum to zero) ``G_k`` is singular and ``Z_k`` does not
 exist; :func:`receptance` then keeps the receptance form ``U_r,k = u_lin,k -
-G_k Lambda_k`` with ``u_lin,k = B D_k^{-1} F_k`` (:mod:`fretwear.hbm.receptance`).
+G_k Lambda_k`` with ``u_lin,k = B D_k^{-1} F_k`` (``fretwear.hbm.receptance``).
 Real coefficients
 ``(a, b)`` of ``a cos + b sin`` relate to the complex amplitude ``a - i b``,
 so a complex block ``Z = X + iY`` acts on ``(a, b)`` as ``[[X, Y], [-Y, X]]``.

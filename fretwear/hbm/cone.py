@@ -1,6 +1,6 @@
 """Coupled normal/tangential DLFT law with 2-D friction (circular Coulomb cone), residual and exact Jacobian.
 
-The 3-D counterpart of :mod:`fretwear.hbm.coupled` (eq. 17-23 with a tangential
+The 3-D counterpart of ``fretwear.hbm.coupled`` (eq. 17-23 with a tangential
 plane instead of a line). Unknowns are the harmonics of the contact
 coordinates ``q = (u_T1, u_T2, u_N)`` of every pair, contact-major: entry ``c H
 + j`` is slot ``j`` of coordinate ``c``, with ``c = 3 i``, ``3 i + 1`` the two
@@ -34,7 +34,7 @@ non-expansive. Three cases, in this order:
 2. the disks have a common point: every point of their intersection is a fixed
    point, the pair can stick all period, and it keeps its reference ``X_ref``
    (where it stuck when the normal load was applied) projected on the
-   intersection, the nearest admissible point: :mod:`fretwear.hbm.coupled`'s
+   intersection, the nearest admissible point: ``fretwear.hbm.coupled``'s
    clip into ``[A, B]`` is this projection in 1-D. A pair never slips unless it
    must. The projection lies inside (nothing active), on one circle (the
    projection on that disk) or at a corner of two circles;
@@ -56,7 +56,7 @@ stuck on a circle or a corner; ``(I - T)^-1`` times the period's sum for a
 slipping pair. The ``3H x 3H`` block of each pair is ``Psi (d lambda / d
 lambda_u) Phi`` and ``J = Z + blockdiag(A) (E - Z)``
 (:func:`fretwear.hbm.dlft.jacobian_from_blocks`), solved by the compiled
-solvers of :mod:`fretwear.hbm.newton` (law code ``CONE``).
+solvers of ``fretwear.hbm.newton`` (law code ``CONE``).
 """
 
 from __future__ import annotations
@@ -425,7 +425,7 @@ def _smallest_root(a, b, c, tau):
 
 @njit(cache=True, nogil=True)
 def boundary_distance(lu, dlu, eps, gap, mu, xref, Phi, tau_max):
-    """A step ``t <= tau_max`` along ``lambda_u + t d lambda_u`` for the walk of :mod:`fretwear.hbm.newton`.
+    """A step ``t <= tau_max`` along ``lambda_u + t d lambda_u`` for the walk of ``fretwear.hbm.newton``.
 
     The law is smooth, not linear, between changes of state: the distance is
     that to the first change of a sample's state along the linearised march

@@ -1,12 +1,12 @@
 """Periodic DLFT problem of node pairs with 2-D friction on a reduced dynamic stiffness (eq. 12).
 
-A small front end of the law :mod:`fretwear.hbm.cone` for any structure
+A small front end of the law ``fretwear.hbm.cone`` for any structure
 already condensed on the contact coordinates ``(u_T1, u_T2, u_N)`` of its pairs
 (``Z``, ``F`` in the contact-major layout of a harmonic basis): the checks
 against exact solutions use it, and so can a 3-D interface. It lives beside
 the law rather than in :mod:`fretwear.interface` because it depends on no
 mesh, reduction or condensation, and in a module of its own because the law
-sits below the compiled solvers of :mod:`fretwear.hbm.newton` that this module
+sits below the compiled solvers of ``fretwear.hbm.newton`` that this module
 calls.
 """
 
@@ -31,7 +31,7 @@ __all__ = ["ConeProblem", "ConeSolution", "newton_kernel", "walk_kernel"]
 def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter, blocks=None):
     """:func:`fretwear.hbm.newton.newton` with the 2-D friction law: ``(x, converged, iterations, max|R|,
     code)``; a singular Jacobian raises (LAPACK). ``blocks``: ``Z`` by harmonic
-    (:func:`fretwear.hbm.structured.harmonic_blocks` on ``3 nc`` coordinates) for the structured steps."""
+    (``fretwear.hbm.structured.harmonic_blocks()`` on ``3 nc`` coordinates) for the structured steps."""
     return newton(cone_law(gap, mu, xref, Phi, Psi), x0, Z, F, eps, target, max_iter, blocks)
 
 

@@ -2,14 +2,14 @@
 
 * :func:`sweep`: the response at given frequencies, each solve warm-started
   from its neighbours (secant predictor, Newton, then the global Newton
-  homotopy of :mod:`fretwear.hbm.periodic`, then a cold solve), with the
+  homotopy of ``fretwear.hbm.periodic``, then a cold solve), with the
   condensation of every frequency computed at once;
 * :func:`continuation`: the whole branch over a frequency band, folds
   included, by pseudo-arc-length continuation in frequency
   (:func:`fretwear.hbm.arclength.track`) on the DLFT residual.
 
 The cold start of a single-frequency solve (exact load continuation) lives
-in :mod:`fretwear.hbm.periodic`.
+in ``fretwear.hbm.periodic``.
 """
 
 from __future__ import annotations
@@ -123,14 +123,14 @@ def sweep(
 
     Each point starts from a secant prediction through its two predecessors:
     Newton first, then the exact Newton homotopy from the prediction, then a
-    cold solve by load continuation (see :func:`fretwear.hbm.periodic.solve_problem`).
+    cold solve by load continuation (see ``fretwear.hbm.periodic.solve_problem()``).
     A point that still fails is reported (``converged=False``) and the sweep
     goes on from the last good point. Points whose stuck solution is exact take
     no nonlinear solve.
 
     The whole sweep (condensation at every frequency, predictions, Newton,
-    homotopies) runs in one compiled call (:mod:`fretwear.hbm.compiled_sweep`);
-    with ``compiled=False`` each point goes through :func:`solve_problem` in
+    homotopies) runs in one compiled call (``fretwear.hbm.compiled_sweep``);
+    with ``compiled=False`` each point goes through ``solve_problem()`` in
     Python instead: the reference the compiled sweep is checked and timed
     against, with the same answers (to round-off), several times slower.
     ``settings``: ``samples``, ``wear``, ``half_wave`` as :func:`fretwear.solve_periodic`.

@@ -39,7 +39,7 @@ slip sample has ``lambda_T^n = s_n mu lambda_N^n``; a closed sample has
 A (E - Z)`` with ``A`` block-diagonal, one ``2H x 2H`` block ``Psi (d lambda / d
 lambda_u) Phi`` per pair (assembled by :func:`fretwear.hbm.dlft.jacobian_from_blocks`,
 shared with the 1-D law). The periodic solvers of both laws are
-:mod:`fretwear.hbm.newton`.
+``fretwear.hbm.newton``.
 """
 
 from __future__ import annotations

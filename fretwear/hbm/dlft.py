@@ -268,7 +268,7 @@ def jacobian_from_blocks(Z, eps, A, J):
     """J = Z + blockdiag(A_c) (diag(eps) - Z): exact derivative of the residual of any DLFT law (N/m).
 
     ``A`` (nb, m, m): one block per contact (``m = H``, this module's law) or per
-    pair of coordinates (``m = 2 H``, :mod:`fretwear.hbm.coupled`); ``eps`` one
+    pair of coordinates (``m = 2 H``, ``fretwear.hbm.coupled``); ``eps`` one
     penalty per coordinate, each over ``H = n / len(eps)`` consecutive unknowns.
     """
     nb, m = A.shape[0], A.shape[1]

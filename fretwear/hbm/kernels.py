@@ -1,9 +1,9 @@
 """Compiled loops of the periodic solver of the 1-D DLFT law: Newton's method and the piecewise-linear walk.
 
-The algorithms are those documented in :mod:`fretwear.hbm.periodic` (:func:`~fretwear.hbm.periodic.newton`,
+The algorithms are those documented in ``fretwear.hbm.periodic`` (:func:`~fretwear.hbm.periodic.newton`,
 :func:`~fretwear.hbm.periodic.load_homotopy`, :func:`~fretwear.hbm.periodic.newton_homotopy`),
-written once for every contact law in :mod:`fretwear.hbm.newton`; these are
-its calls with the law of :mod:`fretwear.hbm.dlft`. Compiling the loops
+written once for every contact law in ``fretwear.hbm.newton``; these are
+its calls with the law of ``fretwear.hbm.dlft``. Compiling the loops
 removes the Python overhead per iteration, which dominates at the sizes of
 harmonic balance (a residual evaluation costs a few microseconds).
 """

@@ -21,11 +21,11 @@ linear, which both solvers here use:
   ``F1`` the excitation: the continuation in the excitation amplitude.
 
 **The law** is handed as a tuple built by :func:`dlft_law` (1-D friction,
-unilateral and Jenkins contacts, :mod:`fretwear.hbm.dlft`; a Jenkins contact
+unilateral and Jenkins contacts, ``fretwear.hbm.dlft``; a Jenkins contact
 is an alternating frequency-time law whose rows of ``J`` are ``Z + k_t A``,
 :func:`fretwear.hbm.dlft.jacobian_of_kinds`) or :func:`coupled_law` (coupled
-normal/tangential node pairs, :mod:`fretwear.hbm.coupled`) or :func:`cone_law` (the
-same pairs with 2-D friction, :mod:`fretwear.hbm.cone`), whose integer code
+normal/tangential node pairs, ``fretwear.hbm.coupled``) or :func:`cone_law` (the
+same pairs with 2-D friction, ``fretwear.hbm.cone``), whose integer code
 chooses the law's functions inside the kernels. The 2-D law is smooth, not
 linear, between changes of state: its walk is a predictor along tangents (its
 pieces also bounded by the turn of the slip directions) whose end point the
@@ -312,7 +312,7 @@ def keep_full_step(r, best, it, max_iter):
     """Whether full Newton step ``it`` (counted from 1) to residual ``r`` is kept, ``best`` the least seen.
 
     The non-monotone rule of :func:`newton` (and of the Galerkin Newton of
-    :mod:`fretwear.wear.polynomial`): within a factor 1000 of the best
+    ``fretwear.wear.polynomial``): within a factor 1000 of the best
     residual, for the first half of the budget ``max_iter``.
     """
     return np.isfinite(r) and r < 1e3 * best and it < max_iter // 2
@@ -328,8 +328,8 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
     x0 : (n,) start (m). Z, F : dynamic stiffness (n, n) (N/m) and force (n,) (N).
     eps : penalty per coordinate (N/m). target : float, converged when ``max |R| <= target`` (N).
     max_iter : int, Newton steps at most.
-    blocks : (Nh + 1, 2 q, 2 q) ``Z`` by harmonic (:func:`fretwear.hbm.structured.harmonic_blocks`), pair
-        laws only: the residuals by :func:`evaluate_blocks` and the steps by
+    blocks : (Nh + 1, 2 q, 2 q) ``Z`` by harmonic (``fretwear.hbm.structured.harmonic_blocks()``), pair
+        laws only: the residuals by ``evaluate_blocks()`` and the steps by
         :func:`~fretwear.hbm.structured.structured_step`, no dense ``Z`` or ``J`` (``Z`` may then be empty).
 
     Returns ``(x, converged, iterations, max|R|, code)``, ``code`` one of

@@ -16,9 +16,9 @@ It computes only the effects present:
 The problem itself (condensation, DFT matrices, penalties, residual) is
 :class:`fretwear.hbm.problem.Problem`; :func:`walk` follows its exact
 piecewise-linear solution curves (load continuation, Newton homotopy, the
-normal-load walk of wear). :func:`solve_problem` runs this logic in Python
-around the compiled loops of :mod:`fretwear.hbm.kernels`; :func:`solve_periodic`
-runs it in one compiled call (:mod:`fretwear.hbm.compiled_sweep`, the sweep's
+normal-load walk of wear). ``solve_problem()`` runs this logic in Python
+around the compiled loops of ``fretwear.hbm.kernels``; :func:`solve_periodic`
+runs it in one compiled call (``fretwear.hbm.compiled_sweep``, the sweep's
 kernel at one frequency), with the same answers.
 """
 
@@ -207,8 +207,8 @@ def solve_periodic(
     """Periodic response of a model with 1-D contacts at ``omega`` by HBM + DLFT.
 
     Parameters and result as :func:`fretwear.solve_periodic`, which calls this
-    function for such a model. The solve is the logic of :func:`solve_problem`,
-    compiled: a one-frequency :func:`fretwear.hbm.compiled_sweep.solve`.
+    function for such a model. The solve is the logic of ``solve_problem()``,
+    compiled: a one-frequency ``fretwear.hbm.compiled_sweep.solve()``.
     """
     settings = dict(harmonics=harmonics, samples=samples, wear=wear, half_wave=half_wave)
     if any(c.kt is not None for c in model.friction):  # solved in x: module text of fretwear.hbm.dlft
@@ -234,7 +234,7 @@ def solve_problem(
     """Solve a prepared :class:`Problem`, computing only the effects present.
 
     Linear paths first (no active contact; exact stuck solution); then the
-    strategy of :mod:`fretwear.hbm.strategy` with this law's :func:`steps`:
+    strategy of ``fretwear.hbm.strategy`` with this law's :func:`steps`:
     Newton and the Newton homotopy from the ``guess``, Newton from the stuck
     solution, the exact load continuation.
     """

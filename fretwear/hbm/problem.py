@@ -3,7 +3,7 @@
 :class:`Problem` holds everything that depends on the frequency and the wear
 state only (condensation on the active contacts, DFT matrices, penalties) and
 evaluates the DLFT residual ``R(x) = eps (x - X(x))`` and its Jacobian; the
-solvers of :mod:`fretwear.hbm.periodic` and the sweeps of
+solvers of ``fretwear.hbm.periodic`` and the sweeps of
 :mod:`fretwear.hbm.continuation` reuse it. A problem is never changed in
 place: :meth:`Problem.at_load` and :meth:`Problem.with_wear` return copies.
 """
@@ -43,7 +43,7 @@ class Problem:
     condensed : Condensed, Receptance or callable, optional
         The condensation at ``omega`` on the active contacts, when already known,
         or a function of ``(B, basis)`` that returns it (sweeps condense every
-        frequency at once). A :class:`Receptance` sets the receptance form.
+        frequency at once). A :class:`~fretwear.hbm.condensation.Receptance` sets the receptance form.
     march : tuple, optional
         ``(x, R, lam, X, state)``: the residual and the march of :meth:`evaluate`
         at unknowns ``x``, when a solver already has them (the compiled sweep);
@@ -53,8 +53,8 @@ class Problem:
     -----
     ``form`` is ``"stiffness"`` (eq. 12, ``R = Z_r x + Lambda - F_r``) or, for
     Jenkins contacts whose relative coordinates are dependent (a closed ring)
-    or a given :class:`Receptance`, ``"receptance"``
-    (:mod:`fretwear.hbm.receptance`): ``Z``/``F0`` are then replaced by the
+    or a given :class:`~fretwear.hbm.condensation.Receptance`, ``"receptance"``
+    (``fretwear.hbm.receptance``): ``Z``/``F0`` are then replaced by the
     receptance ``G`` and the linear relative displacement ``U0``, ``F0`` being
     ``k_t U0`` (the force scale of the residual).
     """
@@ -211,7 +211,7 @@ class Problem:
         """Penalty per contact (N/m); sets ``deps``, its derivative in omega (N s/m).
 
         A Jenkins contact has no penalty: its slot holds its stiffness ``k_t``
-        (:mod:`fretwear.hbm.dlft`), whatever ``eps`` says.
+        (``fretwear.hbm.dlft``), whatever ``eps`` says.
         """
         H, nc = self.basis.size, self.n_active
         self.deps = np.zeros(nc)
@@ -259,7 +259,7 @@ class Problem:
         return R, J, A, lam, X, state
 
     def _evaluate_receptance(self, x: np.ndarray, jacobian: bool):
-        """:meth:`evaluate` in the receptance form (:mod:`fretwear.hbm.receptance`):
+        """:meth:`evaluate` in the receptance form (``fretwear.hbm.receptance``):
         ``R = k_t (x - s u_lin + G Lambda(x))`` (N), ``J = k_t (I + G k_t A)`` (N/m)."""
         nc, H = self.n_active, self.basis.size
         Ns, b = self.basis.marched_samples, self.basis

@@ -1,13 +1,13 @@
 """Jenkins contacts in the receptance form: ``U_r = s u_lin - G_r Lambda(U_r)``, for dependent contacts.
 
 Condensed on its contact coordinates, a structure reads ``U_r = s u_lin -
-G_r Lambda`` (:mod:`fretwear.hbm.condensation`, ``s`` the load factor). The
+G_r Lambda`` (``fretwear.hbm.condensation``, ``s`` the load factor). The
 DLFT residual ``Z_r U_r + Lambda - F_r`` needs ``Z_r = G_r^{-1}``, which does
 not exist when the contact coordinates are dependent: around a closed ring
 (the shroud of a bladed disk) the relative displacements sum to zero, and a
 force equal at every contact of the ring moves nothing. A Jenkins contact's
 force is a function of its own relative displacement (the return map of
-:mod:`fretwear.hbm.dlft`), so the residual can stay in the receptance form,
+``fretwear.hbm.dlft``), so the residual can stay in the receptance form,
 
     R(U_r) = k_t (U_r - s u_lin + G_r Lambda(U_r))      (N),
 
@@ -17,7 +17,7 @@ The rows are scaled by each contact's ``k_t`` so that the residual is a force,
 judged like every other one (:meth:`fretwear.hbm.problem.Problem.evaluate`).
 
 :func:`steps` hands this law to the periodic-solve strategy
-(:mod:`fretwear.hbm.strategy`): Newton (non-monotone, then backtracking), a
+(``fretwear.hbm.strategy``): Newton (non-monotone, then backtracking), a
 continuation in the homotopy parameter from Newton's best iterate, and the
 continuation in the load factor from zero, where every contact sticks.
 """

@@ -1,8 +1,8 @@
 """The periodic-solve strategy, written once for every contact law and handed its steps.
 
 A periodic solve on a DLFT residual (1-D friction and unilateral contacts,
-:mod:`fretwear.hbm.periodic`; coupled contact pairs,
-:mod:`fretwear.interface.periodic`) goes the same way whatever the law:
+``fretwear.hbm.periodic``; coupled contact pairs,
+``fretwear.interface.periodic``) goes the same way whatever the law:
 
 1. from a ``guess`` (a neighbour's solution): Newton's method, a short budget
    (:data:`GUESS_STEPS`); if it fails, the global Newton homotopy from Newton's
@@ -13,7 +13,7 @@ A periodic solve on a DLFT residual (1-D friction and unilateral contacts,
    on the way.
 
 :func:`solve` runs these steps; each law hands its own (:class:`Steps`). The
-compiled sweep (:mod:`fretwear.hbm.compiled_sweep`) runs the same strategy
+compiled sweep (``fretwear.hbm.compiled_sweep``) runs the same strategy
 inside one compiled call.
 """
 
@@ -47,7 +47,7 @@ class NewtonResult:
 
 
 def newton_message(code: int, max_iter: int) -> str:
-    """The message of a compiled Newton loop's return ``code`` (:mod:`fretwear.hbm.newton`)."""
+    """The message of a compiled Newton loop's return ``code`` (``fretwear.hbm.newton``)."""
     return {
         NON_FINITE: "non-finite Newton step",
         LINE_SEARCH: "line search failed",

@@ -1,10 +1,10 @@
 """The Newton step of the coupled DLFT law from its structure: no dense Jacobian (compiled).
 
 The Jacobian of the coupled law is ``J = Z + blockdiag(A_i) (E - Z)``
-(:mod:`fretwear.hbm.coupled`), of size ``n = 2 nc H`` (``nc`` pairs, ``H = 2 Nh
+(``fretwear.hbm.coupled``), of size ``n = 2 nc H`` (``nc`` pairs, ``H = 2 Nh
 + 1`` harmonic slots). Forming it costs ``2 H n^2`` and factoring it ``n^3 /
 3``: at 128 pairs and ``Nh = 7`` (n = 3 840) about 1.3 s a step. The same
-holds for the 2-D friction law (:mod:`fretwear.hbm.cone`) with three
+holds for the 2-D friction law (``fretwear.hbm.cone``) with three
 coordinates a pair, ``n = 3 nc H``: below, "pair" has ``d`` = 2 or 3
 coordinates and ``q = d nc``. Two structures make the step cheap:
 
@@ -137,7 +137,7 @@ def structured_step(Zb, A, R, eps, dx):
     ----------
     Zb : (Nh + 1, 2 q, 2 q) blocks of ``Z`` by harmonic (:func:`harmonic_blocks`) (N/m).
     A : (nc, d H, d H) the law's Jacobian blocks, ``d`` coordinates a pair (2: the coupled law, 3: the 2-D
-        friction law of :mod:`fretwear.hbm.cone`), ``q = d nc``. R : (q H,) residual (N).
+        friction law of ``fretwear.hbm.cone``), ``q = d nc``. R : (q H,) residual (N).
     eps : (q,) penalty per coordinate (N/m). dx : (q H,) out, the step (m).
 
     Returns the number of mixed coordinates. A singular ``Z_OO`` or Schur

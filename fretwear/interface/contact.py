@@ -1,7 +1,7 @@
 """The coupled normal/tangential DLFT law of the interface's node pairs (eq. 17-23).
 
-The law lives with the other contact law in :mod:`fretwear.hbm.coupled`, below the
-periodic solvers that take either (:mod:`fretwear.hbm.newton`); the interface
+The law lives with the other contact law in ``fretwear.hbm.coupled``, below the
+periodic solvers that take either (``fretwear.hbm.newton``); the interface
 modules read it from here.
 """
 

@@ -221,7 +221,7 @@ def cylinder_on_flat(params: CylinderOnFlat | None = None, **changes) -> Model:
     Parameters
     ----------
     params : CylinderOnFlat, optional
-        Benchmark parameters; default :class:`CylinderOnFlat()`.
+        Benchmark parameters; default :class:`~fretwear.interface.CylinderOnFlat`.
     **changes
         Parameters to change, e.g. ``contact_nodes=64, q_ratio=0.8``.
 

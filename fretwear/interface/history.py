@@ -1,7 +1,7 @@
 """The record of a nodal wear history of an interface: profiles of wear, pressure and slip over ``N``.
 
-Shared by the slow-time methods of :mod:`fretwear.interface.wear` (stepping)
-and :mod:`fretwear.interface.polynomial`.
+Shared by the slow-time methods of ``fretwear.interface.wear`` (stepping)
+and ``fretwear.interface.polynomial``.
 """
 
 from __future__ import annotations
@@ -12,10 +12,58 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 from scipy.optimize import brentq
 
-from .contact import STICK
+from ..hbm.harmonics import full_synthesis
+from .contact import SLIP, STICK
 from .periodic import InterfaceSolution
 
-__all__ = ["InterfaceWearHistory"]
+__all__ = ["InterfaceWearHistory", "cycle_state", "fretting_loop", "shear_traction"]
+
+
+def cycle_state(state: np.ndarray) -> np.ndarray:
+    """What each pair does over the cycle, from its states at the samples (nc, N): one code per pair.
+
+    1 where the pair slips at some sample, else 0 where it is in contact at some sample (it sticks, never
+    slips: Mindlin's stick zone), else 2 (open the whole cycle: outside the contact).
+    """
+    state = np.asarray(state)
+    return np.where((state == SLIP).any(axis=1), 1, np.where((state == STICK).any(axis=1), 0, 2))
+
+
+def shear_traction(sol: InterfaceSolution) -> np.ndarray:
+    """Shear traction magnitude ``|lambda_T| / A`` per pair and sample (Pa), shape (nc, N).
+
+    ``|lambda_T|`` is the norm of the two tangential components with the 2-D friction law (the cone), the
+    absolute value of the one component otherwise.
+    """
+    lam = sol.tangential_force
+    magnitude = np.hypot(lam[..., 0], lam[..., 1]) if lam.ndim == 3 else np.abs(lam)
+    return magnitude / sol.area[:, None]
+
+
+def fretting_loop(sol: InterfaceSolution, dof: int | str) -> tuple[np.ndarray, np.ndarray]:
+    """The fretting loop of a periodic solution: displacement of ``dof`` and tangential force over one period.
+
+    Parameters
+    ----------
+    sol : InterfaceSolution
+    dof : int or str
+        The DOF of the full model whose displacement is the loop's abscissa (index or name), e.g. the
+        holder's ``pad_x``.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        ``delta(t_n)`` (m) and ``Q(t_n) = s sum_i lambda_T,i(t_n)`` (N, the first tangent's component,
+        ``x`` for the benchmarks) at the DLFT samples ``t_n = n T / N``, with ``s`` the model's
+        ``symmetry_factor`` (2 for the sphere's half model, 1 without one): the whole contact's force.
+        ``oint Q d(delta)`` is the energy the contact takes from the holder per period (J, or J/m in 2-D).
+    """
+    model = sol.model
+    lam = sol.tangential_force
+    tangent = lam[..., 0] if lam.ndim == 3 else lam
+    force = model.info.get("symmetry_factor", 1.0) * tangent.sum(axis=0)
+    harmonics = sol.dof_harmonics[model.dof(dof)]
+    return full_synthesis(sol.harmonics, tangent.shape[1]) @ harmonics, force
 
 
 @dataclass(eq=False)
@@ -36,6 +84,9 @@ class InterfaceWearHistory:
         Pressure averaged over the cycle, ``p(x, N)`` (Pa).
     peak_pressure : ndarray, shape (m, nc)
         Largest pressure over the cycle (Pa).
+    shear : ndarray, shape (m, nc)
+        Largest shear traction magnitude over the cycle, ``max_t |lambda_T| / A`` (Pa;
+        :func:`shear_traction`).
     slip : ndarray, shape (m, nc)
         Distance slid per cycle ``s(x, N)`` (m).
     stick_fraction : ndarray, shape (m, nc)
@@ -62,7 +113,7 @@ class InterfaceWearHistory:
         ``"stepping"`` or ``"polynomial"``.
     info : dict
         Method-specific diagnostics (polynomial: see
-        :func:`~fretwear.interface.polynomial.wear_polynomial_interface`).
+        :func:`~fretwear.interface.wear_polynomial_interface`).
     """
 
     position: np.ndarray
@@ -73,6 +124,7 @@ class InterfaceWearHistory:
     wear: list = field(default_factory=list)
     pressure: list = field(default_factory=list)
     peak_pressure: list = field(default_factory=list)
+    shear: list = field(default_factory=list)
     slip: list = field(default_factory=list)
     stick_fraction: list = field(default_factory=list)
     wear_rate: list = field(default_factory=list)
@@ -90,6 +142,7 @@ class InterfaceWearHistory:
         self.wear.append(w.copy())
         self.pressure.append(sol.mean_pressure)
         self.peak_pressure.append(sol.pressure.max(axis=1))
+        self.shear.append(shear_traction(sol).max(axis=1))
         self.slip.append(sol.slip_distance)
         self.stick_fraction.append(sol.state_fraction(STICK))
         self.wear_rate.append(self.kw * sol.pressure_slip)
@@ -98,9 +151,8 @@ class InterfaceWearHistory:
         self.solutions.append(sol)
 
     def finish(self) -> InterfaceWearHistory:
-        for name in ("cycles", "normal_force_sum"):
-            setattr(self, name, np.array(getattr(self, name)))
-        for name in ("wear", "pressure", "peak_pressure", "slip", "stick_fraction", "wear_rate", "state"):
+        for name in ("cycles", "normal_force_sum", "wear", "pressure", "peak_pressure", "shear", "slip",
+                     "stick_fraction", "wear_rate", "state"):  # fmt: skip
             setattr(self, name, np.array(getattr(self, name)))
         return self
 
@@ -139,6 +191,10 @@ class InterfaceWearHistory:
             return np.nan
         spline = CubicHermiteSpline(self.cycles[k - 1 : k + 1], w[k - 1 : k + 1], rate[k - 1 : k + 1])
         return float(brentq(lambda n: spline(n) - depth, self.cycles[k - 1], self.cycles[k]))
+
+    def loop(self, dof: int | str, record: int = -1) -> tuple[np.ndarray, np.ndarray]:
+        """The fretting loop ``(delta, Q)`` of record ``record`` over one period (:func:`fretting_loop`)."""
+        return fretting_loop(self.solutions[record], dof)
 
     @property
     def worn_area(self) -> np.ndarray:

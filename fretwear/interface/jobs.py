@@ -13,7 +13,7 @@ calls the interface solvers: :func:`~fretwear.interface.periodic.solve_interface
 **Reduction.** A model that is not reduced yet is reduced by Craig-Bampton
 with every fixed-interface mode up to ``factor`` times the highest frequency
 the harmonic balance sees (``harmonics`` times the highest excitation
-frequency; :func:`~fretwear.model.reduction.craig_bampton`). The reduction
+frequency; :func:`~fretwear.model.craig_bampton`). The reduction
 is done on every call: to solve one model many times, reduce it once
 (``fretwear.reduce(model, f_max)``) and pass the reduced model, which is used
 as it is.
@@ -113,7 +113,7 @@ def sweep(
     return Sweep(sweep_interface(problems, tol, max_iter))
 
 
-#: options of :func:`wear_history` passed on to :func:`wear_interface`
+#: options of :func:`~fretwear.wear_history` passed on to :func:`wear_interface`
 _WEAR_OPTIONS = tuple(
     p for p in inspect.signature(wear_interface).parameters if p not in ("problem", "kw", "cycles", "method")
 )

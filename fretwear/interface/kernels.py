@@ -1,6 +1,6 @@
-"""Compiled Newton loop and piecewise-linear walk on the interface DLFT law (:mod:`fretwear.hbm.coupled`).
+"""Compiled Newton loop and piecewise-linear walk on the interface DLFT law (``fretwear.hbm.coupled``).
 
-Both are written once for every contact law in :mod:`fretwear.hbm.newton`
+Both are written once for every contact law in ``fretwear.hbm.newton``
 (non-monotone Newton; the exact piecewise-linear walk); these are their calls
 with the coupled normal/tangential law of the interface's node pairs, and the residual of either pair law
 (coupled, or the 2-D friction law) from ``Z``'s harmonic blocks (:func:`evaluate_kernel`).
@@ -23,7 +23,7 @@ def newton_kernel(x0, Z, F, eps, gap, mu, xref, Phi, Psi, target, max_iter, bloc
 
     ``code``: 0 converged, 1 non-finite step, 2 line search failed, 3 iteration
     budget; a singular Jacobian raises (LAPACK), for the caller to report.
-    ``blocks``: ``Z`` by harmonic (:func:`fretwear.hbm.structured.harmonic_blocks`) for the
+    ``blocks``: ``Z`` by harmonic (``fretwear.hbm.structured.harmonic_blocks()``) for the
     structured steps (no dense Jacobian), else the dense steps.
     """
     return newton(coupled_law(gap, mu, xref, Phi, Psi), x0, Z, F, eps, target, max_iter, blocks)

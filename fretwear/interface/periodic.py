@@ -1,15 +1,15 @@
 """Periodic response of an interface at one frequency: harmonic balance with the coupled DLFT law.
 
-The reduced model (:mod:`~fretwear.interface.reduction`) is condensed on the
+The reduced model (``fretwear.interface.reduction``) is condensed on the
 contact coordinates of every pair at each harmonic (eq. 11) and eq. 12 is
 solved for their harmonics with the coupled normal/tangential law of
-:mod:`~fretwear.interface.contact` (Newton's method, compiled). The path:
+``fretwear.interface.contact`` (Newton's method, compiled). The path:
 
 1. the quasi-static state under the static load alone
    (:func:`~fretwear.interface.static.solve_static`) gives the reference slip
    variables ``X_ref`` (where pairs stuck when the normal load was applied)
    and the starting point (its mean harmonics, no oscillation);
-2. the strategy of every periodic solve (:mod:`fretwear.hbm.strategy`) with
+2. the strategy of every periodic solve (``fretwear.hbm.strategy``) with
    this law's steps: Newton and the Newton homotopy from a ``guess`` (a
    neighbouring solution) when given; Newton from that start; the exact
    piecewise-linear continuation in the excitation amplitude from 0 (where the
@@ -31,9 +31,9 @@ LAPACK after the stuck pairs are eliminated (the reference). The walks are dense
 The full harmonic basis is used (static normal load: no half-wave symmetry).
 
 **Friction** (``friction``): ``"line"`` (default for 2-D pairs), the coupled law
-of :mod:`fretwear.hbm.coupled`, friction along each pair's tangent (on 3-D pairs
+of ``fretwear.hbm.coupled``, friction along each pair's tangent (on 3-D pairs
 the binormal slides freely); ``"cone"`` (default for 3-D pairs), the 2-D law of
-:mod:`fretwear.hbm.cone`: each pair has the coordinates ``(u_T1, u_T2, u_N)``
+``fretwear.hbm.cone``: each pair has the coordinates ``(u_T1, u_T2, u_N)``
 (tangent, binormal ``n x t``, normal), the circular Coulomb cone ``|lambda_T| <=
 mu lambda_N`` and the slip reference a (nc, 2) array. The 1-D law is its
 special case: a motion along the tangents alone gives the same answer. Its
@@ -114,9 +114,9 @@ class InterfaceProblem:
     force_scale : float
         Factor on the harmonic excitation (the static load is kept).
     linear : str
-        The Newton steps' linear algebra, one of :data:`LINEAR` (module text); the answer is the same.
+        The Newton steps' linear algebra, one of ``LINEAR`` (module text); the answer is the same.
     friction : str, optional
-        One of :data:`FRICTION` (module text); default ``"cone"`` for 3-D pairs, ``"line"`` for 2-D.
+        One of ``FRICTION`` (module text); default ``"cone"`` for 3-D pairs, ``"line"`` for 2-D.
     """
 
     condensation: ContactCondensation
@@ -188,7 +188,7 @@ class InterfaceProblem:
 
     @property
     def blocks(self) -> np.ndarray | None:
-        """``Z`` by harmonic (:meth:`~.reduction.ContactCondensation.harmonic_blocks`) for the structured
+        """``Z`` by harmonic (``ContactCondensation.harmonic_blocks()``) for the structured
         path, or None for the dense one."""
         return None if self.linear == "dense" else self._blocks
 
@@ -369,7 +369,7 @@ def newton_homotopy(problem: InterfaceProblem, x0: np.ndarray, tol: float = 1e-1
 def solve_interface(
     problem: InterfaceProblem, guess: np.ndarray | None = None, tol: float = 1e-10, max_iter: int = 50
 ) -> InterfaceSolution:
-    """Periodic response of the interface ``problem`` by the strategy of :mod:`fretwear.hbm.strategy`.
+    """Periodic response of the interface ``problem`` by the strategy of ``fretwear.hbm.strategy``.
 
     Newton and the Newton homotopy from the ``guess`` (e.g. ``solution.unknowns``
     at a neighbouring frequency or wear state), Newton from the quasi-static
@@ -476,6 +476,12 @@ class InterfaceSolution:
     def state_fraction(self, which: int = STICK) -> np.ndarray:
         """Fraction of the period each pair spends in state ``which`` (STICK, SLIP, OPEN)."""
         return np.mean(self.state == which, axis=1)
+
+    def to_xarray(self):
+        """The solution as an ``xarray.Dataset`` (units, long names): signals per ``pair`` on ``time``."""
+        from .._xarray import interface_solution_dataset
+
+        return interface_solution_dataset(self)
 
     @property
     def contact_harmonics(self) -> np.ndarray:

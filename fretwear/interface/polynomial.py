@@ -3,7 +3,7 @@
 The worn depth of every pair is a polynomial of degree ``m`` in the cycle
 count over ``[0, cycles]``, in the Legendre basis of ``tau = 2 N / cycles - 1``
 (the basis the 2-DOF slow-time work found best for several contacts,
-:mod:`fretwear.wear.polynomial`):
+``fretwear.wear.polynomial``):
 
     w_i(N) = sum_r a_ri P_r(tau)                                    (eq. 25)
 
@@ -26,9 +26,9 @@ least-squares fit of the node solutions; they warm-start the solves at the
 records.
 
 Pairs that stick all period keep a reference slip variable (see
-:mod:`~fretwear.interface.contact`): the nodes are solved in increasing ``N``,
+``fretwear.interface.contact``): the nodes are solved in increasing ``N``,
 each with the reference of the previous node's solution at the start of its
-period, as the slow-time stepping of :mod:`~fretwear.interface.wear` does.
+period, as the slow-time stepping of ``fretwear.interface.wear`` does.
 
 Convergence is judged on the Galerkin residual relative to the largest wear
 over the period at the first node's rates; failure is reported in

@@ -100,7 +100,7 @@ class ContactCondensation:
     ----------
     model : Model
         A model with contact pairs and dense matrices: a reduced model
-        (:func:`~fretwear.model.reduction.craig_bampton`) or a small dense one.
+        (:func:`~fretwear.model.craig_bampton`) or a small dense one.
 
     Attributes
     ----------
@@ -269,7 +269,7 @@ class ContactCondensation:
     def full_harmonics(
         self, omega: float, harmonics: int, q: np.ndarray, dofs: np.ndarray | None = None
     ) -> np.ndarray:
-        """Full harmonics (n, 2 Nh + 1) of the DOFs of :attr:`full` (m) from those of the contact
+        """Full harmonics (n, 2 Nh + 1) of the DOFs of ``full`` (m) from those of the contact
         coordinates ``q`` (n_q, 2 Nh + 1), or with the binormals after them (``n_q`` plus their number:
         the 2-D friction law's); only the rows ``dofs`` (full-model indices) when given."""
         coords = self.recover(omega, harmonics, q)

@@ -12,7 +12,7 @@ sec. 4.2 and 7.2):
 * Mindlin: a central stick disk of radius ``c = a (1 - Q / (mu P))^(1/3)``,
   slip in the annulus ``c < r < a``; no static equilibrium for ``Q >= mu P``.
 
-The model (:mod:`~fretwear.interface.sphere_mesh`) is the half ``y >= 0``
+The model (``fretwear.interface.sphere_mesh``) is the half ``y >= 0``
 (``y = 0`` is a symmetry plane for ``Q`` along ``x``); it carries half the
 loads, ``P / 2`` and ``Q / 2``, and the results are reported for the whole
 contact. Pairs: flat node ``A``, sphere node ``B``, normal ``+z``, tangent
@@ -592,7 +592,7 @@ def sphere_cyclic_dissipation(
 ) -> dict:
     """Friction work per cycle of the tangential load ``0 -> Q* -> -Q* -> Q*`` against Mindlin-Deresiewicz.
 
-    The quasi-static path of :func:`sphere_fretting_loop` (force control) with
+    The quasi-static path of ``sphere_fretting_loop()`` (force control) with
     ``steps`` increments a leg; the work of the contact forces on the pairs'
     tangential displacements over the closed cycle, ``W = sum_k sum_i
     (lambda_T,i^k + lambda_T,i^(k-1)) / 2 (u_T,i^k - u_T,i^(k-1))``, twice the

@@ -34,7 +34,7 @@ Wear (optional): after every step each slipping pair's depth grows by Archard's
 law, ``dw_i = K_w (lambda_N,i / A_i) |Delta u_T,i|`` (eq. 15), and opens its gap
 for the next step: no slow-time approximation at all.
 
-**2-D friction** (3-D pairs, the law of :mod:`fretwear.hbm.cone`, slip
+**2-D friction** (3-D pairs, the law of ``fretwear.hbm.cone``, slip
 variables (nc, 2)): the unknowns of a step are the contact forces on ``q``
 and on the binormals ``(u_T1, u_T2, u_N)`` of each pair (a pair without a
 binormal, on a symmetry plane, has none), the law its rigid limit: unilateral
@@ -152,13 +152,10 @@ def integrate_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega, t0, 
     G = np.ascontiguousarray(Kinv[:, :nq])
     lam, A, b = np.empty(nq), np.empty((nq, nq)), np.empty(nq)
     gap = gap0 + wear
-    Mh = M / h**2
-    Ch = C / h
     rec = 0
     for k in range(steps):
         t1 = t0 + (k + 1) * h
-        f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
-        zfree = Kinv @ (f + Mh @ z + (M @ v) / h + Ch @ z)
+        zfree = _free_step(M, C, Kinv, fs, fc, fsin, omega, t1, h, z, v)
         r = zfree[:nq]
         st = state.copy()
         ok = _step_contact(r, W, gap, mu, X, st, tol_f, tol_u, 200, lam, A, b)
@@ -185,6 +182,13 @@ def integrate_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega, t0, 
             rec_wear[rec] = wear
             rec += 1
     return -1
+
+
+@njit(cache=True, nogil=True)
+def _free_step(M, C, Kinv, fs, fc, fsin, omega, t1, h, z, v):
+    """Coordinates at ``t1 = t + h`` of the backward-Euler step from ``(z, v)`` without contact forces (m)."""
+    f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
+    return Kinv @ (f + (M @ z) / h**2 + (M @ v) / h + (C @ z) / h)
 
 
 @njit(cache=True, nogil=True)
@@ -291,13 +295,10 @@ def integrate_cone_kernel(z, v, X, state, wear, M, C, Kinv, fs, fc, fsin, omega,
         rho[i] = 1.0 / W[cols[i, 2], cols[i, 2]]
     lam = np.zeros(nk)
     gap = gap0 + wear
-    Mh = M / h**2
-    Ch = C / h
     rec = 0
     for k in range(steps):
         t1 = t0 + (k + 1) * h
-        f = fs + np.cos(omega * t1) * fc + np.sin(omega * t1) * fsin
-        zfree = Kinv @ (f + Mh @ z + (M @ v) / h + Ch @ z)
+        zfree = _free_step(M, C, Kinv, fs, fc, fsin, omega, t1, h, z, v)
         if not _step_cone(zfree[:nk], W, cols, gap, mu, X, rho, tol_f, 100, lam):
             return k
         z1 = zfree - G @ lam
@@ -413,7 +414,7 @@ def integrate_interface(
         Excitation frequency (rad/s), > 0.
     z0, v0 : ndarray (n,)
         Initial coordinates (m) and velocities (m/s) in the condensation's coordinates
-        (e.g. :func:`initial_state`).
+        (e.g. ``initial_state()``).
     slip0 : ndarray (nc,) or (nc, 2)
         Initial slip variables (m); (nc, 2): the 2-D friction law (3-D pairs, module text).
         state0 : ndarray (nc,) initial pair states (a guess).

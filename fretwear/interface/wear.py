@@ -54,7 +54,7 @@ __all__ = ["wear_interface", "wear_scale", "sweep_interface", "frf", "METHODS", 
 #: slow-time methods of :func:`wear_interface`, the default first
 METHODS = ("stepping", "polynomial")
 
-#: default largest wear increment of any pair per step, as a fraction of the wear scale (:func:`wear_scale`)
+#: default largest wear increment of any pair per step, as a fraction of the wear scale (``wear_scale()``)
 MAX_INCREMENT = 0.1
 
 #: failed periodic solves in a row (the step quartered each time) before a history gives up
@@ -100,7 +100,7 @@ def wear_interface(
     ``method="stepping"`` (default) integrates slow time step by step (module
     docstring); ``method="polynomial"`` solves the whole period at once with the
     worn depths as polynomials of degree ``degree`` in ``N``
-    (:func:`~fretwear.interface.polynomial.wear_polynomial_interface`; ``rtol``,
+    (:func:`~fretwear.interface.wear_polynomial_interface`; ``rtol``,
     ``atol``, ``converge``, ``first_step`` and ``max_steps`` do not apply).
 
     Parameters
@@ -114,7 +114,7 @@ def wear_interface(
     rtol, atol : float
         Step control: local error on ``w`` below ``atol + rtol max|w|`` (m);
         default ``atol = 0.1 rtol S`` with ``S`` the wear scale of the initial
-        state (:func:`wear_scale`).
+        state (``wear_scale()``).
     converge : float, optional
         Stop early once ``max(dw/dN) N < converge max(w)`` (a converged profile).
     first_step : float, optional
@@ -128,7 +128,7 @@ def wear_interface(
         Slow-time method.
     degree : int, optional
         Polynomial degree of the polynomial method (default
-        :data:`~fretwear.interface.polynomial.DEFAULT_DEGREE`).
+        ``DEFAULT_DEGREE``).
     max_increment : float
         Largest depth any pair may wear in one step, as a fraction of the
         wear scale ``S`` of the initial state (-), in (0, 1].

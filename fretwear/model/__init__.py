@@ -1,11 +1,11 @@
 """The structure: one linear model type with contacts of every kind (paper eq. 5, 17-23, 30), model files.
 
-:mod:`~fretwear.model.structure` defines :class:`Model` and its 1-D contacts and
-the paper's 2-DOF example; :mod:`~fretwear.model.pairs` the contact node pairs of
-an interface (:class:`ContactPairs`); :mod:`~fretwear.model.reduction` the
-Craig-Bampton reduction of a model (:func:`craig_bampton`, a :class:`Model` in,
-a :class:`Model` out); :mod:`~fretwear.model.disk` the lumped bladed disk
-(:func:`bladed_disk`, its cyclic sector :class:`DiskSector`); :mod:`~fretwear.model.modelfile`
+``fretwear.model.structure`` defines :class:`~fretwear.model.Model` and its 1-D contacts and
+the paper's 2-DOF example; ``fretwear.model.pairs`` the contact node pairs of
+an interface (:class:`ContactPairs`); ``fretwear.model.reduction`` the
+Craig-Bampton reduction of a model (:func:`craig_bampton`, a :class:`~fretwear.model.Model` in,
+a :class:`~fretwear.model.Model` out); ``fretwear.model.disk`` the lumped bladed disk
+(:func:`bladed_disk`, its cyclic sector :class:`~fretwear.model.DiskSector`); ``fretwear.model.modelfile``
 reads and writes models as TOML (:func:`read_model`).
 """
 

@@ -20,11 +20,11 @@ neighbouring blades, ``i`` to ``i + 1`` round the ring, each under the normal
 load of an interference ``u0`` that relaxes with wear, ``F_N,i = kn (u0 -
 w_i)`` clipped at zero (eq. 30). They are not in ``M`` and ``K``, which keep the
 frequencies above. The ring's relative coordinates sum to zero, so the
-contacts are solved in the receptance form (:mod:`fretwear.hbm.receptance`).
+contacts are solved in the receptance form (``fretwear.hbm.receptance``).
 A rigid shroud would lock every tip to its neighbours: under an engine order
 ``EO != 0`` the stuck disk would not move; ``kt`` is what lets it.
 
-Cyclic symmetry (:class:`DiskSector`): a tuned disk's modes have ``nd`` nodal
+Cyclic symmetry (:class:`~fretwear.model.DiskSector`): a tuned disk's modes have ``nd`` nodal
 diameters, the sector's motion repeated with the phase ``exp(i 2 pi nd / N)``
 from one sector to the next; per ``nd`` the sector's three frequencies solve
 ``(K0 + K1 e^{i theta} + K1^T e^{-i theta}) phi = omega^2 M0 phi`` with
@@ -193,7 +193,7 @@ def bladed_disk(
         ``"shroud"``: a Jenkins contact between the tips of blades ``i`` and
         ``i + 1`` (mod ``N``), friction contact ``i``; ``"ring"``: pyHarm's
         friction ring damper under the tuned disk
-        (:func:`fretwear.model.ring.ring_damper_disk`, its parameters
+        (``fretwear.model.ring.ring_damper_disk()``, its parameters
         ``rotation_speed``, ``mr``, ``radius``, ``kr`` among ``properties``);
         ``"none"``: the linear disk.
     mu : float, optional
@@ -206,14 +206,14 @@ def bladed_disk(
         Tangential stiffness of the shroud contacts (N/m), > 0.
     **properties : float
         The masses ``m0, mb1, mb2`` (kg) and springs ``kG, k0, kb1, kb2`` (N/m) of
-        :class:`DiskSector`, its defaults for those not given.
+        :class:`~fretwear.model.DiskSector`, its defaults for those not given.
 
     Returns
     -------
     Model
         ``3 N`` DOFs, sector ``i``'s at ``3 i`` (disk), ``3 i + 1`` (root), ``3 i + 2`` (tip), named
         ``disk{i}``, ``root{i}``, ``tip{i}``; ``info`` holds the parameters (the cyclic solve of
-        :mod:`fretwear.disk.cyclic` reads them).
+        ``fretwear.disk.cyclic`` reads them).
     """
     if contacts == "ring":
         from .ring import ring_damper_disk

@@ -203,7 +203,7 @@ def read_model_file(path: str | os.PathLike[str]) -> ModelFile:
 
 
 def read_model(path: str | os.PathLike[str]) -> Model:
-    """Read the :class:`Model` of a model file (see :func:`read_model_file`)."""
+    """Read the :class:`~fretwear.model.Model` of a model file (see ``read_model_file()``)."""
     return read_model_file(path).model
 
 
@@ -503,7 +503,7 @@ def dump_model(
     dofs: Sequence[str] | None = None,
     title: str | None = None,
 ) -> None:
-    """Write ``model`` to the model file ``path`` (UTF-8); see :func:`dumps_model`."""
+    """Write ``model`` to the model file ``path`` (UTF-8); see ``dumps_model()``."""
     Path(path).write_text(dumps_model(model, dofs=dofs, title=title), encoding="utf-8")
 
 

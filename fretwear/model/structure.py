@@ -1,6 +1,6 @@
 """Linear structures with contacts of every kind the library solves (paper eq. 5, 17-23, 30).
 
-A :class:`Model` is a linear structure of ``n`` degrees of freedom (DOFs),
+A :class:`~fretwear.model.Model` is a linear structure of ``n`` degrees of freedom (DOFs),
 
     M u'' + C u' + K u + B^T lambda(t) = F_s + F_c cos(omega t) + F_sn sin(omega t),
 
@@ -230,7 +230,7 @@ class Model:
     info : dict, optional
         Descriptive data of a bundled benchmark (radius, loads, moduli; SI).
     reduction : Reduction, optional
-        Set on a reduced model (:func:`~fretwear.model.reduction.craig_bampton`):
+        Set on a reduced model (:func:`~fretwear.model.craig_bampton`):
         how its coordinates give the DOFs of the full model.
     """
 

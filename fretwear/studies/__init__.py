@@ -1,9 +1,9 @@
 """Studies built on the periodic solvers and the slow-time methods: the paper's figures as data.
 
-* :mod:`~fretwear.studies.maps`: wear maps ``W(f, N)`` and pseudo-FRFs (Fig. 7-9, 12-14);
-* :mod:`~fretwear.studies.convergence`: harmonics (Fig. 10) and methods (Fig. 11);
-* :mod:`~fretwear.studies.regimes`: stick/slip regimes over frequency x ``r`` and the exact stick limit;
-* :mod:`~fretwear.studies.accuracy`: what accuracy costs: error against wall time over a ladder of settings.
+* ``fretwear.studies.maps``: wear maps ``W(f, N)`` and pseudo-FRFs (Fig. 7-9, 12-14);
+* ``fretwear.studies.convergence``: harmonics (Fig. 10) and methods (Fig. 11);
+* ``fretwear.studies.regimes``: stick/slip regimes over frequency x ``r`` and the exact stick limit;
+* ``fretwear.studies.accuracy``: what accuracy costs: error against wall time over a ladder of settings.
 """
 
 from .accuracy import CostStudy, Rung, cost_ladder

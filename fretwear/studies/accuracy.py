@@ -16,7 +16,7 @@ dynamics), ``stepping`` (on DLFT), ``stepping-shooting``, ``polynomial``, ``time
 References: the exact periodic solution by shooting on the event-driven time
 integrator (periodicity residual 1e-12) for the periodic quantities, and for
 ``w(N)`` the exact method on the exact dynamics (Archard's law integrated on the
-sliding table of shooting solutions, :mod:`fretwear.wear.sliding`) where it
+sliding table of shooting solutions, ``fretwear.wear.sliding``) where it
 applies, else slow-time stepping with shooting dynamics at a tight tolerance
 (1e-5 of ``u0``); both are named in :attr:`CostStudy.reference`. The references
 are not rungs: a rung is timed (median of repeats) and measured against them,

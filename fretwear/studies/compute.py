@@ -12,7 +12,7 @@ A model with contact pairs is reduced once (:func:`prepared`, at
 (``wear``) on that reduced model, with the point's ``mu`` and ``force_scale``.
 
 The bladed disk's mistuning study (``magnification``) draws a point's pattern in the task, from the
-study's seed and the point's level and sample index (:mod:`fretwear.studies.spec`), and calls
+study's seed and the point's level and sample index (``fretwear.studies.spec``), and calls
 :func:`fretwear.disk.magnification` once per level of the block.
 """
 
@@ -174,7 +174,7 @@ def _model(work: Work, p: Mapping[str, Any]):
 
 
 def point_method(model, p: Mapping[str, Any]) -> tuple[str, dict[str, Any]]:
-    """The slow-time method that runs at a point and the options it takes, as :func:`wear_history`
+    """The slow-time method that runs at a point and the options it takes, as :func:`~fretwear.wear_history`
     and ``fretwear wear`` resolve them (``auto``: the exact method where it applies)."""
     name = resolve_method(model, p["method"])
     taken = METHODS[name].options

@@ -33,7 +33,7 @@ __all__ = ["WearMap", "wear_map", "LazyHistories"]
 class LazyHistories(Sequence):
     """Per-frequency wear histories, each computed on first access.
 
-    A map on the exact dynamics does not need them (:func:`~fretwear.wear.exact.exact_wear_map`);
+    A map on the exact dynamics does not need them (``exact_wear_map()``);
     a scene that shows the history at one frequency builds that one only.
     ``+`` joins two sequences (chunks of a map).
     """
@@ -90,7 +90,7 @@ class WearMap:
     relative_half_peak_to_peak : ndarray, shape (nf, nN, n_contacts)
         Half peak-to-peak relative displacement of each contact (m).
     histories : sequence of WearHistory
-        The per-frequency results (status, solves, warnings); a :class:`LazyHistories`
+        The per-frequency results (status, solves, warnings); a ``LazyHistories``
         for maps on the exact dynamics.
     label : str
         What ran, slow-time scheme and dynamics apart (:func:`fretwear.wear.describe`).
@@ -193,14 +193,14 @@ def wear_map(
 ) -> WearMap:
     """Wear map over ``frequencies`` (Hz) and the cycle grid ``cycles`` (paper Fig. 7).
 
-    Each frequency runs :func:`wear_history` to ``max(cycles)`` (or until the
+    Each frequency runs :func:`~fretwear.wear_history` to ``max(cycles)`` (or until the
     contacts are worn to 0.99 u0; past that the last state is held) and is
     sampled at ``cycles``. Frequencies that stick fully are not stepped.
-    ``options`` go to :func:`wear_history`. The exact method on the exact
+    ``options`` go to :func:`~fretwear.wear_history`. The exact method on the exact
     dynamics (``dynamics="shooting"``) samples the map directly from the
-    sliding tables (:func:`~fretwear.wear.exact.exact_wear_map`: exact at every
+    sliding tables (``exact_wear_map()``: exact at every
     cycle count, no history needed) and computes a frequency's history only
-    when it is asked for (:class:`LazyHistories`).
+    when it is asked for (``LazyHistories``).
     """
     frequencies = np.asarray(frequencies, dtype=float)
     cycles = np.asarray(cycles, dtype=float)

@@ -34,7 +34,7 @@ def regime_map(model: Model, frequencies, ratios, harmonics: int = 7) -> dict[st
     regime). Returns, shape (len(ratios), len(frequencies)), the fraction of the
     period spent slipping by the first friction contact, its sliding distance
     per period (m) and the first-harmonic amplitude of DOF 1 (m) at that
-    forcing, and per frequency the exact stick boundary :func:`stick_limit`.
+    forcing, and per frequency the exact stick boundary :func:`~fretwear.studies.stick_limit`.
     """
     frequencies = np.asarray(frequencies, dtype=float)
     ratios = np.asarray(ratios, dtype=float)

@@ -57,7 +57,7 @@ and amplitudes on the cycle grid; with a frequency axis, a wear map).
 Models with contact pairs (:data:`MODELS`: ``name = "cylinder_on_flat"`` with
 the parameters of :class:`fretwear.interface.fe.CylinderOnFlat`, ``name =
 "paper_interface"`` with ``fex``, ``mu``, ``normal_load``, ``kn``, or ``file =``
-an interface model file, :mod:`fretwear.interface.modelfile`) take the
+an interface model file, ``fretwear.interface.modelfile``) take the
 parameters :data:`PAIR_PARAMETERS`: ``frequency`` (Hz, fixed or a grid),
 ``force_scale`` (every external force, the static load too), ``mu`` (every
 pair), ``kw`` (1/Pa, required with ``wear``), ``cycles``, ``harmonics``
@@ -231,7 +231,7 @@ PAPER_DEFAULTS: Mapping[str, float] = {
     name: describe(PARAMETERS[name].table).default for name in ("fex", "mu", "normal_load", "kn")
 }
 
-#: slow-time methods of a model with contact pairs (:func:`fretwear.interface.jobs.wear_history`)
+#: slow-time methods of a model with contact pairs (``fretwear.interface.jobs.wear_history()``)
 PAIR_METHODS = ("auto", "stepping", "polynomial")
 #: the parameters of a study over a model with contact pairs (module docstring): the interface rows of
 #: the table where the unit differs (``kw`` in 1/Pa, ``mu`` may be 0, ``tol`` is the stepping's ``rtol``)

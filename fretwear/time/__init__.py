@@ -1,6 +1,6 @@
 """Exact dynamics in time: the event-driven integrator and periodic solutions by shooting.
 
-:mod:`~fretwear.time.integrator` integrates the equations of motion with
+``fretwear.time.integrator`` integrates the equations of motion with
 Coulomb contacts, rigid or Jenkins (a tangential stiffness in series),
 exactly (piecewise-linear dynamics, events located to round-off);
 :mod:`~fretwear.time.shooting` finds periodic orbits on it

@@ -145,7 +145,8 @@ class Trajectory:
     contact_force : ndarray, shape (n_friction, k)
         Friction forces ``lambda`` at ``times`` (N).
     contact_state : ndarray of int8, shape (n_friction, k)
-        :data:`STICK`, :data:`SLIP` or :data:`OPEN` at ``times``.
+        :data:`~fretwear.model.STICK`, :data:`~fretwear.model.SLIP` or :data:`~fretwear.model.OPEN`
+        at ``times``.
     segment_times : ndarray, shape (p + 1,)
         Boundaries of the ``p`` phases of constant contact states (s).
     segment_state : ndarray of int8, shape (p, n_friction)

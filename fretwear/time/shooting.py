@@ -1,7 +1,7 @@
 """Periodic solutions by shooting on the exact event-driven integrator.
 
 :func:`shooting` solves ``y(T; y0) = y0`` by Newton's method with the exact
-monodromy matrix of :mod:`fretwear.time.integrator` (compiled: every Newton
+monodromy matrix of ``fretwear.time.integrator`` (compiled: every Newton
 iteration and period march runs in :mod:`fretwear.time.periodic`);
 :func:`steady_state` marches periods until the transient has died out;
 :func:`shooting_sweep` follows a frequency grid, each solve seeded by its
@@ -518,7 +518,7 @@ def shooting(
     Parameters
     ----------
     model, omega
-        As :func:`~fretwear.time.integrator.integrate` (friction contacts only, rad/s).
+        As :func:`~fretwear.time.integrate` (friction contacts only, rad/s).
     y_guess : array_like, shape (2 n,), optional
         Guess of the state at ``t = 0`` (e.g. the :attr:`~ShootingSolution.unknowns`
         of a neighbouring solution). Without one, or if Newton fails from it,

@@ -1,11 +1,11 @@
 """Fretting wear on the slow time scale (paper sections 1.3, 1.6; eq. 15, 24-30).
 
-:func:`wear_history` is the front function; :data:`METHODS` the registry of the
-slow-time methods, one module each (:mod:`~fretwear.wear.exact`,
-:mod:`~fretwear.wear.stepping`, :mod:`~fretwear.wear.polynomial`,
-:mod:`~fretwear.wear.time_integration`); :mod:`~fretwear.wear.result` holds
+:func:`~fretwear.wear.wear_history` is the front function; :data:`METHODS` the registry of the
+slow-time methods, one module each (``fretwear.wear.exact``,
+``fretwear.wear.stepping``, ``fretwear.wear.polynomial``,
+``fretwear.wear.time_integration``); ``fretwear.wear.result`` holds
 Archard's law, the input checks and the result type :class:`WearHistory`;
-:mod:`~fretwear.wear.dynamics` the periodic response at a wear state.
+``fretwear.wear.dynamics`` the periodic response at a wear state.
 """
 
 from .dynamics import DYNAMICS, resolve_dynamics

@@ -62,7 +62,7 @@ class Dynamics:
     """Periodic response at a wear state, warm-started from the previous call (DLFT or shooting).
 
     A tuned shrouded bladed disk on the DLFT dynamics is solved on one sector
-    (:mod:`fretwear.disk.cyclic`): its contacts wear alike, and the sector solve
+    (``fretwear.disk.cyclic``): its contacts wear alike, and the sector solve
     is the full disk's to round-off, 14-94 times faster.
     """
 

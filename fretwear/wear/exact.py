@@ -48,7 +48,7 @@ def wear_exact(
 
     ``dynamics="shooting"`` (what ``"auto"`` runs unless ``harmonics`` or
     ``samples`` are given) integrates Archard's law on the exact sliding
-    distance of the event-driven dynamics (:func:`fretwear.wear.sliding.sliding_table`):
+    distance of the event-driven dynamics (``fretwear.wear.sliding.sliding_table()``):
     no harmonic truncation and no slow-time error, the reference of every
     other method; its history follows the wear past ``stop_fraction u0`` to the
     horizon (status ``"worn"``), and the response of each record is a shooting

@@ -1,6 +1,6 @@
 """One front function for wear on the slow time scale, and the registry of its methods.
 
-:func:`wear_history` runs one slow-time method at one frequency and returns a
+:func:`~fretwear.wear.wear_history` runs one slow-time method at one frequency and returns a
 :class:`~fretwear.wear.result.WearHistory`. Each method lives in a module of its
 own and is registered in :data:`METHODS` with the options it takes, so that the
 command line, the dashboard and the figures ask the registry instead of
@@ -9,11 +9,11 @@ keeping their own lists:
 ========== ============================================== =====================================
 method     module                                         options
 ========== ============================================== =====================================
-exact      :mod:`fretwear.wear.exact` (load path)         dynamics, harmonics, samples
-stepping   :mod:`fretwear.wear.stepping` (eq. 24, RK23)   harmonics, samples, tol, dynamics,
+exact      ``fretwear.wear.exact`` (load path)         dynamics, harmonics, samples
+stepping   ``fretwear.wear.stepping`` (eq. 24, RK23)   harmonics, samples, tol, dynamics,
                                                           fixed_step
-polynomial :mod:`fretwear.wear.polynomial` (eq. 25-29)    harmonics, samples, degree, basis
-time       :mod:`fretwear.wear.time_integration`          tol
+polynomial ``fretwear.wear.polynomial`` (eq. 25-29)    harmonics, samples, degree, basis
+time       ``fretwear.wear.time_integration``          tol
 ========== ============================================== =====================================
 
 Adding a method: one module with a function ``solve(model, omega, *, kw,
@@ -45,7 +45,7 @@ class Method:
     Attributes
     ----------
     name : str
-        Registry key (``method=`` of :func:`wear_history`).
+        Registry key (``method=`` of :func:`~fretwear.wear.wear_history`).
     solve : callable
         ``solve(model, omega, *, kw, cycles, **options) -> WearHistory``.
     options : tuple of str
@@ -87,7 +87,7 @@ def resolve_method(model: Model, method: str = "auto", fixed_step=None) -> str:
     ``"auto"`` falls back to ``"stepping"`` for several contacts or unilateral
     contacts, and for a fixed step (an option only stepping takes). The
     dynamics the method runs on are resolved apart
-    (:func:`~fretwear.wear.dynamics.resolve_dynamics`): with no options, the exact
+    (:func:`~fretwear.wear.resolve_dynamics`): with no options, the exact
     ones wherever they apply.
     """
     if method == "auto":
@@ -131,7 +131,7 @@ def wear_history(
         The method's options (:data:`METHODS`): ``harmonics`` (``Nh``), ``samples``
         (per period), ``tol`` (local error on ``w / u0``, or of the cycle jumps),
         ``dynamics`` (``"auto"``, ``"shooting"`` or ``"dlft"``: see
-        :func:`~fretwear.wear.dynamics.resolve_dynamics`), ``fixed_step`` (cycles),
+        :func:`~fretwear.wear.resolve_dynamics`), ``fixed_step`` (cycles),
         ``degree`` and ``basis`` (polynomial). An option the method does not
         take raises ``ValueError``, except with ``"auto"``, which uses those of
         the method it picks.

@@ -47,7 +47,7 @@ any degree. The first samples are the Gauss nodes of the map of the ramp
 ``s(0) + z ds/dz(0)`` held between ``s(0)`` and ``s(z_end)`` (the exact tangent
 at the start and the exact end value); then every piece of the profile whose
 cycles differ, with the cubic and with ``log s`` linear, by more than
-:data:`REFINE_TOLERANCE` of them is halved, for at most :data:`MAX_ROUNDS`
+:data:`REFINE_TOLERANCE` of them is halved, for at most ``MAX_ROUNDS``
 rounds; the Galerkin nodes in the profile's map then test it, and nodes that
 contradict it (fit and profile more than :data:`REFINE_TOLERANCE` apart) refine
 it in turn, for at most :data:`GALERKIN_PASSES` passes. A profile still coarse
@@ -147,7 +147,7 @@ def wear_polynomial(
     that difference at the nodes without truncation (the interpolant of
     ``dN/dv`` through every node) and between the fit and its profile
     (``info["change"]``); along the records' response for the others. ``info["wear_defect"]`` is the
-    largest difference in wear (fraction of ``u0``). Above :data:`MISFIT_LIMIT`
+    largest difference in wear (fraction of ``u0``). Above ``MISFIT_LIMIT``
     a warning names the frequency (Hz) and the misfit. The recorded ``rate`` is
     the fit's ``dw/dN``, limited so that :meth:`WearHistory.at` is monotone
     between monotone records and stays in ``[0, u0)``.
@@ -188,7 +188,7 @@ def wear_polynomial(
         ``poor_fit``; saturating: ``end`` (cycles at the end of the polynomial),
         ``log_density``, ``sliding_ratio`` (``s`` at the end over ``s`` at the
         start), ``rounds`` (of refinement), ``settled`` (False: a piece of the
-        profile was still coarse after :data:`MAX_ROUNDS` rounds; the fit is then
+        profile was still coarse after ``MAX_ROUNDS`` rounds; the fit is then
         flagged), ``change``; legendre, monomial: ``iterations``, ``residual``.
     """
     check_wear_inputs(model, kw, cycles, degree)
@@ -571,7 +571,7 @@ class _Slow:
 
     def _fit(self, samples: _Samples, z_end: float) -> tuple[_Fit, int]:
         """The fit on ``0 <= z <= z_end``: the profile of ``s`` refined until every piece is settled (at most
-        :data:`MAX_ROUNDS` rounds), then the Galerkin projection in its map; again with the nodes among the
+        ``MAX_ROUNDS`` rounds), then the Galerkin projection in its map; again with the nodes among the
         samples while fit and profile disagree (at most :data:`GALERKIN_PASSES` passes). See the module
         docstring.
 

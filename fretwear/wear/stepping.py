@@ -65,7 +65,7 @@ def wear_stepping(
         ``fixed_step=1`` is the paper's per-period update (eq. 24).
     dynamics : {"auto", "dlft", "shooting"}
         Periodic solver: exact shooting on the event-driven dynamics, or HBM + DLFT
-        (an approximation); ``"auto"``: :func:`~fretwear.wear.dynamics.resolve_dynamics`.
+        (an approximation); ``"auto"``: :func:`~fretwear.wear.resolve_dynamics`.
     stop_fraction : float
         Stop when every contact reaches ``stop_fraction * u0``.
     max_steps : int

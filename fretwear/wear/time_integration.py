@@ -2,7 +2,7 @@
 
 This is the reference against which the slow-time methods of :mod:`fretwear.wear`
 are judged. The full transient is integrated with the exact event-driven
-integrator of :mod:`fretwear.time.integrator` (exact stick/slip), one
+integrator of ``fretwear.time.integrator`` (exact stick/slip), one
 excitation period ``T = 2 pi / omega`` at a time, and Archard's law (paper
 eq. 15, 30c) is applied at the end of every period:
 

@@ -5,7 +5,7 @@ chromium with eight browser contexts, i.e. eight independent Bokeh sessions.
 Each session drags the ``F_ex`` slider, and the ``mu`` slider one move in
 three, with the mouse (a random walk of its own: different values in each
 session) and waits for its figures to redraw, for ``FRETWEAR_LOAD_SECONDS``
-seconds: by default 60 s when this test runs alone (``-m load``) and 25 s in a
+seconds: by default 60 s when this test runs alone (``-m load``) and 15 s in a
 larger run, which keeps it under two minutes with the server's start-up.
 ``FRETWEAR_LOAD_SESSIONS`` changes the number of sessions (default 8).
 Checked:
@@ -96,10 +96,10 @@ CURVE_JS = """
 
 
 def load_seconds(request: pytest.FixtureRequest) -> float:
-    """Duration of the run: ``FRETWEAR_LOAD_SECONDS``, else 60 s alone and 25 s in a larger run."""
+    """Duration of the run: ``FRETWEAR_LOAD_SECONDS``, else 60 s alone and 15 s in a larger run."""
     if os.environ.get("FRETWEAR_LOAD_SECONDS"):
         return float(os.environ["FRETWEAR_LOAD_SECONDS"])
-    return 60.0 if len(request.session.items) == 1 else 25.0
+    return 60.0 if len(request.session.items) == 1 else 15.0
 
 
 def memory_mb(pid: int, field: str = "VmRSS") -> float:

@@ -203,7 +203,7 @@ def test_full_stick_is_symmetric_with_a_regular_jacobian():
 
 @pytest.mark.slow
 def test_truncation_error_against_shooting():
-    """HBM with rigid Coulomb stick converges slowly in Nh; shooting is exact (see README, Accuracy)."""
+    """HBM with rigid Coulomb stick converges slowly in Nh; shooting is exact (docs: periodic solutions)."""
     model = paper_model(fex=10)
     for f in (0.6, 0.9):
         ref = shooting(model, TWO_PI * f)
