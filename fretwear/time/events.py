@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from .codes import NEED_PATTERN, OK
-from .dense import back_substitute, matmul_into
+from .dense import back_substitute, matmul_into, matvec_into
 from .series import EPS_GUARD, dot
 
 __all__ = ["select", "find_slot", "augmented", "bits", "delassus", "project"]
@@ -80,18 +80,19 @@ def _box_qp(W, b, g, L):
         sol = _chol_solve(_cholesky(Wf), rhs)
         for p in range(nfree):
             xp[idx[p]] = sol[p]
-    a = b - W @ xp
+    a = np.empty(z)
+    matvec_into(W, xp, a)
     bscale = np.abs(b).max()
     for i in range(z):
         if bound[i]:
-            if np.sign(xp[i]) * a[i] < -1e-12 * bscale:
+            if np.sign(xp[i]) * (b[i] - a[i]) < -1e-12 * bscale:
                 return x
         elif abs(xp[i]) > g[i]:
             return x
     return xp
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def find_slot(masks, count, mask):
     for k in range(count):
         if masks[k] == mask:
@@ -99,7 +100,7 @@ def find_slot(masks, count, mask):
     return -1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def augmented(y, t, g, dirs, omega, nf, X):
     """Augmented state ``(u, v, lambda, 1, cos, sin)``.
 
@@ -268,7 +269,8 @@ def select(t, y, Z, forced, g, dirs, model, omega, patterns):
         c = np.empty((4, D))
         c[0] = X
         for q in range(1, 4):
-            c[q] = Ah[k] @ c[q - 1] / q
+            matvec_into(Ah[k], c[q - 1], c[q])
+            c[q] /= q
         for p in range(z):
             j = idx[p]
             if not (critical >> j & 1):

@@ -52,7 +52,7 @@ from .codes import (
     STICK_CODE,
     STICK_EVENT,
 )
-from .dense import matmul_into
+from .dense import matmul_into, matvec_into
 from .events import augmented, bits, delassus, find_slot, project, select
 from .series import EPS_GUARD, K, dot, first_crossing, row_series, state_at, taylor_series
 
@@ -64,7 +64,7 @@ _AT_LIMIT = 1e-12  # a Jenkins force this close to its slip force is at the limi
 _AT_REST = 1e-13  # a relative velocity this small (of the velocities' scale) is zero at the start
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _phi_at(series, sigma, out):
     """``exp(A_yy h sigma) = sum_k series[k] sigma^k``."""
     out[:, :] = series[K]
@@ -185,6 +185,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
     Phi = np.empty((ny, ny))
     Jt = np.empty((ny, ny))
     ur0 = np.zeros(nf)
+    grad, f_minus, f_plus, Xp = np.empty(n2), np.empty(n2), np.empty(n2), np.empty(D)  # saltation
     off_up = np.zeros(nf)
     off_lo = np.zeros(nf)
     null_events = 0
@@ -328,7 +329,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                     changed = True
             if jacobian and changed:
                 # saltation of the triggering guard
-                grad = np.zeros(n2)
+                grad[:] = 0.0
                 if kind == 2:
                     for i in range(n):
                         grad[n + i] = dirs[who] * B[who, i]
@@ -336,23 +337,29 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                     sgn = -1.0 if kind == 0 else 1.0
                     for i in range(n2):
                         grad[i] = sgn * force_rows[k, who, i]
-                f_minus = (Ah[k] @ X)[:n2] / h
-                Xp = np.empty(D)
+                matvec_into(Ah[k], X, f_minus)
                 augmented(y, t, g, d_new, omega, nf, Xp)
                 for j in range(nf):
                     if S_new >> j & 1:
                         Xp[n2 + j] = 0.0
-                f_plus = (Ah[k_new] @ Xp)[:n2] / step[k_new]
-                hdot = grad @ f_minus
-                jump = f_plus - f_minus
-                if abs(hdot) > 1e-14 * np.abs(grad).sum() * np.abs(f_minus).sum() and np.abs(jump).max() > 0:
+                matvec_into(Ah[k_new], Xp, f_plus)
+                hdot = jump_max = g_abs = f_abs = 0.0
+                for r in range(n2):  # f_minus, f_plus: (A X)[:n2] / h, the vector fields either side
+                    f_minus[r] /= h
+                    f_plus[r] /= step[k_new]
+                    hdot += grad[r] * f_minus[r]
+                    g_abs += abs(grad[r])
+                    f_abs += abs(f_minus[r])
+                    f_plus[r] -= f_minus[r]  # the jump
+                    jump_max = max(jump_max, abs(f_plus[r]))
+                if abs(hdot) > 1e-14 * g_abs * f_abs and jump_max > 0:
                     for col in range(n2):  # J += (jump / hdot) (grad^T J)
                         gj = 0.0
                         for r in range(n2):
                             gj += grad[r] * J[r, col]
                         gj /= hdot
                         for r in range(n2):
-                            J[r, col] += jump[r] * gj
+                            J[r, col] += f_plus[r] * gj
                 if S_new & ~S:
                     BZ, MiBt, _, L = delassus(Minv, B, bits(S_new, nf))
                     project(MiBt, BZ, L, J[n:, :])
