@@ -52,7 +52,7 @@ K = TAYLOR_ORDER
 EPS_GUARD = 1e-13  # event threshold of a guard, relative to its round-off scale
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def taylor_series(Ah, X, c, n):
     """``c[k] = (A h)^k X / k!`` for ``k = 0..K``, using the structure of ``A`` (:mod:`.patterns`).
 
@@ -128,7 +128,7 @@ def poly(a, x):
     return p, d
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def _refine(a, shift, lo, hi):
     """Root of the decreasing ``p + shift`` on ``[lo, hi]`` (``> 0`` at ``lo``, ``< 0`` at ``hi``)."""
     x = lo
@@ -184,7 +184,7 @@ def _quadratic_reach(q0, d1, c):
     return root
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def first_crossing(a, eps, start, smax):
     """First ``sigma`` in ``[start, smax]`` where ``p(sigma) = sum_k a[k] sigma^k`` falls below ``-eps``.
 
