@@ -53,7 +53,7 @@ from .codes import (
     STICK_EVENT,
 )
 from .dense import matmul_into, matvec_into
-from .events import augmented, bits, delassus, find_slot, project, select
+from .events import augmented, delassus, delassus_workspace, find_slot, project, select
 from .series import EPS_GUARD, K, dot, first_crossing, row_series, state_at, taylor_series
 
 __all__ = ["march", "MAX_NULL"]
@@ -148,6 +148,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
     ny = n2 + kt.shape[0]
     y = y0.copy()
     J = np.eye(ny)
+    ws = delassus_workspace(n, nf)
     sliding = np.zeros(nf)
     n_steps = n_phases = n_events = 0
     t = t0
@@ -172,11 +173,11 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                 Z |= 1 << j
             else:
                 dirs[j] = 1 if vr > 0 else -1
-        status, S, dirs, need = select(t, y, Z, NONE, g, dirs, model, omega, patterns)
+        status, S, dirs, need = select(t, y, Z, NONE, g, dirs, model, omega, patterns, ws)
         if status != OK:
             return status, need, y, J, sliding, 0, 0, 0
         if jacobian and S:
-            BZ, MiBt, _, L = delassus(Minv, B, bits(S, nf))
+            _, BZ, MiBt, _, L = delassus(Minv, B, S, ws)
             project(MiBt, BZ, L, J[n:, :])
     X = np.empty(D)
     Xn = np.empty(D)
@@ -317,7 +318,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                         vs += abs(B[j, i]) * (abs(y[n + i]) + omega * abs(y[i]))
                     if abs(vr) <= _NEAR * vs:
                         Zm |= 1 << j
-            status, S_new, d_new, need = select(t, y, Zm, forced, g, dirs, model, omega, patterns)
+            status, S_new, d_new, need = select(t, y, Zm, forced, g, dirs, model, omega, patterns, ws)
             if status != OK:
                 return status, need, y, J, sliding, n_steps, n_phases, n_events
             k_new = find_slot(masks, count, S_new)
@@ -361,7 +362,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                         for r in range(n2):
                             J[r, col] += f_plus[r] * gj
                 if S_new & ~S:
-                    BZ, MiBt, _, L = delassus(Minv, B, bits(S_new, nf))
+                    _, BZ, MiBt, _, L = delassus(Minv, B, S_new, ws)
                     project(MiBt, BZ, L, J[n:, :])
         if changed and record:
             for j in range(nf):
