@@ -127,6 +127,12 @@ def _scalar(value: Any) -> Any:
     return str(value)
 
 
+def _solve_status(sol: Any) -> dict[str, Any]:
+    """The attributes every periodic solution carries: its path, frequency and how its solve ended."""
+    return {"path": sol.path, "omega": sol.omega, "converged": sol.converged, "iterations": sol.iterations,
+            "residual": sol.residual, "message": sol.message}  # fmt: skip
+
+
 def _attrs(obj: Any, title: str, **values: Any) -> dict[str, Any]:
     """The dataset's attributes: the store's (title, version, producer), ``values`` (with their units,
     ``None`` left out) and the scalar entries of ``obj.info`` as ``info_KEY``."""
@@ -235,12 +241,7 @@ def periodic_dataset(sol: Any):
         sol,
         f"periodic solution at {sol.frequency:.6g} Hz ({_method(sol)})",
         method=_method(sol),
-        path=sol.path,
-        omega=sol.omega,
-        converged=sol.converged,
-        iterations=sol.iterations,
-        residual=sol.residual,
-        message=sol.message,
+        **_solve_status(sol),
         harmonics=getattr(sol, "harmonics", None),
         samples=sol.samples,
     )
@@ -446,12 +447,7 @@ def interface_solution_dataset(sol: Any):
         sol,
         f"interface periodic solution at {sol.frequency:.6g} Hz ({method})",
         method=method,
-        path=sol.path,
-        omega=sol.omega,
-        converged=sol.converged,
-        iterations=sol.iterations,
-        residual=sol.residual,
-        message=sol.message,
+        **_solve_status(sol),
         harmonics=sol.harmonics,
         samples=samples,
         cone=bool(sol.problem.cone),

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 from numba import njit
 
-__all__ = ["back_substitute", "matmul_into"]
+__all__ = ["back_substitute", "matmul_into", "matvec_into"]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def matmul_into(A, B, out):
     """``out = A @ B`` (no allocation; ``out`` distinct from both), each entry summed over ``q`` in turn."""
     for i in range(A.shape[0]):
@@ -21,6 +21,16 @@ def matmul_into(A, B, out):
             for q in range(A.shape[1]):
                 t += A[i, q] * B[q, j]
             out[i, j] = t
+
+
+@njit(cache=True, nogil=True, inline="always")
+def matvec_into(A, x, out):
+    """``out = (A @ x)[: len(out)]``: the first ``len(out)`` rows of ``A`` times ``x`` (no allocation)."""
+    for i in range(out.shape[0]):
+        t = 0.0
+        for q in range(x.shape[0]):
+            t += A[i, q] * x[q]
+        out[i] = t
 
 
 @njit(cache=True, nogil=True)

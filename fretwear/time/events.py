@@ -26,10 +26,10 @@ import numpy as np
 from numba import njit
 
 from .codes import NEED_PATTERN, OK
-from .dense import back_substitute, matmul_into
+from .dense import back_substitute, matvec_into
 from .series import EPS_GUARD, dot
 
-__all__ = ["select", "find_slot", "augmented", "bits", "delassus", "project"]
+__all__ = ["select", "find_slot", "augmented", "delassus", "delassus_workspace", "project"]
 
 _BAND = 1e-12  # a force this close to its limit counts as at the limit
 _STICK_TOL = 5e-10  # critical contact: relative acceleration below this (force units, of g_j)
@@ -80,18 +80,19 @@ def _box_qp(W, b, g, L):
         sol = _chol_solve(_cholesky(Wf), rhs)
         for p in range(nfree):
             xp[idx[p]] = sol[p]
-    a = b - W @ xp
+    a = np.empty(z)
+    matvec_into(W, xp, a)
     bscale = np.abs(b).max()
     for i in range(z):
         if bound[i]:
-            if np.sign(xp[i]) * a[i] < -1e-12 * bscale:
+            if np.sign(xp[i]) * (b[i] - a[i]) < -1e-12 * bscale:
                 return x
         elif abs(xp[i]) > g[i]:
             return x
     return xp
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def find_slot(masks, count, mask):
     for k in range(count):
         if masks[k] == mask:
@@ -99,7 +100,7 @@ def find_slot(masks, count, mask):
     return -1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def augmented(y, t, g, dirs, omega, nf, X):
     """Augmented state ``(u, v, lambda, 1, cos, sin)``.
 
@@ -115,22 +116,6 @@ def augmented(y, t, g, dirs, omega, nf, X):
     X[n2 + nf] = 1.0
     X[n2 + nf + 1] = math.cos(omega * t)
     X[n2 + nf + 2] = math.sin(omega * t)
-
-
-@njit(cache=True, nogil=True)
-def bits(mask, nf):
-    """Indices of the set bits of ``mask`` below ``nf``."""
-    count = 0
-    for j in range(nf):
-        if mask >> j & 1:
-            count += 1
-    idx = np.empty(count, dtype=np.int64)
-    count = 0
-    for j in range(nf):
-        if mask >> j & 1:
-            idx[count] = j
-            count += 1
-    return idx
 
 
 @njit(cache=True, nogil=True)
@@ -151,26 +136,61 @@ def _cholesky(W):
 def _chol_solve(L, b):
     """``W^-1 b`` from the Cholesky factor ``L`` of ``W``."""
     x = b.copy()
-    for i in range(L.shape[0]):  # L y = b
-        for m in range(i):
-            x[i] -= L[i, m] * x[m]
-        x[i] /= L[i, i]
-    back_substitute(L.T, x)  # L^T x = y
+    _chol_solve_in_place(L, x)
     return x
 
 
 @njit(cache=True, nogil=True)
-def delassus(Minv, B, idx):
-    """``B_Z``, ``M^-1 B_Z^T`` and the Cholesky factor of ``W = B_Z M^-1 B_Z^T``."""
-    n, z = Minv.shape[0], idx.shape[0]
-    BZ = np.empty((z, n))
-    for p in range(z):
-        BZ[p] = B[idx[p]]
-    MiBt = np.empty((n, z))
-    matmul_into(Minv, BZ.T, MiBt)
-    W = np.empty((z, z))
-    matmul_into(BZ, MiBt, W)
-    return BZ, MiBt, W, _cholesky(W)
+def _chol_solve_in_place(L, x):
+    """``x <- W^-1 x`` from the Cholesky factor ``L`` of ``W``."""
+    for i in range(L.shape[0]):  # L y = x
+        for m in range(i):
+            x[i] -= L[i, m] * x[m]
+        x[i] /= L[i, i]
+    back_substitute(L.T, x)  # L^T x = y
+
+
+@njit(cache=True, nogil=True)
+def delassus_workspace(n, nf):
+    """Room for :func:`delassus` with ``n`` DOFs and ``nf`` contacts: ``(mask held, idx, B_Z, M^-1 B_Z^T, W,
+    L)`` at their largest, the mask -1 (none held yet)."""
+    held, idx = np.full(1, -1, dtype=np.int64), np.empty(nf, dtype=np.int64)
+    return held, idx, np.empty((nf, n)), np.empty((n, nf)), np.empty((nf, nf)), np.empty((nf, nf))
+
+
+@njit(cache=True, nogil=True)
+def delassus(Minv, B, mask, ws):
+    """The contacts of ``mask`` (indices), ``B_Z``, ``M^-1 B_Z^T``, ``W = B_Z M^-1 B_Z^T`` and its Cholesky
+    factor, as views of the workspace ``ws`` (:func:`delassus_workspace`).
+
+    They depend on the set alone: computed only when ``mask`` is not the one
+    ``ws`` holds (an event after an event of the same contacts allocates nothing).
+    """
+    held, idx, BZ, MiBt, W, L = ws
+    nf, n = B.shape
+    z = 0
+    for j in range(nf):
+        if mask >> j & 1:
+            idx[z] = j
+            z += 1
+    if held[0] != mask:
+        for p in range(z):
+            BZ[p] = B[idx[p]]
+        for i in range(n):
+            for p in range(z):
+                s = 0.0
+                for m in range(n):
+                    s += Minv[i, m] * BZ[p, m]
+                MiBt[i, p] = s
+        for p in range(z):
+            for q in range(z):
+                s = 0.0
+                for m in range(n):
+                    s += BZ[p, m] * MiBt[m, q]
+                W[p, q] = s
+        L[:z, :z] = _cholesky(W[:z, :z])
+        held[0] = mask
+    return idx[:z], BZ[:z], MiBt[:, :z], W[:z, :z], L[:z, :z]
 
 
 @njit(cache=True, nogil=True)
@@ -185,23 +205,23 @@ def project(MiBt, BZ, L, V):
             for m in range(n):
                 s += BZ[p, m] * V[m, col]
             w[p] = s
-        x = _chol_solve(L, w)
+        _chol_solve_in_place(L, w)
         for i in range(n):
             s = 0.0
             for p in range(z):
-                s += MiBt[i, p] * x[p]
+                s += MiBt[i, p] * w[p]
             V[i, col] -= s
 
 
 @njit(cache=True, nogil=True)
-def select(t, y, Z, forced, g, dirs, model, omega, patterns):
+def select(t, y, Z, forced, g, dirs, model, omega, patterns, ws):
     """Contact states at ``(t, y)`` for the contacts ``Z`` (bit mask) at zero relative velocity.
 
     See the module docstring for the rule. ``forced``: contacts whose force
     guard triggered the event; ``model``, ``patterns``: packed as
-    :mod:`fretwear.time.codes` says. ``y``'s velocities are projected in place
-    so that the contacts of ``Z`` have exactly zero relative velocity (an
-    M-orthogonal round-off correction).
+    :mod:`fretwear.time.codes` says; ``ws``: the workspace of :func:`delassus`.
+    ``y``'s velocities are projected in place so that the contacts of ``Z``
+    have exactly zero relative velocity (an M-orthogonal round-off correction).
 
     Returns ``(status, stuck mask, directions, need)``.
     """
@@ -209,11 +229,10 @@ def select(t, y, Z, forced, g, dirs, model, omega, patterns):
     masks, Ah, force_rows, _, _, _, count = patterns
     n, nf = Minv.shape[0], B.shape[0]
     out = dirs.copy()
-    idx = bits(Z, nf)
-    z = idx.size
-    if z == 0:
+    if Z == 0:
         return OK, 0, out, 0
-    BZ, MiBt, W, L = delassus(Minv, B, idx)
+    idx, BZ, MiBt, W, L = delassus(Minv, B, Z, ws)
+    z = idx.size
     project(MiBt, BZ, L, y[n:].reshape((n, 1)))
     co, si = math.cos(omega * t), math.sin(omega * t)
     r = np.empty(n)
@@ -268,7 +287,8 @@ def select(t, y, Z, forced, g, dirs, model, omega, patterns):
         c = np.empty((4, D))
         c[0] = X
         for q in range(1, 4):
-            c[q] = Ah[k] @ c[q - 1] / q
+            matvec_into(Ah[k], c[q - 1], c[q])
+            c[q] /= q
         for p in range(z):
             j = idx[p]
             if not (critical >> j & 1):

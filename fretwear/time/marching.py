@@ -52,8 +52,8 @@ from .codes import (
     STICK_CODE,
     STICK_EVENT,
 )
-from .dense import matmul_into
-from .events import augmented, bits, delassus, find_slot, project, select
+from .dense import matmul_into, matvec_into
+from .events import augmented, delassus, delassus_workspace, find_slot, project, select
 from .series import EPS_GUARD, K, dot, first_crossing, row_series, state_at, taylor_series
 
 __all__ = ["march", "MAX_NULL"]
@@ -64,7 +64,7 @@ _AT_LIMIT = 1e-12  # a Jenkins force this close to its slip force is at the limi
 _AT_REST = 1e-13  # a relative velocity this small (of the velocities' scale) is zero at the start
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _phi_at(series, sigma, out):
     """``exp(A_yy h sigma) = sum_k series[k] sigma^k``."""
     out[:, :] = series[K]
@@ -148,6 +148,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
     ny = n2 + kt.shape[0]
     y = y0.copy()
     J = np.eye(ny)
+    ws = delassus_workspace(n, nf)
     sliding = np.zeros(nf)
     n_steps = n_phases = n_events = 0
     t = t0
@@ -172,11 +173,11 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                 Z |= 1 << j
             else:
                 dirs[j] = 1 if vr > 0 else -1
-        status, S, dirs, need = select(t, y, Z, NONE, g, dirs, model, omega, patterns)
+        status, S, dirs, need = select(t, y, Z, NONE, g, dirs, model, omega, patterns, ws)
         if status != OK:
             return status, need, y, J, sliding, 0, 0, 0
         if jacobian and S:
-            BZ, MiBt, _, L = delassus(Minv, B, bits(S, nf))
+            _, BZ, MiBt, _, L = delassus(Minv, B, S, ws)
             project(MiBt, BZ, L, J[n:, :])
     X = np.empty(D)
     Xn = np.empty(D)
@@ -185,6 +186,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
     Phi = np.empty((ny, ny))
     Jt = np.empty((ny, ny))
     ur0 = np.zeros(nf)
+    grad, f_minus, f_plus, Xp = np.empty(n2), np.empty(n2), np.empty(n2), np.empty(D)  # saltation
     off_up = np.zeros(nf)
     off_lo = np.zeros(nf)
     null_events = 0
@@ -316,7 +318,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                         vs += abs(B[j, i]) * (abs(y[n + i]) + omega * abs(y[i]))
                     if abs(vr) <= _NEAR * vs:
                         Zm |= 1 << j
-            status, S_new, d_new, need = select(t, y, Zm, forced, g, dirs, model, omega, patterns)
+            status, S_new, d_new, need = select(t, y, Zm, forced, g, dirs, model, omega, patterns, ws)
             if status != OK:
                 return status, need, y, J, sliding, n_steps, n_phases, n_events
             k_new = find_slot(masks, count, S_new)
@@ -328,7 +330,7 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                     changed = True
             if jacobian and changed:
                 # saltation of the triggering guard
-                grad = np.zeros(n2)
+                grad[:] = 0.0
                 if kind == 2:
                     for i in range(n):
                         grad[n + i] = dirs[who] * B[who, i]
@@ -336,25 +338,31 @@ def march(model, omega, patterns, g, y0, t0, t1, jacobian, record, max_phases, r
                     sgn = -1.0 if kind == 0 else 1.0
                     for i in range(n2):
                         grad[i] = sgn * force_rows[k, who, i]
-                f_minus = (Ah[k] @ X)[:n2] / h
-                Xp = np.empty(D)
+                matvec_into(Ah[k], X, f_minus)
                 augmented(y, t, g, d_new, omega, nf, Xp)
                 for j in range(nf):
                     if S_new >> j & 1:
                         Xp[n2 + j] = 0.0
-                f_plus = (Ah[k_new] @ Xp)[:n2] / step[k_new]
-                hdot = grad @ f_minus
-                jump = f_plus - f_minus
-                if abs(hdot) > 1e-14 * np.abs(grad).sum() * np.abs(f_minus).sum() and np.abs(jump).max() > 0:
+                matvec_into(Ah[k_new], Xp, f_plus)
+                hdot = jump_max = g_abs = f_abs = 0.0
+                for r in range(n2):  # f_minus, f_plus: (A X)[:n2] / h, the vector fields either side
+                    f_minus[r] /= h
+                    f_plus[r] /= step[k_new]
+                    hdot += grad[r] * f_minus[r]
+                    g_abs += abs(grad[r])
+                    f_abs += abs(f_minus[r])
+                    f_plus[r] -= f_minus[r]  # the jump
+                    jump_max = max(jump_max, abs(f_plus[r]))
+                if abs(hdot) > 1e-14 * g_abs * f_abs and jump_max > 0:
                     for col in range(n2):  # J += (jump / hdot) (grad^T J)
                         gj = 0.0
                         for r in range(n2):
                             gj += grad[r] * J[r, col]
                         gj /= hdot
                         for r in range(n2):
-                            J[r, col] += jump[r] * gj
+                            J[r, col] += f_plus[r] * gj
                 if S_new & ~S:
-                    BZ, MiBt, _, L = delassus(Minv, B, bits(S_new, nf))
+                    _, BZ, MiBt, _, L = delassus(Minv, B, S_new, ws)
                     project(MiBt, BZ, L, J[n:, :])
         if changed and record:
             for j in range(nf):

@@ -32,7 +32,7 @@ _STALL = 6  # Newton gives up when its residual has not halved over this many it
 _STEP_TOL = 1e-7  # a Newton step below this (relative) ends the iterations (residual ~ step^2)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def scaled_norm(y, n, omega, kt):
     """``|y|`` with the velocities ``y[n:2 n]`` scaled by ``1 / omega`` and Jenkins forces ``y[2 n:]`` by
     ``1 / kt`` (m)."""

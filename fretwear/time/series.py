@@ -86,7 +86,7 @@ def taylor_series(Ah, X, c, n):
         c[k, i_one + 2] = Ah[i_one + 2, i_one + 1] * c[k - 1, i_one + 1] * inv
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def state_at(c, sigma, out):
     """``X(sigma) = sum_k c[k] sigma^k`` (Horner)."""
     out[:] = c[K]
@@ -95,7 +95,7 @@ def state_at(c, sigma, out):
             out[i] = out[i] * sigma + c[k, i]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def row_series(row, c, lo, hi, scale, a):
     """``a[k] = scale * row[lo:hi] . c[k, lo:hi]``."""
     for k in range(K + 1):
@@ -105,7 +105,7 @@ def row_series(row, c, lo, hi, scale, a):
         a[k] = scale * s
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def dot(a, b, lo, hi):
     """``a[: hi - lo] . b[lo:hi]`` and ``|a| . |b|`` (value and round-off scale)."""
     s = 0.0
@@ -117,7 +117,7 @@ def dot(a, b, lo, hi):
     return s, m
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def poly(a, x):
     """Value and derivative of ``sum_k a[k] x^k``."""
     p = a[K]
@@ -150,7 +150,7 @@ def _refine(a, shift, lo, hi):
     return x
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def poly2(a, x):
     """Value, first and second derivative of ``sum_k a[k] x^k``."""
     p = a[K]
@@ -163,7 +163,7 @@ def poly2(a, x):
     return p, d, 2.0 * dd
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _quadratic_reach(q0, d1, c):
     """First positive root of ``q0 + d1 x + c x^2`` (``q0 >= 0``), ``inf`` if none."""
     if c == 0.0:

@@ -194,16 +194,6 @@ def server(tmp_path_factory, study):
     stop_server(proc, log_path)
 
 
-@pytest.fixture(scope="module")
-def browser():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        chromium = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
-        yield chromium
-        chromium.close()
-
-
 class Page:
     """A page of the dashboard that records its requests and its uncaught errors."""
 

@@ -9,15 +9,12 @@ entries, the finite cells of each patch image, colour bar titles (the units) and
 
 import math
 import time
-from pathlib import Path
 
 import pytest
-from test_browser import CHROMIUM, CHROMIUM_ARGS, Page, start_server, stop_server, until
+from test_browser import Page, start_server, stop_server, until
 
 pytestmark = pytest.mark.browser
 
-#: where the screenshot of the tab goes (looked at by people, not by the test)
-SHOTS = Path("/tmp/iview")
 #: what an image plot titled ``prefix...`` draws: its finite cells and its colour bar's title
 IMAGE_JS = """
 (prefix) => {
@@ -39,23 +36,6 @@ IMAGE_JS = """
   return null;
 }
 """
-#: scroll the plot titled ``prefix...`` to the top of the window
-SCROLL_JS = """
-(prefix) => {
-  const stack = Object.values(Bokeh.index), seen = new Set();
-  while (stack.length) {
-    const v = stack.pop();
-    if (!v || seen.has(v)) continue;
-    seen.add(v);
-    if (v.model && v.model.title && String(v.model.title.text).startsWith(prefix) && v.frame) {
-      v.el.scrollIntoView({block: "start"});
-      return true;
-    }
-    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
-  }
-  return false;
-}
-"""
 SPHERE = "sphere (3-D), partial slip"
 
 
@@ -65,16 +45,6 @@ def server(tmp_path_factory):
     proc, url = start_server(log_path)
     yield url
     stop_server(proc, log_path)
-
-
-@pytest.fixture(scope="module")
-def browser():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        chromium = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
-        yield chromium
-        chromium.close()
 
 
 def test_the_sphere_shows_its_patch_from_above_and_its_fretting_loop(browser, server):
@@ -119,11 +89,6 @@ def test_the_sphere_shows_its_patch_from_above_and_its_fretting_loop(browser, se
         assert all(math.isfinite(v) for f in loop for v in f["x"] + f["y"])
         assert max(loop[0]["y"]) > 0 > min(loop[0]["y"])  # the force turns with the holder
         seconds = time.perf_counter() - start
-        SHOTS.mkdir(parents=True, exist_ok=True)
-        page.page.screenshot(path=str(SHOTS / "interface_sphere.png"))
-        page.page.evaluate(SCROLL_JS, "Interface: 3-D patch, pressure")  # the patch's row in view
-        page.page.wait_for_timeout(500)
-        page.page.screenshot(path=str(SHOTS / "interface_sphere_patch.png"))
         print(f"sphere chosen to its patch and loop drawn: {seconds:.1f} s")
         page.check_clean()
     finally:
