@@ -40,7 +40,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["FIXED", "FREE", "MIXED", "harmonic_blocks", "classify", "structured_step"]
+__all__ = ["FIXED", "FREE", "MIXED", "harmonic_blocks", "dense_from_blocks", "classify", "structured_step"]
 
 #: kinds of a contact coordinate's rows of ``J`` (module text)
 FIXED, FREE, MIXED = 0, 1, 2
@@ -75,6 +75,32 @@ def harmonic_blocks(Z: np.ndarray, coordinates: int, H: int) -> np.ndarray:
         idx = np.concatenate([c + 2 * k - 1, c + 2 * k])
         Zb[k] = Z[np.ix_(idx, idx)]
     return Zb
+
+
+def dense_from_blocks(Zb: np.ndarray) -> np.ndarray:
+    """The dense ``Z`` (q H, q H) (N/m) from its harmonic blocks: the inverse of :func:`harmonic_blocks`.
+
+    Parameters
+    ----------
+    Zb : (Nh + 1, 2 q, 2 q) blocks in :func:`harmonic_blocks`' layout (``Zb[0, q:, :]`` and
+        ``Zb[0, :, q:]`` unused).
+
+    Returns
+    -------
+    Z : (q H, q H), ``H = 2 Nh + 1``, contact-major (entry ``c H + j`` slot ``j`` of coordinate ``c``);
+        zero between two harmonics (eq. 11).
+    """
+    if Zb.ndim != 3 or Zb.shape[1] != Zb.shape[2] or Zb.shape[1] % 2:
+        raise ValueError(f"Zb must be (Nh + 1, 2 q, 2 q), got shape {Zb.shape}")
+    Nh, q = Zb.shape[0] - 1, Zb.shape[1] // 2
+    H = 2 * Nh + 1
+    Z = np.zeros((q, H, q, H))
+    Z[:, 0, :, 0] = Zb[0, :q, :q]
+    for k in range(1, Nh + 1):  # Nh + 1 block copies, not a hot path
+        for a, sa in ((0, 2 * k - 1), (1, 2 * k)):
+            for b, sb in ((0, 2 * k - 1), (1, 2 * k)):
+                Z[:, sa, :, sb] = Zb[k, a * q : (a + 1) * q, b * q : (b + 1) * q]
+    return Z.reshape(q * H, q * H)
 
 
 @njit(cache=True, nogil=True)

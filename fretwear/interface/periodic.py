@@ -58,6 +58,7 @@ from ..hbm.cone_problem import walk_kernel as cone_walk_kernel
 from ..hbm.harmonics import HarmonicBasis, default_samples
 from ..hbm.newton import SINGULAR
 from ..hbm.strategy import NewtonResult, Steps, newton_message
+from ..hbm.structured import dense_from_blocks
 from .contact import STICK, evaluate, slip_work
 from .interrupt import check_interrupt
 from .kernels import evaluate_kernel, newton_kernel, walk_kernel
@@ -196,14 +197,7 @@ class InterfaceProblem:
     def Z(self) -> np.ndarray:
         """The dense reduced dynamic stiffness (size, size) (N/m), formed from the blocks on first use: the
         dense path and the walks need it, the structured Newton steps do not."""
-        Zb, H, q = self._blocks, self.basis.size, self.per_pair * self.n_pairs
-        Z = np.zeros((q, H, q, H))
-        Z[:, 0, :, 0] = Zb[0, :q, :q]
-        for k in range(1, self.harmonics + 1):
-            for a, sa in ((0, 2 * k - 1), (1, 2 * k)):
-                for b, sb in ((0, 2 * k - 1), (1, 2 * k)):
-                    Z[:, sa, :, sb] = Zb[k, a * q : (a + 1) * q, b * q : (b + 1) * q]
-        return Z.reshape(q * H, q * H)
+        return dense_from_blocks(self._blocks)
 
     @property
     def n_pairs(self) -> int:

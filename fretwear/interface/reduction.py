@@ -23,6 +23,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..hbm.harmonics import HarmonicBasis
+from ..hbm.structured import dense_from_blocks
 from ..model import ContactPairs, Model
 
 __all__ = ["ContactCondensation"]
@@ -210,17 +211,7 @@ class ContactCondensation:
         = 0``, ``lambda_T2 = 0`` is the law's solution for it, as the symmetry requires.
         """
         Zb, F = self.harmonic_blocks(omega, basis, binormal)
-        H = basis.size
-        nq = Zb.shape[1] // 2
-        Zr = np.zeros((nq, H, nq, H))
-        Zr[:, 0, :, 0] = Zb[0, :nq, :nq]
-        for k in range(1, basis.harmonics + 1):
-            c, s = 2 * k - 1, 2 * k
-            Zr[:, c, :, c] = Zb[k, :nq, :nq]
-            Zr[:, c, :, s] = Zb[k, :nq, nq:]
-            Zr[:, s, :, c] = Zb[k, nq:, :nq]
-            Zr[:, s, :, s] = Zb[k, nq:, nq:]
-        return Zr.reshape(nq * H, nq * H), F
+        return dense_from_blocks(Zb), F
 
     def harmonic_blocks(
         self, omega: float, basis: HarmonicBasis, binormal: bool = False

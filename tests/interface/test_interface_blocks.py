@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from fretwear.hbm.newton import block_matvec
+from fretwear.hbm.structured import dense_from_blocks, harmonic_blocks
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.periodic import InterfaceProblem
 from fretwear.interface.reduction import ContactCondensation
@@ -49,3 +50,15 @@ def test_block_residual_is_the_dense_residual(pair):
         assert np.allclose(got[0], ref[0], rtol=0, atol=1e-10 * scale)
         for a, b in zip(got[1:], ref[1:], strict=True):
             assert np.allclose(a, b, rtol=1e-10, atol=1e-12 * max(np.abs(b).max(), 1e-300))
+
+
+def test_dense_from_blocks_inverts_harmonic_blocks(pair):
+    """``dense_from_blocks`` and ``harmonic_blocks`` are inverse: exactly, both ways (random blocks, the
+    interface's ``Z``), and the block problem's ``Z`` is the dense problem's."""
+    dense, blocks = pair
+    q, H = dense.per_pair * dense.n_pairs, dense.basis.size
+    Zb = np.random.default_rng(5).standard_normal(blocks.blocks.shape)
+    Zb[0, q:, :] = Zb[0, :, q:] = 0.0  # not part of Z (the mean has one slot)
+    assert np.array_equal(harmonic_blocks(dense_from_blocks(Zb), q, H), Zb)
+    assert np.array_equal(dense_from_blocks(harmonic_blocks(dense.Z, q, H)), dense.Z)
+    assert np.array_equal(blocks.Z, dense.Z)
