@@ -221,7 +221,7 @@ class ContactCondensation:
 
         ``Zb[0, :q, :q]`` is the mean's block (real ``Z_0``); for ``k >= 1`` the block on the cosine slots
         then the sine slots of the coordinates, ``[[Re Z_k, Im Z_k], [-Im Z_k, Re Z_k]]`` (N/m): the
-        layout of :func:`fretwear.hbm.structured.harmonic_blocks`, ``(Nh + 1) 4 q^2`` numbers against
+        layout of ``fretwear.hbm.structured.harmonic_blocks``, ``(Nh + 1) 4 q^2`` numbers against
         ``q^2 H^2`` for the dense ``Z``.
         """
         if basis.half_wave:
