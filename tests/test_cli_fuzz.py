@@ -328,7 +328,9 @@ def _cpu_seconds(pid: int) -> float:
 
 def test_ctrl_c_in_a_compiled_interface_wear_history_exits_130_at_once(tmp_path):
     """Issue 22: Ctrl-C was swallowed inside a compiled Newton call; the run went on and exited 0."""
-    argv = ["interface", "--kw", "1e-14", "--cycles", "1e8", "--converge", "1e-3", "--out", "i.csv"]
+    # 48 pairs: about 9 s of CPU (32 pairs, 4.9 s since the penalty continuation, ended before the signal)
+    argv = ["interface", "--kw", "1e-14", "--cycles", "1e8", "--converge", "1e-3", "--contact-nodes", "48",
+            "--out", "i.csv"]  # fmt: skip
     pid = []
     code, err, seconds = _interrupt(tmp_path, argv, lambda: _cpu_seconds(pid[0]) > 4.0, pid)
     assert "Traceback" not in err and code == 130, err
