@@ -431,7 +431,8 @@ def warm_in_processes(
     Each process takes one core and writes the machine code to Numba's on-disk
     cache, from which this process and later ones load it: on a cold cache (a
     fresh install) two cores take about half the time of :func:`warm` (measured
-    on two cores: about 120 s for all the groups, against 220-250 s in turn).
+    on the project's two cores, load 1-1.7: 177-191 s for all the groups, against
+    220-250 s in turn on a quieter machine).
     Warnings of the tiny runs are not shown. A process that fails only costs
     time: the kernels then compile on first use. ``env``: the processes'
     environment (default: this one's). Returns ``(groups, ok)`` per process.

@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from .codes import NEED_PATTERN, OK
-from .dense import back_substitute, matvec_into
+from .dense import back_substitute, matmul_into, matvec_into
 from .series import EPS_GUARD, dot
 
 __all__ = ["select", "find_slot", "augmented", "delassus", "delassus_workspace", "project"]
@@ -176,18 +176,8 @@ def delassus(Minv, B, mask, ws):
     if held[0] != mask:
         for p in range(z):
             BZ[p] = B[idx[p]]
-        for i in range(n):
-            for p in range(z):
-                s = 0.0
-                for m in range(n):
-                    s += Minv[i, m] * BZ[p, m]
-                MiBt[i, p] = s
-        for p in range(z):
-            for q in range(z):
-                s = 0.0
-                for m in range(n):
-                    s += BZ[p, m] * MiBt[m, q]
-                W[p, q] = s
+        matmul_into(Minv, BZ[:z].T, MiBt[:, :z])
+        matmul_into(BZ[:z], MiBt[:, :z], W[:z, :z])
         L[:z, :z] = _cholesky(W[:z, :z])
         held[0] = mask
     return idx[:z], BZ[:z], MiBt[:, :z], W[:z, :z], L[:z, :z]
