@@ -590,17 +590,22 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         )
     ]
     status, notes = run_status(scene), message_list(scene, "notes")
-    panes = {
-        name: live_pane(
+
+    def pane(name: str) -> Any:
+        return live_pane(
             partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])]
         )
-        for name in scene.figure_names
-    }
-    patch.objects = [panes.pop(name) for name in PATCH_FIGURES]
+
+    panes = [pane(name) for name in scene.figure_names if name not in PATCH_FIGURES]
 
     def follow(*_events: Any) -> None:
-        patch.visible = scene.model in SPHERES
-        nodes.disabled = scene.model in SPHERES
+        sphere = scene.model in SPHERES
+        # the patch's figures are drawn only while a sphere is shown (four plots fewer to build and send)
+        if sphere and not patch.objects:
+            patch.objects = [pane(name) for name in PATCH_FIGURES]
+        elif not sphere:
+            patch.objects = []
+        patch.visible = nodes.disabled = sphere
 
     scene.param.watch(follow, ["model"])
     follow()
@@ -621,7 +626,7 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
         explanation,
         control_row(model, nodes, *boxes),
         status,
-        figure_grid(list(panes.values())),
+        figure_grid(panes),
         patch,
         notes,
         export_card(scene),

@@ -410,3 +410,24 @@ def test_the_patch_and_loop_exports_have_no_overlaps(sphere, size):
         finally:
             plt.close(figure)
     assert {k: v for k, v in faults.items() if v} == {}
+
+
+def test_the_patch_figures_are_built_only_while_a_sphere_is_shown(run, sphere):
+    """The four plots of the 3-D patch are made (and sent to the browser) only for a sphere model: the
+    cylinder's tab draws five figures, not nine."""
+    import panel as pn
+
+    from app.scenes.interface import GROSS, PATCH_FIGURES, SPHERE_PARTIAL, interface_tab
+
+    def tab(scene):  # (its figures, the patch's row)
+        layout = interface_tab(scene, lambda _scene: pn.Column())
+        return layout[3], layout[4]
+
+    grid, row = tab(InterfaceScene(tasks=run[0].tasks))  # its run is in that cache: nothing computes
+    assert len(grid.objects) == 5 and row.objects == [] and not row.visible
+    shown = InterfaceScene(tasks=sphere.tasks)
+    shown.model = SPHERE_PARTIAL
+    grid, row = tab(shown)
+    assert len(grid.objects) == 5 and len(row.objects) == len(PATCH_FIGURES) and row.visible
+    shown.model = GROSS  # the row empties (a run of the 16-pair cylinder)
+    assert row.objects == [] and not row.visible
