@@ -7,7 +7,7 @@ from scipy.integrate import quad
 import fretwear as fw
 from fretwear.time.patterns import Table
 from fretwear.wear import sliding
-from fretwear.wear.sliding import SlidingTable, cached_solves, sliding_table
+from fretwear.wear.sliding import SlidingTable, cached_solves, sliding_table, sliding_tables
 
 OMEGA = 2 * np.pi * 0.7
 
@@ -63,6 +63,19 @@ def test_table_interpolates_the_exact_sliding_distance_and_is_reused():
     other = fw.paper_model(fex=20, mu=0.7, normal_load=20)  # rho = 0.7 ... in range
     sliding_table(other, OMEGA, 0.5, 0.7, tol=1e-2)
     assert cached_solves(model, OMEGA) == before
+
+
+def test_the_same_frequency_of_another_grid_shares_its_table():
+    """A narrower band on the same step: its frequencies differ from the wider band's in the last bits
+    (2 pi f too), and reuse their tables: no new solve."""
+    model = fw.paper_model(fex=10)
+    wide, narrow = np.linspace(0.3, 1.3, 11)[3:6], np.linspace(0.3, 1.2, 10)[3:6]
+    assert np.any(2 * np.pi * wide != 2 * np.pi * narrow) and np.allclose(wide, narrow, rtol=1e-15)
+    tables = sliding_tables(model, 2 * np.pi * wide, 0.5, tol=1e-2)
+    spent = [cached_solves(model, 2 * np.pi * f) for f in wide]
+    again = sliding_tables(model, 2 * np.pi * narrow, 0.5, tol=1e-2)
+    assert [cached_solves(model, 2 * np.pi * f) for f in narrow] == spent and min(spent) > 0
+    assert all(a is b for a, b in zip(tables, again, strict=True))
 
 
 def _synthetic_table(rho, s_hat, rho_stick):
