@@ -17,7 +17,7 @@ where ``Z_0`` is singular but finite.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
@@ -120,10 +120,12 @@ class _GluedModes:
     so only the modes with mass (``mu_j > 0``) enter the second term: ``Phi = R^-1 U``, ``U`` the left
     singular vectors of ``R^-T L`` (``L L^T = M_ss``, ``mu = sigma^2``), as many as ``M_ss``'s rank (two
     for the sphere's holder, every mode for a Craig-Bampton model). With ``Y = R^-T K_sq``, ``Y_M = R^-T
-    M_sq``, ``P = c1 Y^T U + c2 Y_M^T U`` and ``f = R^-T f_s``, eq. 11's Schur complement is
+    M_sq``, ``P = c1 Y^T U + c2 Y_M^T U`` and ``f = R^-T f_s``, eq. 11 is, with ``D_qq = c1 K_qq + c2 M_qq``,
 
-        D_qs D_ss^-1 D_sq = c1 Y^T Y + c2 (Y^T Y_M + Y_M^T Y) + (c2^2 / c1) Y_M^T Y_M - P diag(g) P^T,
-        D_qs D_ss^-1 f_s = Y^T f + (c2 / c1) Y_M^T f - P diag(g) U^T f:
+        Z = c1 (K_qq - Y^T Y) + c2 (M_qq - Y^T Y_M - Y_M^T Y) - (c2^2 / c1) Y_M^T Y_M + P diag(g) P^T,
+        F = f_q - Y^T f - (c2 / c1) Y_M^T f + P diag(g) U^T f:
+
+    three real matrices (``Z_K``, the static ``Z_0``; ``Z_M``; ``S_MM``) and the modes with mass.
 
     ``O(s^3)`` once (``s`` condensed coordinates), then ``O(q^2 r)`` per harmonic and frequency against
     an ``O(s^3 + s^2 q + s q^2)`` complex LU and solve each.
@@ -136,8 +138,8 @@ class _GluedModes:
     mu: np.ndarray  # (r,) their 1 / omega_j^2 (s^2)
     Y: np.ndarray  # (s, q) R^-T K_sq
     Y_M: np.ndarray | None  # (s, q) R^-T M_sq, None where M_sq = 0
-    S_KK: np.ndarray  # (q, q) K_qs K_ss^-1 K_sq
-    S_KM: np.ndarray | None  # (q, q) K_qs K_ss^-1 M_sq + its transpose
+    Z_K: np.ndarray  # (q, q) K_qq - K_qs K_ss^-1 K_sq: Z_0
+    Z_M: np.ndarray | None  # (q, q) M_qq - K_qs K_ss^-1 M_sq - its transpose, None where 0
     S_MM: np.ndarray | None  # (q, q) M_qs K_ss^-1 M_sq
     A: np.ndarray  # (q, r) K_qs Phi
     B: np.ndarray | None  # (q, r) M_qs Phi
@@ -171,9 +173,11 @@ class _GluedModes:
             U, sig = U[:, rank], sig[rank]
         Y = cls._whiten(R, K[q:, :q])
         Y_M = cls._whiten(R, M[q:, :q]) if np.any(M[q:, :q]) else None
-        S_KM = None if Y_M is None else Y.T @ Y_M
+        S_KM = 0.0 if Y_M is None else Y.T @ Y_M
+        Z_K, Z_M = K[:q, :q] - Y.T @ Y, 0.5 * (M[:q, :q] + M[:q, :q].T) - (S_KM + np.transpose(S_KM))
+        Z_M = Z_M if np.any(Z_M) else None
         return cls(
-            alpha, beta, R, U, sig**2, Y, Y_M, Y.T @ Y, None if S_KM is None else S_KM + S_KM.T,
+            alpha, beta, R, U, sig**2, Y, Y_M, 0.5 * (Z_K + Z_K.T), Z_M,
             None if Y_M is None else Y_M.T @ Y_M, Y.T @ U, None if Y_M is None else Y_M.T @ U,
         )  # fmt: skip
 
@@ -199,30 +203,58 @@ class _GluedModes:
             )
         return c1, c2, c2 * self.mu / (c1 * den)
 
-    def schur(self, D_qq: np.ndarray, f: np.ndarray, w: float) -> tuple[np.ndarray, np.ndarray]:
-        """``(Z, F)`` of eq. 11 at the angular frequency ``w`` (rad/s) from ``D_qq`` and the force ``f`` on
-        every coordinate (class text)."""
+    def terms(self, w: float) -> tuple[list, np.ndarray | None]:
+        """``Z`` at the angular frequency ``w`` (rad/s) as ``sum_i c_i X_i`` (real ``X_i``, complex ``c_i``:
+        the list of pairs) plus its modal part ``P diag(g) P^T`` (complex, symmetric; None at ``w = 0``)
+        (class text)."""
         c1, c2, g = self._coefficients(w)
-        q = D_qq.shape[0]
-        Z = D_qq - c1 * self.S_KK
-        fw = self._whiten(self.R, f[q:])
-        F = f[:q] - self.Y.T @ fw
+        out = [(c1, self.Z_K)]
+        if c2 != 0 and self.Z_M is not None:
+            out.append((c2, self.Z_M))
+        if c2 != 0 and self.S_MM is not None:
+            out.append((-(c2**2) / c1, self.S_MM))
+        if c2 == 0 or not len(g):
+            return out, None
+        P = c1 * self.A if self.B is None else c1 * self.A + c2 * self.B
+        W = (P * g) @ P.T
+        return out, 0.5 * (W + W.T)
+
+    def force(self, f_q: np.ndarray, f_s: np.ndarray, w: float) -> np.ndarray:
+        """``F`` of eq. 11 at the angular frequency ``w`` (rad/s) from the forces ``f_q`` and ``f_s`` (N) on
+        the kept and the condensed coordinates (class text)."""
+        c1, c2, g = self._coefficients(w)
+        fw = self._whiten(self.R, f_s)
+        F = f_q - self.Y.T @ fw
         if self.Y_M is not None and c2 != 0:
-            Z = Z - c2 * self.S_KM - (c2**2 / c1) * self.S_MM
             F = F - (c2 / c1) * (self.Y_M.T @ fw)
         if c2 != 0 and len(g):
             P = c1 * self.A if self.B is None else c1 * self.A + c2 * self.B
-            Pg = P * g
-            Z = Z + Pg @ P.T
-            F = F + Pg @ (self.U.T @ fw)
-        return 0.5 * (Z + Z.T), F
+            F = F + (P * g) @ (self.U.T @ fw)
+        return F
+
+    def schur(self, f: np.ndarray, w: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(Z, F)`` of eq. 11 at the angular frequency ``w`` (rad/s) from the force ``f`` (N) on every
+        coordinate."""
+        terms, W = self.terms(w)
+        Z = sum(c * X for c, X in terms)
+        q = self.Z_K.shape[0]
+        return (Z if W is None else Z + W), self.force(f[:q], f[q:], w)
+
+    def permuted(self, idx: np.ndarray) -> _GluedModes:
+        """The same on the kept coordinates ``idx`` (a permutation, possibly repeating some)."""
+        sub = {k: getattr(self, k) for k in ("Z_K", "Z_M", "S_MM")}
+        sub = {k: None if v is None else v[np.ix_(idx, idx)] for k, v in sub.items()}
+        return replace(
+            self, **sub, A=self.A[idx], B=None if self.B is None else self.B[idx], Y=self.Y[:, idx],
+            Y_M=None if self.Y_M is None else self.Y_M[:, idx],
+        )  # fmt: skip
 
     def solve(self, w: float, rhs: np.ndarray) -> np.ndarray:
         """``D_ss^-1 rhs`` at the angular frequency ``w`` (rad/s) (class text)."""
         c1, c2, g = self._coefficients(w)
         y = self._whiten(self.R, rhs)
         if c2 != 0 and len(g):
-            y = y / c1 - self.U @ (g * (self.U.T @ y)) if y.ndim == 1 else y / c1 - self.U @ (g[:, None] * (self.U.T @ y))
+            y = y / c1 - self.U @ ((g if y.ndim == 1 else g[:, None]) * (self.U.T @ y))
         else:
             y = y / c1
         if np.iscomplexobj(y):
@@ -240,6 +272,10 @@ class ContactCondensation:
     model : Model
         A model with contact pairs and dense matrices: a reduced model
         (:func:`~fretwear.model.craig_bampton`) or a small dense one.
+    modal : bool
+        Apply ``D_ss^-1`` by the glued structure's modes when the damping is proportional
+        (:class:`_GluedModes`; same answer, a factorization for every harmonic and frequency less);
+        False: always by a complex LU per harmonic (the reference).
 
     Attributes
     ----------
@@ -250,7 +286,7 @@ class ContactCondensation:
         a reduced model, else ``model``.
     """
 
-    def __init__(self, model: Model) -> None:
+    def __init__(self, model: Model, modal: bool = True) -> None:
         if not isinstance(model, Model) or model.pairs is None:
             raise ValueError(f"model must be a Model with contact pairs, got {model!r:.80}")
         if model.sparse:
@@ -259,15 +295,19 @@ class ContactCondensation:
                 "(fretwear.reduce, Craig-Bampton) to dense matrices on the contact and loaded DOFs"
             )
         self.model = model
+        self.modal = bool(modal)
         self.full = model if model.reduction is None else model.reduction.full
         T, self.n_q, self.has_binormal = _contact_coordinates(model.pairs, model.n_dofs)
         self.T = T
         Ts = sp.csr_matrix(T)  # a permutation and the pairs' couplings: sparse products, not n^3 dense ones
-        self.K, self.M, self.C = (np.ascontiguousarray((Ts.T @ (Ts.T @ A).T).T) for A in (model.K, model.M, model.C))
+        self.K, self.M, self.C = (
+            np.ascontiguousarray((Ts.T @ (Ts.T @ A).T).T) for A in (model.K, model.M, model.C)
+        )
         self.force_static = T.T @ model.force_static
         self.force_harmonic = T.T @ (model.force_cos - 1j * model.force_sin)  # complex amplitude
         self._modes: dict[int, _GluedModes | None] = {}
         self._lu_cache: tuple = (None, None)
+        self._permuted: dict = {}
 
     @property
     def n_pairs(self) -> int:
@@ -279,6 +319,13 @@ class ContactCondensation:
         if w == 0:
             return self.K
         return self.K - w**2 * self.M + 1j * w * self.C
+
+    def _block(self, omega: float, order: int, rows: slice, cols: slice) -> np.ndarray:
+        """The block ``D_k[rows, cols]`` of :meth:`dynamic_stiffness`, formed alone."""
+        w = order * omega
+        if w == 0:
+            return self.K[rows, cols]
+        return self.K[rows, cols] - w**2 * self.M[rows, cols] + 1j * w * self.C[rows, cols]
 
     def forcing(self, order: int, scale: float = 1.0) -> np.ndarray:
         """Force amplitude of order ``k`` in ``z`` (static load for ``k = 0``, excitation for ``k = 1``)."""
@@ -310,7 +357,7 @@ class ContactCondensation:
         """The glued structure's modes on ``z[keep:]`` (:class:`_GluedModes`, cached per ``keep``), or None
         when ``C`` is not proportional or ``K_ss`` not positive definite (then the LU path)."""
         if keep not in self._modes:
-            ab = self.proportional
+            ab = self.proportional if self.modal else None
             self._modes[keep] = None if ab is None else _GluedModes.build(self, keep, *ab)
         return self._modes[keep]
 
@@ -318,7 +365,7 @@ class ContactCondensation:
         """LU factors of ``D_ss`` (the general path), the last one cached."""
         key = (omega * order, keep)
         if self._lu_cache[0] != key:
-            D_ss = self.dynamic_stiffness(omega, order)[keep:, keep:]
+            D_ss = self._block(omega, order, slice(keep, None), slice(keep, None))
             try:
                 fac = sla.lu_factor(D_ss, check_finite=False)
             except (sla.LinAlgError, ValueError) as exc:
@@ -352,15 +399,16 @@ class ContactCondensation:
         eigenproblem), ``"lu"``, by a complex LU of ``D_ss`` (the general path), or ``"none"`` (no
         coordinate to condense).
         """
-        D = self.dynamic_stiffness(omega, order)
         q = self.n_q if keep is None else keep
         f = self.forcing(order)
-        if D.shape[0] == q:  # every coordinate is a contact coordinate
+        if self.K.shape[0] == q:  # every coordinate is a contact coordinate
+            D = self.dynamic_stiffness(omega, order)
             return 0.5 * (D + D.T), f, "none"
         modes = self._modal(q)
         if modes is not None:
-            Z, F = modes.schur(D[:q, :q], f, order * omega)
+            Z, F = modes.schur(f, order * omega)
             return Z, F, "modal"
+        D = self.dynamic_stiffness(omega, order)
         X = sla.lu_solve(self._lu(omega, order, q), np.column_stack([D[q:, :q], f[q:]]), check_finite=False)
         Z = D[:q, :q] - D[:q, q:] @ X[:, :q]
         F = f[:q] - D[:q, q:] @ X[:, q]
@@ -426,6 +474,9 @@ class ContactCondensation:
         nq = len(order) if binormal else self.n_q
         Zb = np.zeros((basis.harmonics + 1, 2 * nq, 2 * nq))
         Fr = np.zeros((nq, H))
+        modes = self._modal(keep) if self.K.shape[0] > keep else None
+        if modes is not None:  # the blocks from the modes' real terms, in the kept order
+            return self._modal_blocks(modes, omega, basis, keep, order, Zb, Fr)
         for k in range(basis.harmonics + 1):
             Zk, Fk, _ = self.schur(omega, k, keep)
             if binormal:  # to the pair-major (t, b, n) order, a dummy binormal where the pair has none
@@ -445,6 +496,41 @@ class ContactCondensation:
             Fr[:, 2 * k - 1] = Fk.real
             Fr[:, 2 * k] = -Fk.imag
         return Zb, Fr.reshape(nq * H)
+
+    def _modal_blocks(self, modes, omega, basis, keep, order, Zb, Fr) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`harmonic_blocks` by the glued structure's modes: per harmonic a few real ``q x q`` sums
+        (:meth:`_GluedModes.terms`), permuted once to the pair-major order."""
+        nq = Zb.shape[1] // 2
+        idx = np.arange(nq) if order is None else np.where(order < 0, 0, order)
+        held = np.flatnonzero(idx != (np.arange(nq) if order is None else order))
+        key = (keep, idx.tobytes())
+        if key not in self._permuted:
+            self._permuted[key] = modes if order is None else modes.permuted(idx)
+        perm = self._permuted[key]
+        for k in range(basis.harmonics + 1):
+            f = self.forcing(k)
+            Fk = perm.force(f[:keep][idx], f[keep:], k * omega)
+            terms, W = perm.terms(k * omega)
+            X = np.zeros((nq, nq)) if W is None else W.real.copy()
+            Y = np.zeros((nq, nq)) if W is None else W.imag.copy()
+            for c, A in terms:
+                X += np.real(c) * A
+                if np.imag(c) != 0:
+                    Y += np.imag(c) * A
+            if held.size:  # a dummy binormal: decoupled, the pair's tangent's |Z_k| on its diagonal
+                diag = np.abs(X[held - 1, held - 1] + 1j * Y[held - 1, held - 1])
+                X[held, :], X[:, held], Y[held, :], Y[:, held], Fk[held] = 0.0, 0.0, 0.0, 0.0, 0.0
+                X[held, held] = diag
+            if k == 0:
+                Zb[0, :nq, :nq] = X
+                Fr[:, 0] = Fk.real
+                continue
+            Zb[k, :nq, :nq] = Zb[k, nq:, nq:] = X
+            Zb[k, :nq, nq:] = Y
+            Zb[k, nq:, :nq] = -Y
+            Fr[:, 2 * k - 1] = Fk.real
+            Fr[:, 2 * k] = -Fk.imag
+        return Zb, Fr.reshape(nq * basis.size)
 
     def full_harmonics(
         self, omega: float, harmonics: int, q: np.ndarray, dofs: np.ndarray | None = None
@@ -469,9 +555,9 @@ class ContactCondensation:
         out_z = np.zeros((self.T.shape[0], 2 * harmonics + 1))
         nq = q.shape[0]
         for k in range(harmonics + 1):
-            D = self.dynamic_stiffness(omega, k)
             qk = q[:, 0] if k == 0 else q[:, 2 * k - 1] - 1j * q[:, 2 * k]
-            zs = self.glued_solve(omega, k, self.forcing(k)[nq:] - D[nq:, :nq] @ qk, nq)
+            D_sq = self._block(omega, k, slice(nq, None), slice(nq))
+            zs = self.glued_solve(omega, k, self.forcing(k)[nq:] - D_sq @ qk, nq)
             z = np.concatenate([qk, zs])
             if k == 0:
                 out_z[:, 0] = z.real

@@ -13,6 +13,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from fretwear.hbm.harmonics import HarmonicBasis
 from fretwear.interface.reduction import ContactCondensation
 from fretwear.interface.sphere import holder_frequency, sphere_dynamic_model
 from fretwear.model import craig_bampton
@@ -89,3 +90,20 @@ def test_non_proportional_damping_takes_the_lu_path(cylinder):
         Zd, Fd = dense_schur(cond, omega, k, cond.n_q)
         assert_close(Z, Zd)
         assert_close(F, Fd) if k <= 1 else np.testing.assert_array_equal(F, 0.0)
+
+
+@pytest.mark.parametrize("binormal", [False, True])
+def test_modal_harmonic_blocks_are_the_lu_ones(sphere, cylinder, binormal):
+    # the blocks by harmonic in the solver's layout, binormals reordered and a dummy one on the symmetry plane
+    omega = 2 * np.pi * 0.3 * holder_frequency()
+    basis = HarmonicBasis(3, 16, False)
+    for model in (sphere, cylinder) if not binormal else (sphere,):
+        fast, ref = ContactCondensation(model), ContactCondensation(model, modal=False)
+        assert binormal is False or not fast.has_binormal.all()  # pairs on the symmetry plane
+        Zb, F = fast.harmonic_blocks(omega, basis, binormal)
+        Zr, Fr = ref.harmonic_blocks(omega, basis, binormal)
+        assert ref.schur(omega, 1)[2] == "lu" and fast.schur(omega, 1)[2] == "modal"
+        assert_close(Zb, Zr)
+        assert_close(F, Fr)
+        x = np.random.default_rng(0).standard_normal((F.size // basis.size, 2 * 3 + 1))
+        assert_close(fast.recover(omega, 3, x), ref.recover(omega, 3, x))
