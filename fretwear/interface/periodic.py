@@ -221,10 +221,11 @@ class InterfaceProblem:
         With the cone (module text): the coordinates ``(u_T1, u_T2, u_N)`` per pair and the slip
         variables (nc, 2), the binormal's its displacement in that state.
         """
-        key = self.wear.tobytes()  # once per wear state: __post_init__'s xref and start() both need it
-        cached = self.__dict__.get("_static_cache")
+        # once per condensation, wear state and law: xref and start() need it, every frequency has the same
+        key = (self.wear.tobytes(), self.cone)
+        cached = self.condensation.__dict__.get("_static_state")
         if cached is not None and cached[0] == key:
-            return cached[1]
+            return cached[1][0].copy(), cached[1][1].copy()
         res = solve_static(self.condensation, tangential_scale=0.0, wear=self.wear)
         if not res.converged:
             raise ValueError(f"no quasi-static state under the static load: {res.message}")
@@ -236,7 +237,7 @@ class InterfaceProblem:
             b = np.zeros(self.n_pairs)
             b[c.has_binormal] = zs[: int(c.has_binormal.sum())]
             q, X = np.column_stack([q[0::2], b, q[1::2]]).ravel(), np.column_stack([X, b])
-        self._static_cache = (key, (q, X))
+        self.condensation._static_state = (key, (q.copy(), X.copy()))
         return q, X
 
     def start(self) -> np.ndarray:

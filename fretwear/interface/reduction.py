@@ -205,8 +205,8 @@ class _GluedModes:
 
     def terms(self, w: float) -> tuple[list, np.ndarray | None]:
         """``Z`` at the angular frequency ``w`` (rad/s) as ``sum_i c_i X_i`` (real ``X_i``, complex ``c_i``:
-        the list of pairs) plus its modal part ``P diag(g) P^T`` (complex, symmetric; None at ``w = 0``)
-        (class text)."""
+        the list of pairs) plus its modal part ``P diag(g) P^T`` (complex, symmetric to rounding; None at
+        ``w = 0``) (class text)."""
         c1, c2, g = self._coefficients(w)
         out = [(c1, self.Z_K)]
         if c2 != 0 and self.Z_M is not None:
@@ -216,8 +216,7 @@ class _GluedModes:
         if c2 == 0 or not len(g):
             return out, None
         P = c1 * self.A if self.B is None else c1 * self.A + c2 * self.B
-        W = (P * g) @ P.T
-        return out, 0.5 * (W + W.T)
+        return out, (P * g) @ P.T
 
     def force(self, f_q: np.ndarray, f_s: np.ndarray, w: float) -> np.ndarray:
         """``F`` of eq. 11 at the angular frequency ``w`` (rad/s) from the forces ``f_q`` and ``f_s`` (N) on
