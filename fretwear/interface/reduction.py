@@ -13,6 +13,14 @@ so that ``Z_k q_k + Lambda_k = F_k`` (eq. 11). The Schur complement only needs
 ``D_ss`` regular: the structure with every pair glued. A body held by the
 contact alone (the pad under a dead load) is thus fine even at ``k = 0``,
 where ``Z_0`` is singular but finite.
+
+**How** ``D_ss^-1`` **is applied.** With proportional damping (``C = alpha K +
+beta M``, ``C = 0`` included: :attr:`ContactCondensation.proportional`), by one
+Cholesky factorization of ``K_ss`` (positive definite: the glued structure is
+anchored) and the glued structure's modes with mass (:class:`_GluedModes`),
+for every harmonic and frequency; otherwise, or when ``K_ss`` is singular, by a
+complex LU of ``D_ss`` per harmonic. Both give the same ``Z_k`` and ``F_k`` to
+rounding (``tests/interface/test_glued_modes.py``).
 """
 
 from __future__ import annotations
