@@ -15,6 +15,10 @@ mode (quasi-static: its dissipation per cycle against Mindlin-Deresiewicz, 5 %),
 of it (near the mode); time against the issue's 10 s target, Newton iterations against 10, peak
 memory; the dense path in the same run on the meshes of ``--dense`` (default the coarsest).
 
+With ``--history``: the wear history of the dynamic sphere (finest mesh, ``Q*/(mu P)`` = 0.5, 1/20 of
+the mode, ``Nh`` = 5, ``k_w`` = 1e-14 1/Pa, stepping) to a converged scar (``converge=1e-3``): wall
+time against the issue's 5 min target, periodic solves, peak memory.
+
 The machine's load and memory are printed first: timings on a shared machine scale with the load.
 """
 
@@ -24,6 +28,7 @@ import argparse
 import os
 import resource
 
+import numpy as np
 from timing import best_of as timed
 from timing import table
 
@@ -89,6 +94,27 @@ def dynamic_rows(divisions: int, dense: bool) -> list[list]:
     return rows
 
 
+def history(divisions: int) -> None:
+    """The wear history to a converged scar (module text): time (ratio to 5 min), solves, memory."""
+    from fretwear.interface.periodic import InterfaceProblem
+    from fretwear.interface.sphere import holder_frequency
+    from fretwear.interface.wear import wear_interface
+
+    t_build, cond = timed(lambda: ContactCondensation(sphere_dynamic_model(divisions=divisions)))
+    info = cond.full.info
+    scale = 0.5 * info["mu"] * info["normal_load"] / info["tangential_load"]
+
+    def run():
+        omega = 2 * np.pi * 0.05 * holder_frequency()
+        problem = InterfaceProblem(cond, omega, harmonics=5, force_scale=scale)
+        return wear_interface(problem, 1e-14, 1e8, converge=1e-3)
+
+    t, h = timed(run)
+    print(f"wear history, {cond.n_pairs} pairs (build {t_build:.3g} s): {t:.4g} s (target 300 s: ratio "
+          f"{t / 300:.2f}), {h.solves} periodic solves, {len(h.cycles)} records to N = {h.cycles[-1]:.3g}, "
+          f"converged {h.converged} ({h.message}), peak memory {peak_memory_gb():.2f} GB")  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--divisions", type=int, nargs="+", default=[6, 12, 18])
@@ -98,7 +124,13 @@ def main() -> None:
                         help="meshes on which the dense path runs too; default the coarsest")  # fmt: skip
     parser.add_argument("--static", action=argparse.BooleanOptionalAction, default=True,
                         help="the static rows (--no-static: the dynamic ones only)")  # fmt: skip
+    parser.add_argument("--history", action="store_true",
+                        help="the wear history to a converged scar, finest mesh; nothing else")  # fmt: skip
     args = parser.parse_args()
+    if args.history:
+        print(f"load average {os.getloadavg()[0]:.2f}, OPENBLAS_NUM_THREADS="
+              f"{os.environ.get('OPENBLAS_NUM_THREADS', 'unset')}")  # fmt: skip
+        return history(args.divisions[-1])
     dyn = [args.divisions[-1]] if args.dynamic is None else args.dynamic
     dense = [min(args.divisions)] if args.dense is None else args.dense
     if not args.static:

@@ -75,9 +75,9 @@ def wear_scale(sol: InterfaceSolution) -> float:
     unload the pair with its neighbours held. 0 when no pair carries load.
     """
     problem = sol.problem
-    H = problem.basis.size
     d = problem.per_pair  # the normal coordinate is a pair's last (2-D friction: after two tangents)
-    stiffness = np.abs(np.diag(problem.Z)).reshape(d * problem.n_pairs, H)[d - 1 :: d, 0]
+    q = d * problem.n_pairs  # the mean's block of Z by harmonic: the dense Z is not formed
+    stiffness = np.abs(np.diag(problem._blocks[0, :q, :q]))[d - 1 :: d]
     return float(np.max(sol.normal_force.mean(axis=1) / stiffness))
 
 
