@@ -29,6 +29,7 @@ input checks (:func:`check_wear_inputs`) and the two-scale check.
 
 from __future__ import annotations
 
+import bisect
 import warnings
 from dataclasses import dataclass, field
 
@@ -205,21 +206,29 @@ class WearHistory:
         return f"{name} at {self.frequency:.4g} Hz against the exact answer: {', '.join(parts)}."
 
     def cycles_to(self, fraction: float, contact: int = 0) -> float:
-        """Cycles at which contact ``contact`` reaches ``fraction * u0`` (nan if it does not)."""
+        """Cycles at which contact ``contact`` reaches ``fraction * u0`` (nan if it does not).
+
+        Inverts the cubic Hermite interpolant of :meth:`at` by bisection on the record interval that
+        crosses ``fraction``, in scalar arithmetic (a map's band error asks this of every history).
+        """
         w = self.wear[:, contact] / self.u0[contact]
         k = np.searchsorted(w, fraction)
         if k == 0:
             return 0.0 if w[0] >= fraction else np.nan
         if k >= len(w):
             return np.nan
-        # invert the Hermite interpolant on [k-1, k] by bisection
-        lo, hi = self.cycles[k - 1], self.cycles[k]
+        x = self.cycles.tolist()
+        y, dy, u0 = self.wear[:, contact].tolist(), self.rate[:, contact].tolist(), float(self.u0[contact])
+        lo, hi = x[k - 1], x[k]
         for _ in range(60):
             mid = 0.5 * (lo + hi)
-            wm = _hermite(self.cycles, self.wear[:, [contact]], self.rate[:, [contact]], np.array([mid]))[
-                0, 0
-            ]
-            lo, hi = (mid, hi) if wm / self.u0[contact] < fraction else (lo, mid)
+            j = min(max(bisect.bisect_right(x, mid) - 1, 0), len(x) - 2)  # the interval _hermite takes
+            h = x[j + 1] - x[j]
+            t = min(max((mid - x[j]) / (h if h > 0 else 1.0), 0.0), 1.0)
+            t2, t3 = t * t, t**3
+            h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
+            wm = h00 * y[j] + h10 * h * dy[j] + h01 * y[j + 1] + h11 * h * dy[j + 1]
+            lo, hi = (mid, hi) if wm / u0 < fraction else (lo, mid)
         return 0.5 * (lo + hi)
 
 
