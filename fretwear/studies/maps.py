@@ -58,6 +58,14 @@ class LazyHistories(Sequence):
         """The histories computed so far (none is computed here)."""
         return [self._done[k] for k in sorted(self._done)]
 
+    def through(self, get: Callable[[float, Callable[[float], WearHistory]], WearHistory]) -> LazyHistories:
+        """The same histories, each built by ``get(f, build)`` on its first access: e.g. a result cache
+        that returns a history already computed for frequency ``f`` (Hz) or calls ``build(f)``."""
+        joined = LazyHistories([], lambda f: None)
+        joined._items = [(f, lambda f_, b=b: get(f_, b)) for f, b in self._items]
+        joined._done = dict(self._done)
+        return joined
+
     def __add__(self, other: Sequence[WearHistory]) -> LazyHistories:
         joined = LazyHistories([], lambda f: None)
         mine = [
