@@ -1,0 +1,59 @@
+"""What a change on the wear-map scene reuses, and that every reuse is keyed by what it depends on.
+
+Sessions run inline on small grids with a fresh cache (as ``test_state.py``); the oracle of each reuse
+is the same result computed from scratch in a fresh session (or the library called directly).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the dashboard package lives at the repository root, beside fretwear
+    sys.path.insert(0, str(ROOT))
+
+import fretwear  # noqa: E402
+from app.backend import Backend, ResultCache  # noqa: E402
+from app.session import Session  # noqa: E402
+from app.state import EXACT, Controls  # noqa: E402
+
+SMALL = {"n_frequencies": 9, "n_cycles": 12, "harmonics": 3, "fmin": 0.4, "fmax": 1.2}
+
+
+def wearmap_session(cache: ResultCache | None = None, **changes) -> Session:
+    session = Session(controls=Controls(**{**SMALL, **changes}), backend=Backend(workers=2, chunks=3),
+                      cache=ResultCache() if cache is None else cache)  # fmt: skip
+    session.scene = "wearmap"
+    return session
+
+
+def shown_pair(session: Session):
+    """The map's history at the selected row and the exact history drawn beside it."""
+    scene = session.current
+    wm = scene.results["wear_map"]
+    row = int(np.argmin(np.abs(wm.frequency - session.frequency)))
+    return wm.histories[row], scene.results[EXACT]
+
+
+def test_the_exact_history_beside_the_exact_map_is_computed_once():
+    """Slow moment: on the exact map, the history at the selected row was computed twice per change
+    of k_w (the map's lazy row and the reference task, the same call)."""
+    session = wearmap_session()
+    row, exact = shown_pair(session)
+    assert row is exact and row.method == "exact" and row.dynamics == "shooting"
+    session.controls.kw = 3e-11
+    row, exact = shown_pair(session)
+    assert row is exact and exact.kw == 3e-11  # a new k_w: a new history, still shared
+
+
+def test_the_shared_exact_history_is_the_one_computed_alone():
+    session = wearmap_session(kw=2e-11)
+    row, _ = shown_pair(session)
+    model = fretwear.paper_model(fex=10.0, mu=1.0, normal_load=10.0)
+    alone = fretwear.wear_history(model, 2 * np.pi * row.frequency, "exact", kw=2e-11, cycles=1e5,
+                                  dynamics="shooting")  # fmt: skip
+    np.testing.assert_allclose(row.cycles, alone.cycles, rtol=1e-12)
+    np.testing.assert_allclose(row.wear, alone.wear, rtol=1e-12, atol=0)
