@@ -734,11 +734,13 @@ class Tasks:
             if isinstance(result, Failure):
                 return result
             if isinstance(result.histories, LazyHistories):  # built on demand: through the cache, once
-                result.histories = result.histories.through(
-                    lambda f, build: self.cache.get_or_compute(
-                        self._history_key(s, f, method, options), lambda: build(f)
-                    )
-                )
+
+                def cached(f: float, build: Callable[[float], Any]) -> Any:
+                    key = self._history_key(s, f, method, options)
+                    value = self.cache.get_or_compute(key, lambda: build(f))
+                    return build(f) if isinstance(value, Failure) else value  # its task failed: raise here
+
+                result.histories = result.histories.through(cached)
             else:
                 for f, history in zip(s.frequencies, result.histories, strict=True):
                     self.cache.put(self._history_key(s, f, method, options), history)

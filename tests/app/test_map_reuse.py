@@ -16,7 +16,7 @@ if str(ROOT) not in sys.path:  # the dashboard package lives at the repository r
     sys.path.insert(0, str(ROOT))
 
 import fretwear  # noqa: E402
-from app.backend import Backend, ResultCache  # noqa: E402
+from app.backend import Backend, Failure, ResultCache  # noqa: E402
 from app.session import Session  # noqa: E402
 from app.state import EXACT, Controls  # noqa: E402
 
@@ -57,3 +57,15 @@ def test_the_shared_exact_history_is_the_one_computed_alone():
                                   dynamics="shooting")  # fmt: skip
     np.testing.assert_allclose(row.cycles, alone.cycles, rtol=1e-12)
     np.testing.assert_allclose(row.wear, alone.wear, rtol=1e-12, atol=0)
+
+
+def test_a_failed_history_task_is_not_a_row_of_the_map():
+    """A failure cached under a row's history key (its task failed) makes the row compute as before."""
+    session = wearmap_session()
+    s = session.controls.settings()
+    wm = session.current.results["wear_map"]
+    row = len(wm.frequency) - 1  # not the selected row: not built yet
+    key = session.tasks._history_key(s, wm.frequency[row], "exact", (("dynamics", "shooting"),))
+    session.cache.put(key, Failure("RuntimeError: a stand-in failure", "a stand-in failure"))
+    history = wm.histories[row]
+    assert isinstance(history, fretwear.WearHistory) and history.frequency == wm.frequency[row]
