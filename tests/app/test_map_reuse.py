@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # the dashboard package lives at the repository root, beside fretwear
@@ -47,6 +48,23 @@ def test_the_exact_history_beside_the_exact_map_is_computed_once():
     session.controls.kw = 3e-11
     row, exact = shown_pair(session)
     assert row is exact and exact.kw == 3e-11  # a new k_w: a new history, still shared
+
+
+def test_every_parameter_of_the_shared_history_is_in_its_key():
+    """A change of each parameter the exact history depends on (the model's F_ex, mu, F_N, k_w, the
+    horizon, the frequency) gives a new history, shared again by the map's row and the reference."""
+    session = wearmap_session()
+    seen = [shown_pair(session)[0]]
+    changes = [("fex", 12.0), ("mu", 0.9), ("normal_load", 11.0), ("kw", 2e-11), ("horizon", 5e4)]
+    for name, value in changes:
+        setattr(session.controls, name, value)
+        row, exact = shown_pair(session)
+        assert row is exact and all(row is not old for old in seen), name
+        seen.append(row)
+    session.frequency = float(session.current.results["wear_map"].frequency[2])
+    row, exact = shown_pair(session)
+    assert row is exact and all(row is not old for old in seen)
+    assert row.frequency == pytest.approx(session.frequency) and row.kw == 2e-11 and row.cycles[-1] <= 5e4
 
 
 def test_the_shared_exact_history_is_the_one_computed_alone():
