@@ -4,8 +4,9 @@ The same sequence of changes as ``bench_app.py``'s wear-map timings (``map_chang
 or a browser: a :class:`~app.session.Session` on the wear-map scene runs inline (no executor) on the
 server's backend (two worker threads) and a fresh result cache, after the server's warm-up (kernels
 loaded, the default exact map's sliding tables built). Each change is timed from the control's new
-value to the results published (``compute``) and to the scene's three figures built (``figures``, the
-HoloViews objects the page renders); the browser adds the transfer and the drawing.
+value to the results published (``compute``) and to the scene's three figures built (the HoloViews
+objects the page renders); apart, the figures rendered to Bokeh models (``hv.render``, about what the
+server does before it sends them); the browser adds the transfer and the drawing.
 
     python benchmarks/bench_map_changes.py            # 5 values of each change
     python benchmarks/bench_map_changes.py --quick    # 3
@@ -33,6 +34,7 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="3 values of each change")
     moves = 3 if parser.parse_args().quick else 5
 
+    import holoviews as hv
     from bench_app import WEAR_MAP_CHANGE
 
     from app.backend import Backend, ResultCache
@@ -40,6 +42,7 @@ def main() -> None:
     from app.state import Controls
     from app.warmup import compile_kernels, warm_tables
 
+    hv.extension("bokeh")
     start = time.perf_counter()
     compile_kernels()
     warm_tables()
@@ -50,18 +53,20 @@ def main() -> None:
     session.start()
     scene = session.current
 
-    def timed(name: str, value) -> tuple[float, float, float]:
-        """Seconds to the results published and to the figures built, and CPU seconds of the process
-        (every thread) in all: the cost the machine's load does not change much."""
+    def timed(name: str, value) -> tuple[float, float, float, float]:
+        """Seconds to the results published and to the figures built, CPU seconds of the process (every
+        thread) for both, and seconds of the figures' Bokeh rendering."""
         t0, cpu = time.perf_counter(), time.process_time()
         setattr(controls, name, value)
         t1 = time.perf_counter()
-        for figure in scene.figure_names:
-            scene.figure(figure, live=True)
-        return t1 - t0, time.perf_counter() - t0, time.process_time() - cpu
+        built = [scene.figure(figure, live=True) for figure in scene.figure_names]
+        t2, cpu = time.perf_counter(), time.process_time() - cpu
+        for figure in built:
+            hv.render(figure, backend="bokeh")
+        return t1 - t0, t2 - t0, cpu, time.perf_counter() - t2
 
     timed("kw", controls.kw)  # the first figures (plotting code loaded)
-    out: dict[str, list[tuple[float, float, float]]] = {"k_w": [], "Nh": [], "method": [], "band": []}
+    out: dict[str, list[tuple[float, float, float, float]]] = {"k_w": [], "Nh": [], "method": [], "band": []}
     for k in range(moves):
         out["k_w"].append(timed("kw", float(f"{1.1 + 0.1 * k:.2g}e-11")))
     timed("dynamics", "dlft")
@@ -78,13 +83,14 @@ def main() -> None:
     print(f"fretwear wear-map changes in process, {os.cpu_count()} CPUs, load average {load[0]:.1f} "
           f"{load[1]:.1f} {load[2]:.1f} (1, 5, 15 min); warm-up {warm:.1f} s")  # fmt: skip
     for kind, what in (("k_w", "k_w"), ("Nh", "Nh (DLFT)"), ("method", "method"), ("band", "band's f_min")):
-        compute, whole, cpu = (list(column) for column in zip(*out[kind], strict=True))
+        compute, whole, cpu, render = (list(column) for column in zip(*out[kind], strict=True))
         median = statistics.median(whole)
         print(f"wear map: {what:<13} median {median:.3f} s (min {min(whole):.3f}, max {max(whole):.3f}, "
               f"n = {len(whole)}; compute {statistics.median(compute):.3f} s, "
               f"CPU {statistics.median(cpu):.3f} s)"
-              f"  target <= {WEAR_MAP_CHANGE:g} s  ratio {median / WEAR_MAP_CHANGE:.2f}")  # fmt: skip
-    (_, poly, poly_cpu), (_, stepping, stepping_cpu) = out["method"]
+              f"  target <= {WEAR_MAP_CHANGE:g} s  ratio {median / WEAR_MAP_CHANGE:.2f};"
+              f"  then Bokeh render {statistics.median(render):.3f} s")  # fmt: skip
+    (_, poly, poly_cpu, _), (_, stepping, stepping_cpu, _) = out["method"]
     print(f"  method: polynomial {poly:.3f} s (CPU {poly_cpu:.3f} s), stepping {stepping:.3f} s "
           f"(CPU {stepping_cpu:.3f} s), each its first map at these settings")  # fmt: skip
 
