@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import bisect
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -166,6 +166,30 @@ class WearHistory:
             values = getattr(self, name)
             out[name] = np.stack([np.interp(cycles, self.cycles, v) for v in values.T], axis=-1)
         return out
+
+    def rescaled(self, kw: float) -> WearHistory:
+        """This history under the Archard coefficient ``kw`` (1/N), by Archard's law alone.
+
+        ``dw/dN = K_w F_N(w) s(w)`` makes the wear states and responses functions of ``K_w N``: the
+        records' cycle counts scale by ``self.kw / kw``, their rates by ``kw / self.kw``. Exact (to
+        round-off) for a history that reached its end state before its horizon (status ``"worn"``) on a
+        method whose records are placed in wear, not in cycles (the exact load path), as long as the
+        scaled end stays within the horizon (the caller checks); a history that sticks only changes its
+        ``kw``. ``ValueError`` for any other status: its horizon cut it, at a slow time ``K_w N`` that
+        another ``kw`` moves.
+        """
+        if not (np.isfinite(kw) and kw > 0):
+            raise ValueError(f"kw must be > 0 1/N, got {kw!r}")
+        if self.status == "stuck":
+            return replace(self, kw=kw, warnings=list(self.warnings), info=dict(self.info))
+        if self.status != "worn":
+            raise ValueError(f"only a history that ended worn or stuck rescales in kw; this one ended "
+                             f"{self.status!r}")  # fmt: skip
+        rate = self.rate * (kw / self.kw)
+        notes = [w for w in self.warnings if not w.startswith(_TWO_SCALE)]
+        notes += two_scale_warning(rate[:1], self.u0)
+        return replace(self, cycles=self.cycles * (self.kw / kw), rate=rate, kw=kw, warnings=notes,
+                       info=dict(self.info))  # fmt: skip
 
     def error_against(
         self, reference: WearHistory, fractions: tuple[float, ...] = (0.5, 0.9), contact: int = 0
@@ -308,11 +332,15 @@ class Recorder:
                            u0=u0, kn=kn, kw=kw, **status)  # fmt: skip
 
 
+#: how the two-scale warning starts (:func:`two_scale_warning`)
+_TWO_SCALE = "wear per cycle at the start is"
+
+
 def two_scale_warning(rate0: np.ndarray, u0: np.ndarray) -> list[str]:
     per_cycle = float(np.max(rate0 / u0))
     if per_cycle > TWO_SCALE_LIMIT:
         msg = (
-            f"wear per cycle at the start is {per_cycle:.3g} u0 > {TWO_SCALE_LIMIT:g} u0: the two-scale "
+            f"{_TWO_SCALE} {per_cycle:.3g} u0 > {TWO_SCALE_LIMIT:g} u0: the two-scale "
             "assumption (wear barely changes over a cycle) does not hold; lower kw"
         )
         warnings.warn(msg, RuntimeWarning, stacklevel=3)

@@ -87,3 +87,43 @@ def test_a_failed_history_task_is_not_a_row_of_the_map():
     session.cache.put(key, Failure("RuntimeError: a stand-in failure", "a stand-in failure"))
     history = wm.histories[row]
     assert isinstance(history, fretwear.WearHistory) and history.frequency == wm.frequency[row]
+
+
+def _dlft_map(backend: Backend, kw: float, harmonics: int = 3, fex: float = 10.0):
+    from app.backend import Grid, ModelSpec
+
+    options = (("dynamics", "dlft"), ("harmonics", harmonics))
+    return backend.wear_map(ModelSpec(fex, 1.0, 10.0), Grid(0.4, 1.2, 9), 1e5, 12, "exact", kw, options)
+
+
+def _same_map(got, want) -> None:
+    assert got.label == want.label
+    for name in ("frequency", "cycles", "wear", "amplitude", "half_peak_to_peak"):
+        w = getattr(want, name)
+        np.testing.assert_allclose(getattr(got, name), w, rtol=1e-13, atol=1e-13 * np.abs(w).max(),
+                                   err_msg=name)  # fmt: skip
+    assert [h.status for h in got.histories] == [h.status for h in want.histories]
+
+
+def test_a_new_k_w_on_the_exact_dlft_map_rescales_the_histories_that_ended_within_the_horizon():
+    """Slow moment: every change of k_w on the DLFT dynamics ran the load walk of every frequency again;
+    the records of the exact load path are placed in wear, so a history that ended (worn through, or
+    stuck) within the horizon is the same at another k_w, its cycle counts scaled."""
+    backend = Backend(workers=2, chunks=3)
+    first = _dlft_map(backend, 1e-11)
+    assert {h.status for h in first.histories} == {"worn", "stuck"} and backend.calls["wear_map"] == 3
+    again = _dlft_map(backend, 2e-11)
+    assert backend.calls["wear_map"] == 3  # nothing computed: each worn end scaled stays within 1e5
+    _same_map(again, _dlft_map(Backend(workers=2, chunks=3), 2e-11))
+    slower = _dlft_map(backend, 1e-14)  # scaled ends past the horizon: those frequencies run again
+    assert backend.calls["wear_map"] == 6 and "horizon" in {h.status for h in slower.histories}
+    _same_map(slower, _dlft_map(Backend(workers=2, chunks=3), 1e-14))
+
+
+def test_the_histories_reused_across_k_w_are_keyed_by_everything_else():
+    backend = Backend(workers=2, chunks=3)
+    _dlft_map(backend, 1e-11)
+    for change in ({"harmonics": 5}, {"fex": 8.0}):
+        got = _dlft_map(backend, 2e-11, **change)
+        _same_map(got, _dlft_map(Backend(workers=2, chunks=3), 2e-11, **change))
+    assert backend.calls["wear_map"] == 9  # each change computed its map
