@@ -66,13 +66,21 @@ def main() -> None:
         return t1 - t0, t2 - t0, cpu, time.perf_counter() - t2
 
     timed("kw", controls.kw)  # the first figures (plotting code loaded)
-    out: dict[str, list[tuple[float, float, float, float]]] = {"k_w": [], "Nh": [], "method": [], "band": []}
+    out: dict[str, list[tuple[float, float, float, float]]] = {
+        "k_w": [],
+        "Nh": [],
+        "k_w_dlft": [],
+        "method": [],
+        "band": [],
+    }
     for k in range(moves):
         out["k_w"].append(timed("kw", float(f"{1.1 + 0.1 * k:.2g}e-11")))
     timed("dynamics", "dlft")
     for nh in (9, 5, 11, 3, 13)[:moves]:
         out["Nh"].append(timed("harmonics", nh))
     timed("harmonics", 7)
+    for k in range(moves):  # k_w on the DLFT dynamics: the exact load path's histories rescale
+        out["k_w_dlft"].append(timed("kw", float(f"{2.1 + 0.1 * k:.2g}e-11")))
     timed("dynamics", "shooting")
     for method in ("polynomial", "stepping"):
         out["method"].append(timed("method", method))
@@ -82,7 +90,13 @@ def main() -> None:
     load = os.getloadavg()
     print(f"fretwear wear-map changes in process, {os.cpu_count()} CPUs, load average {load[0]:.1f} "
           f"{load[1]:.1f} {load[2]:.1f} (1, 5, 15 min); warm-up {warm:.1f} s")  # fmt: skip
-    for kind, what in (("k_w", "k_w"), ("Nh", "Nh (DLFT)"), ("method", "method"), ("band", "band's f_min")):
+    for kind, what in (
+        ("k_w", "k_w"),
+        ("Nh", "Nh (DLFT)"),
+        ("k_w_dlft", "k_w (DLFT)"),
+        ("method", "method"),
+        ("band", "band's f_min"),
+    ):
         compute, whole, cpu, render = (list(column) for column in zip(*out[kind], strict=True))
         median = statistics.median(whole)
         print(f"wear map: {what:<13} median {median:.3f} s (min {min(whole):.3f}, max {max(whole):.3f}, "
