@@ -340,6 +340,8 @@ class Backend:
         self._calls_lock = threading.Lock()
         self.workers = workers or max(1, min(4, os.cpu_count() or 1))
         self._pool: ThreadPoolExecutor | None = None
+        # the exact load path's histories on DLFT per frequency, whatever k_w (see wear_map)
+        self._any_kw = ResultCache(per_kind={"any_kw": 512})
 
     @property
     def pool(self) -> ThreadPoolExecutor:
@@ -453,15 +455,51 @@ class Backend:
     ) -> WearMap:
         """Wear map over the frequency ``grid`` (Hz) x ``n_cycles`` cycle counts up to ``horizon``
         (:func:`fretwear.wear.cycle_grid`) by :func:`fretwear.studies.wear_map`, in frequency chunks;
-        ``options``: the method's options as ``(name, value)`` pairs."""
+        ``options``: the method's options as ``(name, value)`` pairs.
+
+        The exact method on DLFT places its records in wear and integrates ``N`` in closed form, so a
+        frequency whose history reached its end state (worn through, or stuck) within the horizon at
+        one ``k_w`` is the same history at another, its cycle counts scaled
+        (:meth:`fretwear.wear.WearHistory.rescaled`): a new ``k_w`` recomputes only the frequencies
+        whose scaled end passes the horizon.
+        """
         model = self.model(spec)
         f_hz, cycles = grid.values, fretwear.wear.cycle_grid(horizon, n_cycles)
+        if method == "exact" and dict(options).get("dynamics") == "dlft":
+            return self._exact_dlft_map(spec, f_hz, cycles, horizon, kw, options, progress, cancelled)
         jobs = [
             ((model, f_hz[part], cycles), {"method": method, "kw": kw, **dict(options)})
             for part in _chunks(len(f_hz), self.chunks)
         ]
         parts = self._chunked(self.library.wear_map, jobs, progress, cancelled)
         return WearMap(**_merge(parts, lambda p: len(p.frequency)))
+
+    def _exact_dlft_map(self, spec, f_hz, cycles, horizon, kw, options, progress, cancelled) -> WearMap:
+        """:meth:`wear_map` of the exact method on DLFT, reusing the histories of other ``k_w``."""
+        model = self.model(spec)
+        keys = [("any_kw", spec, float(f"{f:.12g}"), options, horizon) for f in f_hz]
+        histories = [self._at_kw(self._any_kw.get(key), kw, horizon) for key in keys]
+        todo = np.flatnonzero([h is None for h in histories])
+        if len(todo):
+            jobs = [((model, f_hz[todo[part]], cycles), {"method": "exact", "kw": kw, **dict(options)})
+                    for part in _chunks(len(todo), self.chunks)]  # fmt: skip
+            parts = self._chunked(self.library.wear_map, jobs, progress, cancelled)
+            for i, h in zip(todo, (h for part in parts for h in part.histories), strict=True):
+                histories[i] = h
+                if h.status in ("worn", "stuck"):
+                    self._any_kw.put(keys[i], h)
+        progress(1.0)
+        return fretwear.studies.maps.map_of_histories(model, f_hz, cycles, histories)
+
+    @staticmethod
+    def _at_kw(history: WearHistory | None, kw: float, horizon: float) -> WearHistory | None:
+        """``history`` under ``kw`` when that is exact (its end state, scaled, within the horizon with a
+        margin for round-off), else None."""
+        if history is None or history.kw == kw:
+            return history
+        if history.status == "stuck" or history.cycles[-1] * (history.kw / kw) <= horizon * (1 - 1e-9):
+            return history.rescaled(kw)
+        return None
 
     def history(
         self,

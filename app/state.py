@@ -723,13 +723,25 @@ class Tasks:
 
     def _map(self, s: Settings, name: str, label: str, weight: float, method: str, options: tuple) -> Task:
         """Wear map by ``method`` with ``options`` over the settings' grids; stores each frequency's
-        history in the cache too, under the key of its own task (:meth:`history`)."""
+        history in the cache too, under the key of its own task (:meth:`history`). The lazy histories of a
+        map on sliding tables go through that key when built: the exact history the scene shows beside
+        the map is computed once, by whichever asks first."""
         task = self.call(name, label, weight, self.backend.wear_map, s.model, s.frequency_grid, s.horizon,
                          s.n_cycles, method, s.kw, options)  # fmt: skip
 
         def run(job: Job):
             result = task.run(job)
-            if not isinstance(result, Failure) and not isinstance(result.histories, LazyHistories):
+            if isinstance(result, Failure):
+                return result
+            if isinstance(result.histories, LazyHistories):  # built on demand: through the cache, once
+
+                def cached(f: float, build: Callable[[float], Any]) -> Any:
+                    key = self._history_key(s, f, method, options)
+                    value = self.cache.get_or_compute(key, lambda: build(f))
+                    return build(f) if isinstance(value, Failure) else value  # its task failed: raise here
+
+                result.histories = result.histories.through(cached)
+            else:
                 for f, history in zip(s.frequencies, result.histories, strict=True):
                     self.cache.put(self._history_key(s, f, method, options), history)
             return result

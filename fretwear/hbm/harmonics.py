@@ -182,13 +182,16 @@ def extrema(coeffs: np.ndarray, samples: np.ndarray, atol: float = 0.0) -> tuple
     k = np.arange(1, (coeffs.shape[1] - 1) // 2 + 1)
     c2 = np.concatenate([coeffs, coeffs])  # maxima then minima, refined together
     a, b = c2[:, 1::2], c2[:, 2::2]
+    # f = a0 + Re sum_k q_k e^{i k theta} with q_k = a_k - i b_k: f' and f'' are row products with the
+    # powers of e^{i theta}, built by products (one complex exponential per row, not one per harmonic)
+    q = a - 1j * b
+    q1, q2 = 1j * k * q, -(k**2) * q
     idx = np.concatenate([np.argmax(samples, axis=1), np.argmin(samples, axis=1)])
     theta = 2 * np.pi * idx / N
     for _ in range(8):
-        kt = np.outer(theta, k)
-        c, s = np.cos(kt), np.sin(kt)
-        d1 = np.sum(k * (b * c - a * s), axis=1)
-        d2 = -np.sum(k**2 * (a * c + b * s), axis=1)
+        powers = np.cumprod(np.repeat(np.exp(1j * theta)[:, None], len(k), axis=1), axis=1)
+        d1 = np.einsum("ij,ij->i", q1, powers).real
+        d2 = np.einsum("ij,ij->i", q2, powers).real
         with np.errstate(divide="ignore", invalid="ignore"):
             step = np.clip(np.where(d2 != 0, d1 / d2, 0.0), -np.pi / N, np.pi / N)  # stay within the cell
         theta = theta - step

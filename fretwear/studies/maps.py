@@ -27,7 +27,7 @@ from ..wear import (
 )
 from ..wear.exact import exact_wear_map
 
-__all__ = ["WearMap", "wear_map", "LazyHistories"]
+__all__ = ["WearMap", "wear_map", "map_of_histories", "LazyHistories"]
 
 
 class LazyHistories(Sequence):
@@ -57,6 +57,14 @@ class LazyHistories(Sequence):
     def built(self) -> list[WearHistory]:
         """The histories computed so far (none is computed here)."""
         return [self._done[k] for k in sorted(self._done)]
+
+    def through(self, get: Callable[[float, Callable[[float], WearHistory]], WearHistory]) -> LazyHistories:
+        """The same histories, each built by ``get(f, build)`` on its first access: e.g. a result cache
+        that returns a history already computed for frequency ``f`` (Hz) or calls ``build(f)``."""
+        joined = LazyHistories([], lambda f: None)
+        joined._items = [(f, lambda f_, b=b: get(f_, b)) for f, b in self._items]
+        joined._done = dict(self._done)
+        return joined
 
     def __add__(self, other: Sequence[WearHistory]) -> LazyHistories:
         joined = LazyHistories([], lambda f: None)
@@ -234,15 +242,21 @@ def wear_map(
             histories = list(pool.map(one, frequencies))
     else:
         histories = [one(f) for f in frequencies]
+    return map_of_histories(model, frequencies, cycles, histories)
+
+
+def map_of_histories(model: Model, frequencies, cycles, histories: Sequence[WearHistory]) -> WearMap:
+    """The wear map of one history per frequency (Hz), each sampled at the cycle counts ``cycles`` (held
+    past its end): what :func:`wear_map` returns once its histories are computed."""
     samples = [h.at(cycles) for h in histories]
     return WearMap(
-        frequency=frequencies,
-        cycles=cycles,
+        frequency=np.asarray(frequencies, dtype=float),
+        cycles=np.asarray(cycles, dtype=float),
         wear=np.stack([s["wear"] for s in samples]),
         amplitude=np.stack([s["amplitude"] for s in samples]),
         half_peak_to_peak=np.stack([s["half_peak_to_peak"] for s in samples]),
         relative_half_peak_to_peak=np.stack([s["relative_half_peak_to_peak"] for s in samples]),
-        u0=u0,
-        histories=histories,
+        u0=np.array([c.u0 for c in model.friction]),
+        histories=list(histories),
         label=histories[0].label,
     )

@@ -121,9 +121,11 @@ def observables(problem: Problem, lam: np.ndarray):
     """
     model, b = problem.model, problem.basis
     nh = b.harmonics
-    base = recover(model, problem.B, problem.omega, nh, np.zeros((problem.n_active, 2 * nh + 1)))
-    unit = np.stack([recover(model, problem.B, problem.omega, nh, b.to_full(e.reshape(-1, b.size))) - base
-                     for e in np.eye(problem.size)])  # fmt: skip
+    # the responses to no contact force and to each unit one, in one batched recovery
+    E = np.concatenate([np.zeros((1, problem.size)), np.eye(problem.size)])
+    E = E.reshape(-1, problem.n_active, b.size)
+    R = recover(model, problem.B, np.full(len(E), float(problem.omega)), nh, b.to_full(E))
+    base, unit = R[0], R[1:] - R[0]
     U = base[None] + np.einsum("kj,jnm->knm", lam, unit)  # (K, n, 2 Nh + 1)
     K, n = U.shape[:2]
     rel = np.einsum("cn,knm->kcm", model.relative_map(), U)

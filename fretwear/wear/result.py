@@ -29,8 +29,9 @@ input checks (:func:`check_wear_inputs`) and the two-scale check.
 
 from __future__ import annotations
 
+import bisect
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -166,6 +167,30 @@ class WearHistory:
             out[name] = np.stack([np.interp(cycles, self.cycles, v) for v in values.T], axis=-1)
         return out
 
+    def rescaled(self, kw: float) -> WearHistory:
+        """This history under the Archard coefficient ``kw`` (1/N), by Archard's law alone.
+
+        ``dw/dN = K_w F_N(w) s(w)`` makes the wear states and responses functions of ``K_w N``: the
+        records' cycle counts scale by ``self.kw / kw``, their rates by ``kw / self.kw``. Exact (to
+        round-off) for a history that reached its end state before its horizon (status ``"worn"``) on a
+        method whose records are placed in wear, not in cycles (the exact load path), as long as the
+        scaled end stays within the horizon (the caller checks); a history that sticks only changes its
+        ``kw``. ``ValueError`` for any other status: its horizon cut it, at a slow time ``K_w N`` that
+        another ``kw`` moves.
+        """
+        if not (np.isfinite(kw) and kw > 0):
+            raise ValueError(f"kw must be > 0 1/N, got {kw!r}")
+        if self.status == "stuck":
+            return replace(self, kw=kw, warnings=list(self.warnings), info=dict(self.info))
+        if self.status != "worn":
+            raise ValueError(f"only a history that ended worn or stuck rescales in kw; this one ended "
+                             f"{self.status!r}")  # fmt: skip
+        rate = self.rate * (kw / self.kw)
+        notes = [w for w in self.warnings if not w.startswith(_TWO_SCALE)]
+        notes += two_scale_warning(rate[:1], self.u0)
+        return replace(self, cycles=self.cycles * (self.kw / kw), rate=rate, kw=kw, warnings=notes,
+                       info=dict(self.info))  # fmt: skip
+
     def error_against(
         self, reference: WearHistory, fractions: tuple[float, ...] = (0.5, 0.9), contact: int = 0
     ) -> dict[str, float]:
@@ -205,21 +230,29 @@ class WearHistory:
         return f"{name} at {self.frequency:.4g} Hz against the exact answer: {', '.join(parts)}."
 
     def cycles_to(self, fraction: float, contact: int = 0) -> float:
-        """Cycles at which contact ``contact`` reaches ``fraction * u0`` (nan if it does not)."""
+        """Cycles at which contact ``contact`` reaches ``fraction * u0`` (nan if it does not).
+
+        Inverts the cubic Hermite interpolant of :meth:`at` by bisection on the record interval that
+        crosses ``fraction``, in scalar arithmetic (a map's band error asks this of every history).
+        """
         w = self.wear[:, contact] / self.u0[contact]
         k = np.searchsorted(w, fraction)
         if k == 0:
             return 0.0 if w[0] >= fraction else np.nan
         if k >= len(w):
             return np.nan
-        # invert the Hermite interpolant on [k-1, k] by bisection
-        lo, hi = self.cycles[k - 1], self.cycles[k]
+        x = self.cycles.tolist()
+        y, dy, u0 = self.wear[:, contact].tolist(), self.rate[:, contact].tolist(), float(self.u0[contact])
+        lo, hi = x[k - 1], x[k]
         for _ in range(60):
             mid = 0.5 * (lo + hi)
-            wm = _hermite(self.cycles, self.wear[:, [contact]], self.rate[:, [contact]], np.array([mid]))[
-                0, 0
-            ]
-            lo, hi = (mid, hi) if wm / self.u0[contact] < fraction else (lo, mid)
+            j = min(max(bisect.bisect_right(x, mid) - 1, 0), len(x) - 2)  # the interval _hermite takes
+            h = x[j + 1] - x[j]
+            t = min(max((mid - x[j]) / (h if h > 0 else 1.0), 0.0), 1.0)
+            t2, t3 = t * t, t**3
+            h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
+            wm = h00 * y[j] + h10 * h * dy[j] + h01 * y[j + 1] + h11 * h * dy[j + 1]
+            lo, hi = (mid, hi) if wm / u0 < fraction else (lo, mid)
         return 0.5 * (lo + hi)
 
 
@@ -299,11 +332,15 @@ class Recorder:
                            u0=u0, kn=kn, kw=kw, **status)  # fmt: skip
 
 
+#: how the two-scale warning starts (:func:`two_scale_warning`)
+_TWO_SCALE = "wear per cycle at the start is"
+
+
 def two_scale_warning(rate0: np.ndarray, u0: np.ndarray) -> list[str]:
     per_cycle = float(np.max(rate0 / u0))
     if per_cycle > TWO_SCALE_LIMIT:
         msg = (
-            f"wear per cycle at the start is {per_cycle:.3g} u0 > {TWO_SCALE_LIMIT:g} u0: the two-scale "
+            f"{_TWO_SCALE} {per_cycle:.3g} u0 > {TWO_SCALE_LIMIT:g} u0: the two-scale "
             "assumption (wear barely changes over a cycle) does not hold; lower kw"
         )
         warnings.warn(msg, RuntimeWarning, stacklevel=3)

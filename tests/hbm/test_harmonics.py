@@ -69,3 +69,23 @@ def test_sizes():
         HarmonicBasis(7, 14)
     with pytest.raises(ValueError, match="even"):
         HarmonicBasis(3, 15, half_wave=True)
+
+
+@pytest.mark.parametrize("nh", [3, 9, 13])
+def test_extrema_are_the_series_optima_to_round_off(nh):
+    """Independent optimiser (bounded Brent on the series, around the best of a 20 000-point grid):
+    the refined extremes agree to round-off, whatever way the Newton steps are computed."""
+    from scipy.optimize import minimize_scalar
+
+    rng = np.random.default_rng(nh)
+    c = rng.normal(size=(6, 2 * nh + 1)) / (1 + np.repeat(np.arange(nh + 1), 2)[:-1]) ** 1.5
+    hi, lo = extrema(c, c @ full_synthesis(nh, 8 * nh + 8).T)
+    k, grid = np.arange(1, nh + 1), 2 * np.pi * np.arange(20_000) / 20_000
+    for row, top, bottom in zip(c, hi, lo, strict=True):
+        f = lambda t, row=row: row[0] + row[1::2] @ np.cos(k * t) + row[2::2] @ np.sin(k * t)  # noqa: E731
+        values = np.array([f(t) for t in grid])
+        for sign, got in ((-1.0, top), (1.0, bottom)):
+            t0 = grid[np.argmin(sign * values)]
+            best = minimize_scalar(lambda t, s=sign, f=f: s * f(t), bounds=(t0 - 1e-3, t0 + 1e-3),
+                                   method="bounded", options={"xatol": 1e-12})  # fmt: skip
+            assert got == pytest.approx(sign * best.fun, rel=1e-13, abs=1e-15)
