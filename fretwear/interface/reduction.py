@@ -17,7 +17,7 @@ where ``Z_0`` is singular but finite.
 **How** ``D_ss^-1`` **is applied.** With proportional damping (``C = alpha K +
 beta M``, ``C = 0`` included: :attr:`ContactCondensation.proportional`), by one
 Cholesky factorization of ``K_ss`` (positive definite: the glued structure is
-anchored) and the glued structure's modes with mass (:class:`_GluedModes`),
+anchored) and the glued structure's modes with mass (``_GluedModes``),
 for every harmonic and frequency; otherwise, or when ``K_ss`` is singular, by a
 complex LU of ``D_ss`` per harmonic. Both give the same ``Z_k`` and ``F_k`` to
 rounding (``tests/interface/test_glued_modes.py``).
@@ -281,7 +281,7 @@ class ContactCondensation:
         (:func:`~fretwear.model.craig_bampton`) or a small dense one.
     modal : bool
         Apply ``D_ss^-1`` by the glued structure's modes when the damping is proportional
-        (:class:`_GluedModes`; same answer, a factorization for every harmonic and frequency less);
+        (``_GluedModes``; same answer, a factorization for every harmonic and frequency less);
         False: always by a complex LU per harmonic (the reference).
 
     Attributes
@@ -345,7 +345,7 @@ class ContactCondensation:
     @cached_property
     def proportional(self) -> tuple[float, float] | None:
         """``(alpha, beta)`` (s, s^-1) with ``C = alpha K + beta M`` (Rayleigh damping, ``C = 0`` included)
-        to :data:`PROPORTIONAL_TOL` relative (Frobenius), symmetric ``K`` and ``M``; else None."""
+        to ``PROPORTIONAL_TOL`` relative (Frobenius), symmetric ``K`` and ``M``; else None."""
         K, M, C = self.K, self.M, self.C
         if any(np.abs(A - A.T).max(initial=0.0) > PROPORTIONAL_TOL * np.abs(A).max(initial=0.0)
                for A in (K, M)):  # fmt: skip
@@ -361,7 +361,7 @@ class ContactCondensation:
         return float(ab[0]), float(ab[1])
 
     def _modal(self, keep: int) -> _GluedModes | None:
-        """The glued structure's modes on ``z[keep:]`` (:class:`_GluedModes`, cached per ``keep``), or None
+        """The glued structure's modes on ``z[keep:]`` (``_GluedModes``, cached per ``keep``), or None
         when ``C`` is not proportional or ``K_ss`` not positive definite (then the LU path)."""
         if keep not in self._modes:
             ab = self.proportional if self.modal else None
@@ -402,7 +402,7 @@ class ContactCondensation:
         relative ones).
 
         ``path`` says how ``D_ss^-1`` was applied: ``"modal"``, by the glued structure's modes
-        (:class:`_GluedModes`, when ``C`` is proportional: every harmonic and frequency from one
+        (``_GluedModes``, when ``C`` is proportional: every harmonic and frequency from one
         eigenproblem), ``"lu"``, by a complex LU of ``D_ss`` (the general path), or ``"none"`` (no
         coordinate to condense).
         """
