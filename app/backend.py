@@ -493,13 +493,14 @@ class Backend:
 
     @staticmethod
     def _at_kw(history: WearHistory | None, kw: float, horizon: float) -> WearHistory | None:
-        """``history`` under ``kw`` when that is exact (its end state, scaled, within the horizon with a
-        margin for round-off), else None."""
+        """``history`` under ``kw`` when that is exact (:meth:`fretwear.wear.WearHistory.rescaled`), else
+        None."""
         if history is None or history.kw == kw:
             return history
-        if history.status == "stuck" or history.cycles[-1] * (history.kw / kw) <= horizon * (1 - 1e-9):
-            return history.rescaled(kw)
-        return None
+        try:
+            return history.rescaled(kw, horizon)
+        except ValueError:  # its scaled end passes the horizon: computed again
+            return None
 
     def history(
         self,

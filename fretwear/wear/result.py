@@ -167,19 +167,24 @@ class WearHistory:
             out[name] = np.stack([np.interp(cycles, self.cycles, v) for v in values.T], axis=-1)
         return out
 
-    def rescaled(self, kw: float) -> WearHistory:
+    def rescaled(self, kw: float, horizon: float | None = None) -> WearHistory:
         """This history under the Archard coefficient ``kw`` (1/N), by Archard's law alone.
 
         ``dw/dN = K_w F_N(w) s(w)`` makes the wear states and responses functions of ``K_w N``: the
         records' cycle counts scale by ``self.kw / kw``, their rates by ``kw / self.kw``. Exact (to
         round-off) for a history that reached its end state before its horizon (status ``"worn"``) on a
         method whose records are placed in wear, not in cycles (the exact load path), as long as the
-        scaled end stays within the horizon (the caller checks); a history that sticks only changes its
-        ``kw``. ``ValueError`` for any other status: its horizon cut it, at a slow time ``K_w N`` that
-        another ``kw`` moves.
+        scaled end stays within the horizon; a history that sticks only changes its ``kw``.
+        ``ValueError`` for any other status (its horizon cut it, at a slow time ``K_w N`` that another
+        ``kw`` moves), and when the scaled end passes ``horizon`` (cycles; the run at ``kw`` to that
+        horizon would stop earlier).
         """
         if not (np.isfinite(kw) and kw > 0):
             raise ValueError(f"kw must be > 0 1/N, got {kw!r}")
+        end = self.cycles[-1] * (self.kw / kw)
+        if horizon is not None and self.status == "worn" and end > horizon * (1 - 1e-9):
+            raise ValueError(f"under kw = {kw!r} 1/N this history ends at N = {end:.6g}, beyond the horizon "
+                             f"{horizon!r}: run it again")  # fmt: skip
         if self.status == "stuck":
             return replace(self, kw=kw, warnings=list(self.warnings), info=dict(self.info))
         if self.status != "worn":

@@ -49,3 +49,15 @@ def test_a_history_cut_by_its_horizon_does_not_rescale():
         cut.rescaled(2e-11)
     with pytest.raises(ValueError, match="kw must be > 0"):
         _exact_dlft(0.55, 1e-11).rescaled(0.0)
+
+
+def test_a_history_whose_scaled_end_passes_the_horizon_does_not_rescale():
+    """At a smaller K_w the worn end moves to larger N: past the horizon, the direct run would stop there."""
+    base = _exact_dlft(0.55, 1e-11)
+    end = base.cycles[-1]
+    assert base.status == "worn" and end < 1e5
+    assert base.rescaled(1e-11 * end / 0.9e5, horizon=1e5).cycles[-1] == pytest.approx(0.9e5)
+    with pytest.raises(ValueError, match="beyond the horizon"):
+        base.rescaled(1e-11 * end / 1.1e5, horizon=1e5)
+    stuck = _exact_dlft(1.25, 1e-11)
+    assert stuck.rescaled(1e-20, horizon=1e5).status == "stuck"  # never wears: any K_w
