@@ -94,16 +94,17 @@ def _newton_step(A, b):
 
 
 @njit(cache=True, nogil=True)
-def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, verify, records):
+def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, accept, records):
     """Newton on ``P(y) - y = 0``, ``P`` the period map, with the exact monodromy.
 
     Least-squares steps (the Jacobian is singular on orbits with a contact
     stuck during the whole period) and backtracking on the periodicity
     residual ``|P(y) - y|`` (velocities scaled by ``1 / omega``). Stops early
-    when the residual has not halved over ``_STALL`` iterations. Without
-    ``verify``, a Newton step below ``_STEP_TOL`` of ``|y|`` is taken and
-    returned as converged without evaluating the period map there (its
-    residual is then of the order of the step squared): the caller verifies it.
+    when the residual has not halved over ``_STALL`` iterations. A Newton
+    step below ``accept`` of ``|y|`` (0: none) is taken and returned as
+    converged without evaluating the period map there (its residual is then
+    of the order of the step squared): the caller verifies it, or keeps the
+    period last evaluated, that step away from the orbit.
 
     Every period marched is recorded into ``records`` unless they are empty
     (:func:`no_records`); :data:`NEED_SPACE` when they are full.
@@ -132,7 +133,7 @@ def newton(model, omega, patterns, g, y_guess, tol, max_iter, max_phases, verify
         if it == max_iter or (it >= _STALL and history[it] > 0.5 * history[it - _STALL]):
             return OK, 0, y, False, False, it, res / size, J, last
         dy = _newton_step(J - I, y - y1)
-        if not verify and scaled_norm(dy, n, omega, kt) <= _STEP_TOL * size:
+        if scaled_norm(dy, n, omega, kt) <= accept * size:
             return OK, 0, y + dy, True, False, it + 1, res / size, J, last
         alpha = 1.0
         while True:
@@ -214,7 +215,8 @@ def solve(
     ``tol`` is iterated further with verification. Newton records every period
     it marches: when its last step is at most ``reuse[i]`` (relative to the
     state; 0: only a verified state) the period of its last evaluation, that
-    close to the orbit, is the recorded one and no further period is marched.
+    close to the orbit, is the recorded one and no further period is marched;
+    Newton then also stops at the first step below ``reuse[i]``.
     ``neutral_out[i]`` counts the contacts stuck during the whole period
     (neutral stuck offsets).
 
@@ -304,7 +306,7 @@ def solve(
                     break
                 kind, y = MARCH_START + j, ys.copy()
             status, need, y1, ok, _, its, res, J, last = newton(
-                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, FALSE, records_i
+                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, max(_STEP_TOL, reuse[i]), records_i
             )
             if status == NEED_PATTERN or status == NEED_SPACE:
                 return status, need, i
@@ -345,7 +347,7 @@ def solve(
                 found = found and res <= tol
                 break
             status, need, y2, ok, _, its, _, _, _ = newton(
-                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, TRUE, no_records()
+                model, om, patterns_i, g_i, y, tol, max_iter, max_phases, 0.0, no_records()
             )
             if status == NEED_PATTERN:
                 return status, need, i

@@ -623,7 +623,7 @@ def periodic_state(
     y = check_state(eng, y_guess, "y_guess")
     while True:
         status, need, y1, converged, *_ = periodic.newton(
-            eng.model_arrays, eng.omega, eng.arrays(), g, y, tol, max_iter, _MAX_PHASES, True,
+            eng.model_arrays, eng.omega, eng.arrays(), g, y, tol, max_iter, _MAX_PHASES, 0.0,
             periodic.no_records(),
         )  # fmt: skip
         if status != NEED_PATTERN:
