@@ -111,6 +111,11 @@ class SlidingTable:
         starts at its first sample.
     orbit : ndarray, shape (K, 2 n), or None
         Periodic state ``(u, v)`` at ``t = 0`` of each sample (per unit forcing).
+    events : ndarray of int, shape (K,), or None
+        Contact events per period of each sample's orbit. Where two neighbours
+        differ, a stick phase appears or vanishes between them: ``s_hat`` has a
+        kink there, and the interpolants take the straight line between them
+        (:func:`pchip`'s ``breaks``).
     solves : int
         Shooting solves spent.
     failures : list of float
@@ -131,6 +136,7 @@ class SlidingTable:
     stuck: dict
     free: dict | None = None
     orbit: np.ndarray | None = field(default=None, repr=False)
+    events: np.ndarray | None = field(default=None, repr=False)
     solves: int = 0
     failures: list[float] = field(default_factory=list)
     verified: set = field(default_factory=set, repr=False)
@@ -197,56 +203,76 @@ class SlidingTable:
             if self.free is not None:
                 rho, s_hat = np.append(0.0, rho), np.append(self.free["s_hat"], s_hat)
                 rows = {name: np.vstack([self.free[name][None], y]) for name, y in rows.items()}
-            x, c = q_cubic(rho, s_hat, self.rho_stick)
+            breaks = kinks(self.events, len(rho))
+            x, c = q_cubic(rho, s_hat, self.rho_stick, breaks)
+            breaks = np.append(breaks, False)  # the last piece, up to rho_stick
             response = {
-                name: partial(_evaluate, x, pchip(x, np.vstack([y, self.stuck[name][None]])))
+                name: partial(_evaluate, x, pchip(x, np.vstack([y, self.stuck[name][None]]), breaks))
                 for name, y in rows.items()
             }
             self._built = (x, c, response)
         return self._built
 
 
-def pchip(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+def pchip(x: np.ndarray, y: np.ndarray, breaks: np.ndarray | None = None) -> np.ndarray:
     """Coefficients of the monotone piecewise-cubic Hermite interpolant (Fritsch-Carlson) of ``y(x)``.
 
     ``x`` (K,) ascending, ``y`` (K, ...); returns ``c`` (4, K - 1, ...): on
     ``[x[j], x[j + 1]]`` the cubic is ``((c[0, j] h + c[1, j]) h + c[2, j]) h + c[3, j]``,
     ``h = r - x[j]``. Slopes: the weighted harmonic mean of the neighbouring
     secants inside (zero where they change sign, so that no extremum is made),
-    a shape-preserving three-point formula at the ends.
+    a shape-preserving three-point formula at the ends. ``breaks`` (K - 1,)
+    bool marks the intervals that hold a kink of ``y`` (a change of the
+    orbit's events): such a piece is the straight line, and the smooth runs on
+    either side are interpolated on their own (their end slopes one-sided), so
+    that the kink does not bend the pieces next to it.
     """
     y = np.asarray(y, dtype=float)
     columns = np.ascontiguousarray(y.reshape(len(y), -1))
-    return _pchip(np.ascontiguousarray(x, dtype=float), columns).reshape((4, len(y) - 1, *y.shape[1:]))
+    brk = np.zeros(len(x) - 1, dtype=np.bool_) if breaks is None else np.asarray(breaks, dtype=np.bool_)
+    c = _pchip(np.ascontiguousarray(x, dtype=float), columns, np.ascontiguousarray(brk))
+    return c.reshape((4, len(y) - 1, *y.shape[1:]))
 
 
 @njit(cache=True, nogil=True)
-def _pchip(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+def _pchip(x: np.ndarray, y: np.ndarray, breaks: np.ndarray) -> np.ndarray:
     """:func:`pchip` of each column of ``y`` (K, m): compiled, as the tables are refined in threads."""
     K, m = y.shape
     c = np.empty((4, K - 1, m))
     d = np.empty(K)
+    left, right = np.empty(K - 1), np.empty(K - 1)  # each piece's end slopes
     for col in range(m):
         for j in range(K - 1):
             c[3, j, col] = (y[j + 1, col] - y[j, col]) / (x[j + 1] - x[j])  # the secants, for now
-        if K == 2:
-            d[0] = d[1] = c[3, 0, col]
-        else:
-            for j in range(1, K - 1):
-                h0, h1, m0, m1 = x[j] - x[j - 1], x[j + 1] - x[j], c[3, j - 1, col], c[3, j, col]
-                if m0 * m1 <= 0.0:  # a sign change or a flat secant: no extremum made
-                    d[j] = 0.0
-                else:
-                    w1, w2 = 2 * h1 + h0, h1 + 2 * h0
-                    d[j] = (w1 + w2) / (w1 / m0 + w2 / m1)
-            d[0] = _end_slope(x[1] - x[0], x[2] - x[1], c[3, 0, col], c[3, 1, col])
-            e = K - 1
-            d[e] = _end_slope(x[e] - x[e - 1], x[e - 1] - x[e - 2], c[3, e - 1, col], c[3, e - 2, col])
+        j = 0
+        while j < K - 1:
+            if breaks[j]:
+                left[j] = right[j] = c[3, j, col]
+                j += 1
+                continue
+            e = j  # the smooth run of knots j..e
+            while e < K - 1 and not breaks[e]:
+                e += 1
+            if e - j == 1:
+                d[j] = d[e] = c[3, j, col]
+            else:
+                for i in range(j + 1, e):
+                    h0, h1, m0, m1 = x[i] - x[i - 1], x[i + 1] - x[i], c[3, i - 1, col], c[3, i, col]
+                    if m0 * m1 <= 0.0:  # a sign change or a flat secant: no extremum made
+                        d[i] = 0.0
+                    else:
+                        w1, w2 = 2 * h1 + h0, h1 + 2 * h0
+                        d[i] = (w1 + w2) / (w1 / m0 + w2 / m1)
+                d[j] = _end_slope(x[j + 1] - x[j], x[j + 2] - x[j + 1], c[3, j, col], c[3, j + 1, col])
+                d[e] = _end_slope(x[e] - x[e - 1], x[e - 1] - x[e - 2], c[3, e - 1, col], c[3, e - 2, col])
+            for i in range(j, e):
+                left[i], right[i] = d[i], d[i + 1]
+            j = e
         for j in range(K - 1):
             h, secant = x[j + 1] - x[j], c[3, j, col]
-            c[0, j, col] = (d[j] + d[j + 1] - 2 * secant) / h**2
-            c[1, j, col] = (3 * secant - 2 * d[j] - d[j + 1]) / h
-            c[2, j, col] = d[j]
+            c[0, j, col] = (left[j] + right[j] - 2 * secant) / h**2
+            c[1, j, col] = (3 * secant - 2 * left[j] - right[j]) / h
+            c[2, j, col] = left[j]
             c[3, j, col] = y[j, col]
     return c
 
@@ -270,22 +296,36 @@ def _evaluate(x: np.ndarray, c: np.ndarray, r) -> np.ndarray:
     return ((c[0, j] * h + c[1, j]) * h + c[2, j]) * h + c[3, j]
 
 
-def q_cubic(rho: np.ndarray, s_hat: np.ndarray, rho_stick: float) -> tuple[np.ndarray, np.ndarray]:
+def kinks(events: np.ndarray | None, knots: int) -> np.ndarray:
+    """Which of the ``knots - 1`` intervals lie between samples whose orbits have different events per
+    period (bool): the last ``len(events)`` knots are the samples (None: unknown, no kink)."""
+    flags = np.zeros(max(knots - 1, 0), dtype=np.bool_)
+    if events is not None and len(events) > 1:
+        flags[len(flags) - len(events) + 1 :] = np.diff(events) != 0
+    return flags
+
+
+def q_cubic(
+    rho: np.ndarray, s_hat: np.ndarray, rho_stick: float, breaks: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Knots and PCHIP coefficients of ``q = s_hat / (rho_stick - rho)^2``, with a knot at ``rho_stick``.
 
     Returns ``x`` (K + 1,) and ``c`` (4, K): on ``[x[j], x[j + 1]]``,
     ``q = ((c[0, j] h + c[1, j]) h + c[2, j]) h + c[3, j]`` with ``h = r - x[j]``.
     ``q(rho_stick)`` continues the cubic's end slope (at least 2 samples).
+    ``breaks`` (K - 1,): the kinks between samples (:func:`pchip`).
     """
     q = s_hat / (rho_stick - rho) ** 2
+    breaks = np.zeros(max(len(rho) - 1, 0), dtype=np.bool_) if breaks is None else breaks
     if len(rho) == 1:
         q_end = q[0]
     else:
-        last = pchip(rho, q)[:, -1]  # the last piece: its slope at rho[-1]
+        last = pchip(rho, q, breaks)[:, -1]  # the last piece: its slope at rho[-1]
         h = rho[-1] - rho[-2]
         q_end = q[-1] + (3 * last[0] * h**2 + 2 * last[1] * h + last[2]) * (rho_stick - rho[-1])
     x = np.append(rho, rho_stick)
-    return x, np.ascontiguousarray(pchip(x, np.append(q, max(q_end, 0.5 * q[-1]))))  # q > 0 below rho_stick
+    c = pchip(x, np.append(q, max(q_end, 0.5 * q[-1])), np.append(breaks, False))  # q > 0 below rho_stick
+    return x, np.ascontiguousarray(c)
 
 
 #: Gauss-Legendre rule of the pieces of the Archard quadrature
@@ -491,8 +531,8 @@ def cached_solves(model: Model, omega: float) -> int:
 
 # -- on disk: the tables outlive the process -----------------------------------------------------
 #: version of the file layout below (a new layout ignores the old files)
-_FORMAT = 2
-_ARRAYS = ("rho", "s_hat", *_RESPONSE, "orbit")
+_FORMAT = 3
+_ARRAYS = ("rho", "s_hat", *_RESPONSE, "orbit", "events")
 
 
 def cache_dir() -> Path | None:
@@ -541,8 +581,8 @@ def _load(key: tuple) -> SlidingTable | None:
             if "free_s_hat" in data:
                 free = {name: data[f"free_{name}"] for name in ("s_hat", *_RESPONSE)}
             return SlidingTable(
-                float(data["omega"]), float(data["rho_stick"]), *(data[name] for name in _ARRAYS[:-1]), stuck,
-                free=free, orbit=data["orbit"], solves=int(data["solves"]),
+                float(data["omega"]), float(data["rho_stick"]), *(data[name] for name in _ARRAYS[:-2]), stuck,
+                free=free, orbit=data["orbit"], events=data["events"], solves=int(data["solves"]),
                 failures=data["failures"].tolist(),
                 verified={tuple(pair) for pair in data["verified"].tolist()}, checked=tuple(data["checked"]),
             )  # fmt: skip
@@ -564,13 +604,18 @@ def _save(key: tuple, table: SlidingTable) -> None:
                 tmp, omega=table.omega, rho_stick=table.rho_stick, solves=table.solves,
                 failures=np.array(table.failures, dtype=float), checked=np.array(table.checked, dtype=float),
                 verified=np.array(sorted(table.verified), dtype=float).reshape(-1, 2),
-                **{name: getattr(table, name) for name in _ARRAYS},
+                **{name: getattr(table, name) for name in _ARRAYS[:-1]}, events=_events(table),
                 **{f"stuck_{name}": table.stuck[name] for name in _RESPONSE},
                 **{f"free_{name}": value for name, value in (table.free or {}).items()},
             )  # fmt: skip
         os.replace(tmp.name, path)
     except OSError:
         log.warning("sliding table not saved to %s", path, exc_info=True)
+
+
+def _events(table: SlidingTable) -> np.ndarray:
+    """The table's events per sample; -1 (unknown: no kink) for a table made without them."""
+    return np.full(len(table.rho), -1, dtype=np.int64) if table.events is None else table.events
 
 
 def _key(model: Model, omega: float) -> tuple:
@@ -592,22 +637,67 @@ def _key(model: Model, omega: float) -> tuple:
 
 
 class _Job:
-    """A table to extend: its samples, the range ``[lo, hi]`` to meet, its row in the pattern table."""
+    """A table to extend: its samples, the range ``[lo, hi]`` to meet, its row in the pattern table.
+
+    Every sample's row is in :attr:`points`; the refinement reads sorted
+    arrays of them (``rho``, ``s_hat``, ``events``, ``orbits``), into which
+    :meth:`merge` inserts the samples added since (once per pass, not per use).
+    """
 
     def __init__(self, table: SlidingTable, lo: float, hi: float, index: int):
         self.table, self.lo, self.hi, self.index = table, lo, hi, index
-        orbit = table.orbit if table.orbit is not None else np.zeros((len(table.rho), 0))
-        rows = zip(table.s_hat, *(getattr(table, name) for name in _RESPONSE), orbit, strict=True)
+        orbit = table.orbit  # a table made without orbits gives no guesses (NaN)
+        if orbit is None:
+            orbit = np.full((len(table.rho), 2 * table.amplitude.shape[1]), np.nan)
+        rows = zip(table.s_hat, *(getattr(table, name) for name in _RESPONSE), orbit, _events(table),
+                   strict=True)  # fmt: skip
         self.points: dict[float, tuple] = dict(zip(table.rho.tolist(), rows, strict=True))
+        self.rho, self.s_hat, self.events, self.orbits = table.rho, table.s_hat, _events(table), orbit
+        self._added: list[float] = []
         self.to_u, self.from_u = _spacing(table.rho_stick)
+
+    def add(self, rho: float, row: tuple | None) -> bool:
+        """Record a solve at ``rho``: a sample, or a failure (left out); whether it is a sample."""
+        if row is None:
+            self.table.failures.append(rho)
+            return False
+        self.points[rho] = row
+        self._added.append(rho)
+        return True
+
+    def merge(self) -> None:
+        """Insert the samples added since the last call into the sorted arrays."""
+        if not self._added:
+            return
+        rows = [self.points[r] for r in self._added]
+        rho = np.concatenate([self.rho, self._added])
+        order = np.argsort(rho, kind="stable")
+        self.rho = rho[order]
+        self.s_hat = np.concatenate([self.s_hat, [row[0] for row in rows]])[order]
+        self.events = np.concatenate([self.events, [row[5] for row in rows]])[order]
+        self.orbits = np.concatenate([self.orbits, [row[4] for row in rows]])[order]
+        self._added = []
+
+    def knots(self) -> tuple[np.ndarray, np.ndarray]:
+        """The knots of the interpolant and ``s_hat`` there: ``rho = 0`` (with ``free``), the samples."""
+        self.merge()
+        if self.table.free is None:
+            return self.rho, self.s_hat
+        return np.append(0.0, self.rho), np.append(self.table.free["s_hat"], self.s_hat)
+
+    def open(self, a: float, b: float) -> bool:
+        """Whether the interval ``[a, b]`` between two knots is still to be checked."""
+        return (
+            ((a < self.hi and b > self.lo) or a == 0.0)
+            and (a, b) not in self.table.verified
+            and b > max(a * (1 + 1e-9), 1e-9 * self.table.rho_stick)
+        )
 
     def guesses(self, rho: np.ndarray) -> np.ndarray:
         """Newton's starts at ``rho``: the orbits of the (up to) four samples around each, interpolated
-        (Lagrange, cubic in ``rho``), shape (len(rho), 2 n); empty rows without stored orbits."""
-        r = np.array(sorted(self.points))
-        orbits = np.array([self.points[v][4] for v in r])
-        if not orbits.size:
-            return np.zeros((len(rho), 0))
+        (Lagrange, cubic in ``rho``), shape (len(rho), 2 n); NaN rows without stored orbits."""
+        self.merge()
+        r = self.rho
         k = np.clip(np.searchsorted(r, rho) - 2, 0, max(len(r) - 4, 0))[:, None] + np.arange(min(4, len(r)))
         near = r[k]  # (P, m) the samples around each rho
         weights = np.ones(near.shape)
@@ -615,21 +705,24 @@ class _Job:
             for o in range(near.shape[1]):
                 if o != i:
                     weights[:, i] *= (rho - near[:, o]) / (near[:, i] - near[:, o])
-        return np.einsum("pm,pmn->pn", weights, orbits[k])
+        return np.einsum("pm,pmn->pn", weights, self.orbits[k])
 
     def problems(self, rho: np.ndarray) -> list[tuple[int, float, list]]:
         """The solves at load ratios ``rho``: ``(frequency index, rho, [Newton's start])`` each."""
-        starts = self.guesses(rho)
-        return [(self.index, r, [y] if y.size else []) for r, y in zip(rho.tolist(), starts, strict=True)]
+        starts = self.guesses(rho) if len(self.rho) else np.full((len(rho), 1), np.nan)
+        usable = np.isfinite(starts).all(axis=1)
+        return [
+            (self.index, r, [y] if ok else []) for r, y, ok in zip(rho.tolist(), starts, usable, strict=True)
+        ]
 
     def store(self, solves: int) -> None:
         """Write the samples back into the table, ascending in ``rho``."""
-        t, r = self.table, np.array(sorted(self.points))
-        rows = [self.points[v] for v in r]
-        t.rho, t.s_hat = r, np.array([row[0] for row in rows])
+        self.merge()
+        t = self.table
+        rows = [self.points[v] for v in self.rho.tolist()]
+        t.rho, t.s_hat, t.events, t.orbit = self.rho, self.s_hat, self.events.astype(np.int64), self.orbits
         for k, name in enumerate(_RESPONSE, start=1):
             setattr(t, name, np.array([row[k] for row in rows]))
-        t.orbit = np.array([row[4] for row in rows])
         t.solves += solves
 
 
@@ -642,7 +735,7 @@ def _shoot(
     ``stick`` (the stick threshold per frequency index), a solve records the
     period of Newton's last evaluation when its last step is below ``_REUSE
     d^1.5``; without, every orbit is verified to the shooting tolerance.
-    Returns per problem ``(s_hat, amplitude, half p2p, relative half p2p, y0)``
+    Returns per problem ``(s_hat, amplitude, half p2p, relative half p2p, y0, events per period)``
     per unit forcing, or None where shooting failed (left out of the table).
     """
     at = np.array([p[0] for p in problems], dtype=np.int64)
@@ -653,9 +746,10 @@ def _shoot(
     o = _orbits(engine, at, g, [p[2] for p in problems], chain, 1e-10, 30, 400, reuse=reuse)
     amplitude = np.hypot(o["fre"], o["fim"]) * (2.0 / engine.periods[at])[:, None]
     half = (o["hi"] - o["lo"]) / 2
+    events = np.diff(o["offsets"][2])  # per period of the recorded orbit
     n = engine.n
     return [
-        (float(o["sliding"][k, 0]), amplitude[k], half[k, :n], half[k, n:], o["y0"][k])
+        (float(o["sliding"][k, 0]), amplitude[k], half[k, :n], half[k, n:], o["y0"][k], int(events[k]))
         if o["converged"][k] and np.isfinite(o["sliding"][k, 0])
         else None
         for k in range(len(problems))
@@ -710,16 +804,7 @@ def _first_samples(engine: Table, jobs: list[_Job], stick: np.ndarray) -> None:
     for k in range(_FIRST):
         problems = [(job.index, float(grid[k]), []) for job, grid in zip(jobs, grids, strict=True)]
         for (_, rho, _), job, row in zip(problems, jobs, _shoot(engine, problems, True, stick), strict=True):
-            _add(job, rho, row)
-
-
-def _add(job: _Job, rho: float, row: tuple | None) -> bool:
-    """Record a solve at ``rho``: a sample, or a failure (left out); whether it is a sample."""
-    if row is None:
-        job.table.failures.append(rho)
-        return False
-    job.points[rho] = row
-    return True
+            job.add(rho, row)
 
 
 #: the smallest relative change of the load ratio whose cycles must meet the tolerance (wear to 0.1 u0)
@@ -745,6 +830,43 @@ def _small_share(
     return bool(error * share[0] <= tol * min(share[1], after))
 
 
+def _bisected(job: _Job, j: int, a: float, b: float, mid: float, row: tuple | None, x: np.ndarray,
+              c: np.ndarray, kinked: np.ndarray, tol: float) -> list[tuple[float, float]]:  # fmt: skip
+    """Record the solve at ``mid``, halfway in ``u`` across the kink on piece ``j = [a, b]``; the halves
+    left to check.
+
+    A half whose ends have the same events is smooth: it passes when the
+    cubic of its side (the piece beyond ``a``, or beyond ``b``, continued to
+    ``mid``) predicts ``q(mid)`` within ``tol``; else it is checked at its
+    thirds in the next pass. A half that still holds the kink is the straight
+    line of :func:`pchip`; ``q`` is monotone there, so the line is off by at
+    most ``|q(lo) - q(hi)|`` and it passes when that error, or its share of the
+    cycles (:func:`_small_share`), is small enough.
+    """
+    table = job.table
+    if not job.add(mid, row):
+        table.verified.add((a, b))  # a failed sample: the kink cannot be refined
+        return []
+    stick = table.rho_stick
+    q = {r: job.points[r][0] / (stick - r) ** 2 for r in (a, mid, b)}
+    events = {r: job.points[r][5] for r in (a, mid, b)}
+    left = []
+    for lo, hi, side in ((a, mid, j - 1), (mid, b, j + 1)):
+        if events[lo] == events[hi]:
+            smooth = 0 <= side < len(x) - 1 and not (side < len(kinked) and kinked[side])
+            if smooth and abs(q[mid] - _q(x, c, side, mid)) <= tol * q[mid]:
+                table.verified.add((lo, hi))
+            else:
+                left.append((lo, hi))
+            continue
+        error = abs(q[hi] - q[lo]) / min(q[hi], q[lo])
+        if error <= tol or _small_share(x, c, lo, hi, error, tol, stick):
+            table.verified.add((lo, hi))
+        else:
+            left.append((lo, hi))
+    return left
+
+
 def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None:
     """Sample the tables of ``jobs`` until the cubic in ``q`` predicts the two new samples at the thirds
     of every interval that meets ``[lo, hi]`` within ``tol`` (relative); one compiled call per pass.
@@ -754,7 +876,10 @@ def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None
     samples whose midpoint agreed to 1e-3). An interval also passes when its
     error changes the cycles over any factor ``_WINDOW`` of the load ratio by
     at most ``tol`` (:func:`_small_share`). The interval from the knot
-    ``rho = 0`` to the first sample is checked at its thirds in ``rho``.
+    ``rho = 0`` to the first sample is checked at its thirds in ``rho``. An
+    interval across a kink (its samples' orbits have different events) is
+    bisected instead (:func:`_bisected`). Each pass checks only the intervals
+    the last one split.
     """
     engine = Table(model, [job.table.omega for job in jobs])
     stick = np.array([job.table.rho_stick for job in jobs])
@@ -772,45 +897,56 @@ def _refine(model: Model, jobs: list[_Job], tol: float, max_solves: int) -> None
     if below:
         for (i, rho, _), row in zip(below, _shoot(engine, below, False, stick), strict=True):
             spent[i] += 1
-            _add(jobs[i], rho, row)
+            jobs[i].add(rho, row)
+    pending = {}
+    for job in jobs:
+        knots = job.knots()[0].tolist() if len(job.points) >= 2 else []
+        pending[job.index] = [(a, b) for a, b in zip(knots[:-1], knots[1:], strict=False) if job.open(a, b)]
     while True:
         problems, checks = [], []
         for job in jobs:
-            if job.table.solves + spent[job.index] >= max_solves or len(job.points) < 2:
+            pairs = pending.pop(job.index, [])
+            if not pairs or job.table.solves + spent[job.index] >= max_solves:
                 continue
-            samples = sorted(job.points)
-            free = [] if job.table.free is None else [(0.0, job.table.free["s_hat"])]
-            knots = [k for k, _ in free] + samples
-            pairs = [(a, b) for a, b in zip(knots[:-1], knots[1:], strict=False)
-                     if (a < job.hi and b > job.lo or a == 0.0) and (a, b) not in job.table.verified
-                     and b > max(a * (1 + 1e-9), 1e-9 * job.table.rho_stick)]  # fmt: skip
-            if not pairs:
-                continue
-            s_hat = [v for _, v in free] + [job.points[k][0] for k in samples]
-            x, c = q_cubic(np.array(knots), np.array(s_hat), job.table.rho_stick)
+            knots, s_hat = job.knots()
+            kinked = kinks(job.events, len(knots))
+            x, c = q_cubic(knots, s_hat, job.table.rho_stick, kinked)
             a, b = np.array(pairs).T
+            j = np.searchsorted(knots, a)  # the piece of each pair
+            at_kink = kinked[j]
+            a, b, smooth = a[~at_kink], b[~at_kink], [p for p, k in zip(pairs, at_kink, strict=True) if not k]
             ua, third = job.to_u(np.where(a > 0, a, b)), np.array([1 / 3, 2 / 3])
-            thirds = np.where((a > 0)[:, None], job.from_u(ua[:, None] + third * (job.to_u(b) - ua)[:, None]),
-                              b[:, None] * third)  # fmt: skip
-            checks.append((job, pairs, thirds, x, c))
-            problems += job.problems(thirds.ravel())
+            inside = job.from_u(ua[:, None] + third * (job.to_u(b) - ua)[:, None])
+            thirds = np.where((a > 0)[:, None], inside, b[:, None] * third).reshape(-1, 2)
+            across = [(int(i), p) for i, p, k in zip(j, pairs, at_kink, strict=True) if k]
+            # a kink is bisected in u (a kink lies between samples, never next to the knot at 0)
+            mids = np.array([job.from_u((job.to_u(p[0]) + job.to_u(p[1])) / 2) for _, p in across])
+            checks.append((job, smooth, thirds, across, mids, x, c, kinked))
+            problems += job.problems(np.concatenate([thirds.ravel(), mids]))
         if not problems:
             break
         rows = iter(_shoot(engine, problems, False, stick))
-        for job, pairs, thirds, x, c in checks:
-            spent[job.index] += thirds.size
+        for job, smooth, thirds, across, mids, x, c, kinked in checks:
+            spent[job.index] += thirds.size + len(mids)
             predicted = _q_at(x, c, thirds.ravel()).reshape(thirds.shape)
-            for (a, b), mids, q_cubic_mids in zip(pairs, thirds.tolist(), predicted, strict=True):
+            left = []
+            for (a, b), between, q_cubic_mids in zip(smooth, thirds.tolist(), predicted, strict=True):
                 error, edges = 0.0, [a]  # a failed sample counts as passed: it cannot be refined
-                for mid, q_pred in zip(mids, q_cubic_mids, strict=True):
+                for mid, q_pred in zip(between, q_cubic_mids, strict=True):
                     row = next(rows)
-                    if _add(job, mid, row):
+                    if job.add(mid, row):
                         edges.append(mid)
                         q_mid = row[0] / (job.table.rho_stick - mid) ** 2
                         error = max(error, abs(q_mid - q_pred) / q_mid)
+                edges.append(b)
+                halves = list(zip(edges[:-1], edges[1:], strict=True))
                 if error <= tol or _small_share(x, c, a, b, error, tol, job.table.rho_stick):
-                    edges.append(b)
-                    job.table.verified |= set(zip(edges[:-1], edges[1:], strict=True))
+                    job.table.verified |= set(halves)
+                else:
+                    left += halves
+            for (piece, (a, b)), mid in zip(across, mids.tolist(), strict=True):
+                left += _bisected(job, piece, a, b, mid, next(rows), x, c, kinked, tol)
+            pending[job.index] = [p for p in left if job.open(*p)]
     for job in jobs:
         job.store(spent[job.index])
 
