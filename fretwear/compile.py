@@ -216,6 +216,7 @@ KERNELS: dict[str, Kernel] = {
                 "fretwear.time.integrals:orbit",
                 "fretwear.wear.sliding:_invert",
                 "fretwear.wear.sliding:_pchip",
+                "fretwear.wear.sliding:_lagrange",
             ),  # fmt: skip
             60.0,
             _run_exact,
@@ -329,6 +330,7 @@ _SHOOTING = (
     "fretwear.time.periodic:solve",
     "fretwear.wear.sliding:_invert",
     "fretwear.wear.sliding:_pchip",
+    "fretwear.wear.sliding:_lagrange",
     "fretwear.hbm.condensation:condense_loop",
 )
 

@@ -697,15 +697,7 @@ class _Job:
         """Newton's starts at ``rho``: the orbits of the (up to) four samples around each, interpolated
         (Lagrange, cubic in ``rho``), shape (len(rho), 2 n); NaN rows without stored orbits."""
         self.merge()
-        r = self.rho
-        k = np.clip(np.searchsorted(r, rho) - 2, 0, max(len(r) - 4, 0))[:, None] + np.arange(min(4, len(r)))
-        near = r[k]  # (P, m) the samples around each rho
-        weights = np.ones(near.shape)
-        for i in range(near.shape[1]):
-            for o in range(near.shape[1]):
-                if o != i:
-                    weights[:, i] *= (rho - near[:, o]) / (near[:, i] - near[:, o])
-        return np.einsum("pm,pmn->pn", weights, self.orbits[k])
+        return _lagrange(self.rho, self.orbits, np.ascontiguousarray(rho, dtype=float))
 
     def problems(self, rho: np.ndarray) -> list[tuple[int, float, list]]:
         """The solves at load ratios ``rho``: ``(frequency index, rho, [Newton's start])`` each."""
@@ -724,6 +716,22 @@ class _Job:
         for k, name in enumerate(_RESPONSE, start=1):
             setattr(t, name, np.array([row[k] for row in rows]))
         t.solves += solves
+
+
+@njit(cache=True, nogil=True)
+def _lagrange(r: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """The cubic through the (up to) four samples ``(r, y)`` around each of ``at`` (``r`` ascending)."""
+    m = min(4, len(r))
+    out = np.zeros((len(at), y.shape[1]))
+    for p in range(len(at)):
+        first = min(max(np.searchsorted(r, at[p]) - 2, 0), len(r) - m)
+        for i in range(first, first + m):
+            w = 1.0
+            for o in range(first, first + m):
+                if o != i:
+                    w *= (at[p] - r[o]) / (r[i] - r[o])
+            out[p] += w * y[i]
+    return out
 
 
 def _shoot(
