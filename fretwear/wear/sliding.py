@@ -843,13 +843,19 @@ def _bisected(job: _Job, j: int, a: float, b: float, mid: float, row: tuple | No
     """Record the solve at ``mid``, halfway in ``u`` across the kink on piece ``j = [a, b]``; the halves
     left to check.
 
-    A half whose ends have the same events is smooth: it passes when the
-    cubic of its side (the piece beyond ``a``, or beyond ``b``, continued to
-    ``mid``) predicts ``q(mid)`` within ``tol``; else it is checked at its
-    thirds in the next pass. A half that still holds the kink is the straight
-    line of :func:`pchip`; ``q`` is monotone there, so the line is off by at
-    most ``|q(lo) - q(hi)|`` and it passes when that error, or its share of the
-    cycles (:func:`_small_share`), is small enough.
+    The cubics of the smooth runs beside the kink (the pieces ``j - 1`` and
+    ``j + 1``, where they are not kinks themselves) continue into ``[a, b]``:
+    the truth follows one of them up to the kink and the other after it.
+
+    * A half whose ends have the same events is smooth: it passes when it is
+      no wider than its side's piece and that piece's cubic, continued to
+      ``mid``, predicts ``q(mid)`` within ``tol`` (a short continuation
+      checked at its end); else it is checked at its thirds in the next pass.
+    * A half that still holds the kink is the straight line of :func:`pchip`.
+      Its error is taken as the larger of ``|q(hi) - q(lo)|`` and the
+      distance from the line of either side's cubic over the half; it passes
+      when that error, or its share of the cycles (:func:`_small_share`), is
+      small enough.
     """
     table = job.table
     if not job.add(mid, row):
@@ -858,16 +864,22 @@ def _bisected(job: _Job, j: int, a: float, b: float, mid: float, row: tuple | No
     stick = table.rho_stick
     q = {r: job.points[r][0] / (stick - r) ** 2 for r in (a, mid, b)}
     events = {r: job.points[r][5] for r in (a, mid, b)}
+    sides = [p for p in (j - 1, j + 1) if 0 <= p < len(x) - 1 and not (p < len(kinked) and kinked[p])]
     left = []
     for lo, hi, side in ((a, mid, j - 1), (mid, b, j + 1)):
         if events[lo] == events[hi]:
-            smooth = 0 <= side < len(x) - 1 and not (side < len(kinked) and kinked[side])
-            if smooth and abs(q[mid] - _q(x, c, side, mid)) <= tol * q[mid]:
+            short = side in sides and hi - lo <= x[side + 1] - x[side]
+            if short and abs(q[mid] - _q(x, c, side, mid)) <= tol * q[mid]:
                 table.verified.add((lo, hi))
             else:
                 left.append((lo, hi))
             continue
-        error = abs(q[hi] - q[lo]) / min(q[hi], q[lo])
+        r = np.linspace(lo, hi, 9)
+        line = q[lo] + (r - lo) * (q[hi] - q[lo]) / (hi - lo)
+        error = abs(q[hi] - q[lo])
+        for p in sides:
+            error = max(error, max(abs(_q(x, c, p, v) - w) for v, w in zip(r, line, strict=True)))
+        error /= min(q[hi], q[lo])
         if error <= tol or _small_share(x, c, lo, hi, error, tol, stick):
             table.verified.add((lo, hi))
         else:
