@@ -44,7 +44,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["FIXED", "FREE", "MIXED", "harmonic_blocks", "dense_from_blocks", "classify", "structured_step"]
+__all__ = [
+    "FIXED", "FREE", "MIXED", "harmonic_blocks", "dense_from_blocks", "classify", "eliminate", "mixed_rhs",
+    "mixed_matrix", "back_substitute", "structured_step",
+]  # fmt: skip
 
 #: kinds of a contact coordinate's rows of ``J`` (module text)
 FIXED, FREE, MIXED = 0, 1, 2
@@ -155,18 +158,16 @@ def _amplitude(v, start, k):
 
 
 @njit(cache=True, nogil=True)
-def structured_step(Zb, A, R, eps, dx):
-    """The Newton step ``dx = -J^-1 R`` of the coupled law by the elimination of the module text.
+def eliminate(Zb, A, R, eps, dx):
+    """The exact part of the step (module text): the fixed coordinates' steps into ``dx`` and, harmonic by
+    harmonic, the open coordinates eliminated onto the mixed ones.
 
-    Parameters
-    ----------
-    Zb : (Nh + 1, 2 q, 2 q) blocks of ``Z`` by harmonic (:func:`harmonic_blocks`) (N/m).
-    A : (nc, d H, d H) the law's Jacobian blocks, ``d`` coordinates a pair (2: the coupled law, 3: the 2-D
-        friction law of ``fretwear.hbm.cone``), ``q = d nc``. R : (q H,) residual (N).
-    eps : (q,) penalty per coordinate (N/m). dx : (q H,) out, the step (m).
-
-    Returns the number of mixed coordinates. A singular ``Z_OO`` or Schur
-    complement raises (LAPACK), as the dense solve does.
+    Parameters as :func:`structured_step`'s. Returns ``(kind, Oi, Mi, posM, posP, Sc, g, G, w)``: the
+    kinds of the coordinates, the open and mixed coordinates, each coordinate's index among the mixed ones
+    and among those of the pairs with a mixed coordinate (``P``, or -1), the Schur complement ``S_PM`` per
+    harmonic ``Sc`` (Nh + 1, nP, nM) complex (N/m; the amplitude ``a_k + i b_k``, real at ``k = 0``),
+    ``g_P`` (nP, H) in slots (N), and ``Z_OO^-1 Z_OM`` (Nh + 1, nO, nM), ``Z_OO^-1 (-R_O - Z_OF dx_F)``
+    (Nh + 1, nO) for :func:`back_substitute`.
     """
     K = Zb.shape[0]
     H = 2 * K - 1
@@ -212,9 +213,9 @@ def structured_step(Zb, A, R, eps, dx):
     for c in range(q):
         for j in range(H):
             dx[c * H + j] = -R[c * H + j] / eps[c] if kind[c] == FIXED else 0.0
-    S = np.zeros((nP, H, nM, H))  # S_PM and g_P in slot layout, harmonic-diagonal
+    Sc = np.zeros((K, nP, nM), dtype=np.complex128)  # S_PM per harmonic: harmonic-diagonal
     g = np.zeros((nP, H))
-    G = np.zeros((K, nO, nM), dtype=np.complex128)  # Z_OO^-1 Z_OM and Z_OO^-1 (-R_O - Z_OF dx_F) per harmonic
+    G = np.zeros((K, nO, nM), dtype=np.complex128)
     w = np.zeros((K, nO), dtype=np.complex128)
     for k in range(K):
         Zk = Zb[k]
@@ -240,54 +241,116 @@ def structured_step(Zb, A, R, eps, dx):
         if nP == 0:
             continue
         ZPO = _cgather(Zk, q, Pi, Oi, k)
-        Sk = _cgather(Zk, q, Pi, Mi, k) - ZPO @ G[k]
+        Sc[k] = _cgather(Zk, q, Pi, Mi, k) - ZPO @ G[k]
         gk = _cgather(Zk, q, Pi, Fi, k) @ dxF + ZPO @ w[k]
-        if k == 0:
-            for a in range(nP):
-                g[a, 0] = gk[a].real
-                for b in range(nM):
-                    S[a, 0, b, 0] = Sk[a, b].real
-            continue
-        c, s = 2 * k - 1, 2 * k  # the real form of a complex amplitude: [[Re, -Im], [Im, Re]]
         for a in range(nP):
-            g[a, c], g[a, s] = gk[a].real, gk[a].imag
-            for b in range(nM):
-                re, im = Sk[a, b].real, Sk[a, b].imag
-                S[a, c, b, c], S[a, c, b, s], S[a, s, b, c], S[a, s, b, s] = re, -im, im, re
-    if nM > 0:
-        Kmat = np.zeros((nM, H, nM * H))
-        rhsM = np.zeros((nM, H))
-        Sflat = S.reshape(nP, H, nM * H)
-        for mc in range(nM):
-            c = Mi[mc]
-            i, a = c // d, c % d
-            for r in range(H):
-                rhsM[mc, r] = -R[c * H + r] - g[posP[c], r]
-            Kmat[mc] += Sflat[posP[c]]
+            _put_amplitude(g[a], 0, k, gk[a])
+    return kind, Oi, Mi, posM, posP, Sc, g, G, w
+
+
+@njit(cache=True, nogil=True)
+def _put_amplitude(v, start, k, z):
+    """Write the complex amplitude ``z`` of harmonic ``k`` into the slots ``v[start : start + H]``."""
+    if k == 0:
+        v[start] = z.real
+    else:
+        v[start + 2 * k - 1], v[start + 2 * k] = z.real, z.imag
+
+
+@njit(cache=True, nogil=True)
+def mixed_rhs(A, R, eps, dx, kind, Mi, posP, g):
+    """The mixed rows' right-hand side ``-R_M - (I - A)_MP g_P - (A E)_MF dx_F`` (nM H,) (N), pair by pair
+    (``dx`` holds the fixed coordinates' steps)."""
+    nM, H = Mi.shape[0], g.shape[1]
+    d = A.shape[1] // H
+    rhs = np.zeros(nM * H)
+    t = np.zeros(d * H)
+    for mc in range(nM):
+        c = Mi[mc]
+        i, a = c // d, c % d
+        if mc == 0 or Mi[mc - 1] // d != i:  # a pair's mixed coordinates are consecutive: t once a pair
             for b in range(d):
                 e = d * i + b
-                Ace = np.ascontiguousarray(A[i, a * H : (a + 1) * H, b * H : (b + 1) * H])
-                Kmat[mc] -= Ace @ Sflat[posP[e]]
-                rhsM[mc] += Ace @ g[posP[e]]
-                if kind[e] == MIXED:
-                    for r in range(H):
-                        for s in range(H):
-                            Kmat[mc, r, posM[e] * H + s] += Ace[r, s] * eps[e]
-                else:  # fixed: its step is known
-                    rhsM[mc] -= eps[e] * (Ace @ dx[e * H : (e + 1) * H])
-        dxM = np.linalg.solve(Kmat.reshape(nM * H, nM * H), rhsM.reshape(nM * H))
+                for r in range(H):
+                    t[b * H + r] = g[posP[e], r] - (eps[e] * dx[e * H + r] if kind[e] == FIXED else 0.0)
+        At = A[i, a * H : (a + 1) * H] @ t
+        for r in range(H):
+            rhs[mc * H + r] = -R[c * H + r] - g[posP[c], r] + At[r]
+    return rhs
+
+
+@njit(cache=True, nogil=True)
+def mixed_matrix(Sc, A, eps, kind, Mi, posM, posP):
+    """The dense mixed system ``(I - A)_MP S_PM + (A E)_MM`` (nM H, nM H) (N/m), pair by pair from the
+    Schur complement by harmonic ``Sc`` (:func:`eliminate`)."""
+    K, nM = Sc.shape[0], Sc.shape[2]
+    H = 2 * K - 1
+    d = A.shape[1] // H
+    Kmat = np.zeros((nM * H, nM * H))
+    SR = np.zeros((d * H, nM * H))  # a pair's rows of S_PM in slots
+    mc = 0
+    while mc < nM:
+        i = Mi[mc] // d
+        SR[:, :] = 0.0
+        for b in range(d):
+            p = posP[d * i + b]
+            for k in range(K):
+                for m in range(nM):
+                    z = Sc[k, p, m]
+                    if k == 0:
+                        SR[b * H, m * H] = z.real
+                    else:  # the real form of a complex amplitude: [[Re, -Im], [Im, Re]]
+                        rc, rs, cc, cs = b * H + 2 * k - 1, b * H + 2 * k, m * H + 2 * k - 1, m * H + 2 * k
+                        SR[rc, cc], SR[rc, cs], SR[rs, cc], SR[rs, cs] = z.real, -z.imag, z.imag, z.real
+        T = SR - A[i] @ SR
+        for b in range(d):
+            e = d * i + b
+            if kind[e] == MIXED:
+                for r in range(d * H):
+                    for s in range(H):
+                        T[r, posM[e] * H + s] += A[i, r, b * H + s] * eps[e]
+        while mc < nM and Mi[mc] // d == i:
+            a = Mi[mc] % d
+            Kmat[mc * H : (mc + 1) * H] = T[a * H : (a + 1) * H]
+            mc += 1
+    return Kmat
+
+
+@njit(cache=True, nogil=True)
+def back_substitute(dx, Oi, Mi, G, w):
+    """The open coordinates' steps ``dx_O = w - G dx_M`` harmonic by harmonic into ``dx`` (m)."""
+    K, nO, nM = G.shape[0], Oi.shape[0], Mi.shape[0]
+    H = 2 * K - 1
+    for k in range(K):
+        dxMk = np.empty(nM, dtype=np.complex128)
+        for b in range(nM):
+            dxMk[b] = _amplitude(dx, Mi[b] * H, k)
+        dO = w[k] - G[k] @ dxMk
+        for a in range(nO):
+            _put_amplitude(dx, Oi[a] * H, k, dO[a])
+
+
+@njit(cache=True, nogil=True)
+def structured_step(Zb, A, R, eps, dx):
+    """The Newton step ``dx = -J^-1 R`` of the coupled law by the elimination of the module text.
+
+    Parameters
+    ----------
+    Zb : (Nh + 1, 2 q, 2 q) blocks of ``Z`` by harmonic (:func:`harmonic_blocks`) (N/m).
+    A : (nc, d H, d H) the law's Jacobian blocks, ``d`` coordinates a pair (2: the coupled law, 3: the 2-D
+        friction law of ``fretwear.hbm.cone``), ``q = d nc``. R : (q H,) residual (N).
+    eps : (q,) penalty per coordinate (N/m). dx : (q H,) out, the step (m).
+
+    Returns the number of mixed coordinates. A singular ``Z_OO`` or Schur
+    complement raises (LAPACK), as the dense solve does.
+    """
+    H = 2 * Zb.shape[0] - 1
+    kind, Oi, Mi, posM, posP, Sc, g, G, w = eliminate(Zb, A, R, eps, dx)
+    nM = Mi.shape[0]
+    if nM > 0:
+        rhs = mixed_rhs(A, R, eps, dx, kind, Mi, posP, g)
+        dxM = np.linalg.solve(mixed_matrix(Sc, A, eps, kind, Mi, posM, posP), rhs)
         for mc in range(nM):
-            for r in range(H):
-                dx[Mi[mc] * H + r] = dxM[mc * H + r]
-    if nO > 0:
-        for k in range(K):
-            dxMk = np.empty(nM, dtype=np.complex128)
-            for b in range(nM):
-                dxMk[b] = _amplitude(dx, Mi[b] * H, k)
-            dO = w[k] - G[k] @ dxMk
-            for a in range(nO):
-                if k == 0:
-                    dx[Oi[a] * H] = dO[a].real
-                else:
-                    dx[Oi[a] * H + 2 * k - 1], dx[Oi[a] * H + 2 * k] = dO[a].real, dO[a].imag
+            dx[Mi[mc] * H : (Mi[mc] + 1) * H] = dxM[mc * H : (mc + 1) * H]
+    back_substitute(dx, Oi, Mi, G, w)
     return nM
