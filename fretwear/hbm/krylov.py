@@ -36,11 +36,21 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .structured import MIXED, back_substitute, eliminate, mixed_matrix, mixed_rhs
+from .structured import (
+    MIXED,
+    back_substitute,
+    classify,
+    mixed_matrix,
+    mixed_rhs,
+    partition,
+    reduce_rhs,
+    schur,
+)
 
 __all__ = [
-    "KRYLOV_MIN", "MAX_ITERATIONS", "RESTART", "STEPS", "ITERATIONS", "FALLBACKS", "EXACT", "harmonic_part",
-    "preconditioner", "mixed_matvec", "gmres", "krylov_step",
+    "KRYLOV_MIN", "MAX_ITERATIONS", "RESTART", "STEPS", "ITERATIONS", "FALLBACKS", "EXACT", "REUSED",
+    "COUNTERS", "harmonic_part", "preconditioner", "mixed_matvec", "gmres", "empty_cache", "cached_step",
+    "krylov_step",
 ]  # fmt: skip
 
 #: default size of the mixed system (``nM H`` unknowns) from which the step is taken by GMRES: below it the
@@ -50,9 +60,11 @@ KRYLOV_MIN = 1500
 MAX_ITERATIONS = 200
 #: Krylov basis size before a restart
 RESTART = 60
-#: entries of the counters ``stats`` (int64 array): GMRES steps taken, their products ``K v``, steps that fell
-#: back to the exact solve after GMRES stalled (or a singular preconditioner), exact steps by choice (small)
-STEPS, ITERATIONS, FALLBACKS, EXACT = 0, 1, 2, 3
+#: entries of the counters ``stats`` (int64 array of ``COUNTERS``): GMRES steps taken, their products ``K v``,
+#: steps that fell back to the exact solve after GMRES stalled (or a singular preconditioner), exact steps by
+#: choice (small systems), steps that reused the last one's Schur complement (the same kinds)
+STEPS, ITERATIONS, FALLBACKS, EXACT, REUSED = 0, 1, 2, 3, 4
+COUNTERS = 5
 
 
 @njit(cache=True, nogil=True)
@@ -214,24 +226,30 @@ def gmres(Sc, A, eps, kind, Mi, posM, posP, Pinv, b, atol, max_iter, restart):
 
 
 @njit(cache=True, nogil=True)
-def krylov_step(Zb, A, R, eps, dx, atol, krylov_min, stats):
-    """The Newton step ``J dx = -R`` of a pair law with GMRES on the mixed coordinates (module text).
+def empty_cache():
+    """The cache of :func:`cached_step` before the first step: no kinds, so the first step fills it."""
+    e, c3 = np.empty(0, dtype=np.int64), np.empty((0, 0, 0), dtype=np.complex128)
+    return (e, e, e, e, e, e, e), c3, c3, c3
 
-    Parameters
-    ----------
-    Zb, A, R, eps, dx
-        As :func:`fretwear.hbm.structured.structured_step`'s (``dx`` out, m).
-    atol : float
-        The step's largest linear residual ``|J dx + R|`` (N, 2-norm); the exact step at 0.
-    krylov_min : int
-        Mixed unknowns ``nM H`` from which GMRES is used; below, the exact step.
-    stats : (4,) int64, accumulated: GMRES steps, their products, fallbacks to the exact step, exact steps
-        by choice (:data:`STEPS` ...).
 
-    Returns the linear residual reached (N, 2-norm of the mixed rows; 0 for an exact step).
-    """
+@njit(cache=True, nogil=True)
+def cached_step(Zb, A, R, eps, dx, atol, krylov_min, stats, cache):
+    """:func:`krylov_step` that keeps the elimination's part that depends on ``Z`` and the kinds alone
+    (:func:`fretwear.hbm.structured.schur`: ``Z_OO^-1``, the Schur complement) for the next step: a Newton
+    step whose coordinates keep their kinds (fixed, open, mixed) costs products, no factorisation, of
+    ``Z``'s blocks. ``cache``: :func:`empty_cache`'s or the last step's, with the same ``Zb``. Returns
+    ``(linear residual, cache)``."""
     H = 2 * Zb.shape[0] - 1
-    kind, Oi, Mi, posM, posP, Sc, g, G, w = eliminate(Zb, A, R, eps, dx)
+    d = A.shape[1] // H
+    kind = classify(A, d)
+    part, Zinv, G, Sc = cache
+    if part[0].shape[0] == kind.shape[0] and np.all(part[0] == kind):
+        stats[REUSED] += 1
+    else:
+        part = partition(kind, d)
+        Zinv, G, Sc = schur(Zb, part)
+    kind, Fi, Oi, Mi, Pi, posM, posP = part
+    g, w = reduce_rhs(Zb, part, Zinv, R, eps, dx)
     nM = Mi.shape[0]
     res = 0.0
     if nM > 0:
@@ -260,4 +278,24 @@ def krylov_step(Zb, A, R, eps, dx, atol, krylov_min, stats):
         for mc in range(nM):
             dx[Mi[mc] * H : (Mi[mc] + 1) * H] = dxM[mc * H : (mc + 1) * H]
     back_substitute(dx, Oi, Mi, G, w)
-    return res
+    return res, (part, Zinv, G, Sc)
+
+
+@njit(cache=True, nogil=True)
+def krylov_step(Zb, A, R, eps, dx, atol, krylov_min, stats):
+    """The Newton step ``J dx = -R`` of a pair law with GMRES on the mixed coordinates (module text).
+
+    Parameters
+    ----------
+    Zb, A, R, eps, dx
+        As :func:`fretwear.hbm.structured.structured_step`'s (``dx`` out, m).
+    atol : float
+        The step's largest linear residual ``|J dx + R|`` (N, 2-norm); the exact step at 0.
+    krylov_min : int
+        Mixed unknowns ``nM H`` from which GMRES is used; below, the exact step.
+    stats : (COUNTERS,) int64, accumulated: GMRES steps, their products, fallbacks to the exact step, exact
+        steps by choice, reused eliminations (:data:`STEPS` ...).
+
+    Returns the linear residual reached (N, 2-norm of the mixed rows; 0 for an exact step).
+    """
+    return cached_step(Zb, A, R, eps, dx, atol, krylov_min, stats, empty_cache())[0]

@@ -61,7 +61,7 @@ from numba.extending import overload
 
 from . import cone, coupled, dlft
 from .dense import FASTMATH, lu_factor, lu_solve
-from .krylov import KRYLOV_MIN, krylov_step
+from .krylov import COUNTERS, KRYLOV_MIN, cached_step, empty_cache
 
 __all__ = [
     "DLFT", "COUPLED", "CONE", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
@@ -298,23 +298,24 @@ def _eliminated_solve(J, R, A, eps):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def _direction(code, J, R, A, eps, piv, dx, blocks, atol, krylov_min, stats):
-    """The Newton step ``dx = -J^-1 R`` by the law's linear algebra (module text); False if ``J`` is
-    singular (the LU loops; ``J`` is overwritten by its factors). With ``Z``'s harmonic ``blocks``
-    (pair laws), the step of :func:`fretwear.hbm.krylov.krylov_step` (no ``J``): the open and fixed
-    coordinates eliminated exactly, the mixed ones by GMRES to the linear residual ``atol`` (N) from
-    ``krylov_min`` mixed unknowns, else exactly."""
+def _direction(code, J, R, A, eps, piv, dx, blocks, atol, krylov_min, stats, cache):
+    """The Newton step ``dx = -J^-1 R`` by the law's linear algebra (module text) and the step cache;
+    False if ``J`` is singular (the LU loops; ``J`` is overwritten by its factors). With ``Z``'s harmonic
+    ``blocks`` (pair laws), the step of :func:`fretwear.hbm.krylov.cached_step` (no ``J``): the open and
+    fixed coordinates eliminated exactly (reusing the last step's factors while the kinds are the same),
+    the mixed ones by GMRES to the linear residual ``atol`` (N) from ``krylov_min`` mixed unknowns, else
+    exactly."""
     if blocks is not None:
-        krylov_step(blocks, A, R, eps, dx, atol, krylov_min, stats)
-        return True
+        cache = cached_step(blocks, A, R, eps, dx, atol, krylov_min, stats, cache)[1]
+        return True, cache
     if code != DLFT:
         dx[:] = _eliminated_solve(J, R, A, eps)
-        return True
+        return True, cache
     if lu_factor(J, piv) == 0:
-        return False
+        return False, cache
     dx[:] = -R
     lu_solve(J, piv, dx)
-    return True
+    return True, cache
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -353,8 +354,9 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None, krylov_min=KRYLOV_
         :func:`~fretwear.hbm.krylov.krylov_step`, no dense ``Z`` or ``J`` (``Z`` may then be empty).
     krylov_min : int, with ``blocks``: the mixed unknowns from which the steps are inexact, by GMRES to the
         forcing term :func:`forcing`; below, exact (:func:`~fretwear.hbm.structured.structured_step`'s).
-    stats : (4,) int64, optional, with ``blocks``: counters accumulated by
-        :func:`~fretwear.hbm.krylov.krylov_step` (GMRES steps, products, fallbacks, exact steps).
+    stats : (5,) int64, optional, with ``blocks``: counters accumulated by
+        :func:`~fretwear.hbm.krylov.cached_step` (GMRES steps, products, fallbacks, exact steps, reused
+        eliminations).
 
     Returns ``(x, converged, iterations, max|R|, code)``, ``code`` one of
     ``CONVERGED``, ``NON_FINITE``, ``LINE_SEARCH``, ``BUDGET``, and ``(x0,
@@ -362,7 +364,8 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None, krylov_min=KRYLOV_
     """
     code = law[0]
     n = x0.shape[0]
-    counters = np.zeros(4, dtype=np.int64) if stats is None else stats
+    counters = np.zeros(COUNTERS, dtype=np.int64) if stats is None else stats
+    cache = empty_cache()
     buffers = _buffers(law)
     A = buffers[0]
     R, Rt, dx = np.empty(n), np.empty(n), np.empty(n)
@@ -380,7 +383,8 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None, krylov_min=KRYLOV_
             return x, True, it, r, CONVERGED
         atol = forcing(r, r0, target)
         # J is computed again before it is used again
-        if not _direction(code, J, R, A, eps, piv, dx, blocks, atol, krylov_min, counters):
+        ok, cache = _direction(code, J, R, A, eps, piv, dx, blocks, atol, krylov_min, counters, cache)
+        if not ok:
             return x0.copy(), False, 0, np.inf, SINGULAR
         if not np.all(np.isfinite(dx)):
             if damped:

@@ -45,8 +45,8 @@ import numpy as np
 from numba import njit
 
 __all__ = [
-    "FIXED", "FREE", "MIXED", "harmonic_blocks", "dense_from_blocks", "classify", "eliminate", "mixed_rhs",
-    "mixed_matrix", "back_substitute", "structured_step",
+    "FIXED", "FREE", "MIXED", "harmonic_blocks", "dense_from_blocks", "classify", "partition", "schur",
+    "reduce_rhs", "eliminate", "mixed_rhs", "mixed_matrix", "back_substitute", "structured_step",
 ]  # fmt: skip
 
 #: kinds of a contact coordinate's rows of ``J`` (module text)
@@ -158,31 +158,12 @@ def _amplitude(v, start, k):
 
 
 @njit(cache=True, nogil=True)
-def eliminate(Zb, A, R, eps, dx):
-    """The exact part of the step (module text): the fixed coordinates' steps into ``dx`` and, harmonic by
-    harmonic, the open coordinates eliminated onto the mixed ones.
-
-    Parameters as :func:`structured_step`'s. Returns ``(kind, Oi, Mi, posM, posP, Sc, g, G, w)``: the
-    kinds of the coordinates, the open and mixed coordinates, each coordinate's index among the mixed ones
-    and among those of the pairs with a mixed coordinate (``P``, or -1), the Schur complement ``S_PM`` per
-    harmonic ``Sc`` (Nh + 1, nP, nM) complex (N/m; the amplitude ``a_k + i b_k``, real at ``k = 0``),
-    ``g_P`` (nP, H) in slots (N), and ``Z_OO^-1 Z_OM`` (Nh + 1, nO, nM), ``Z_OO^-1 (-R_O - Z_OF dx_F)``
-    (Nh + 1, nO) for :func:`back_substitute`.
-    """
-    K = Zb.shape[0]
-    H = 2 * K - 1
-    nc = A.shape[0]
-    d = A.shape[1] // H
-    q = d * nc
-    kind = classify(A, d)
-    nF, nO, nM = 0, 0, 0
-    for c in range(q):
-        if kind[c] == FIXED:
-            nF += 1
-        elif kind[c] == FREE:
-            nO += 1
-        else:
-            nM += 1
+def partition(kind, d):
+    """The index sets of the coordinates' ``kind`` (:func:`classify`, ``d`` coordinates a pair): ``(kind, Fi,
+    Oi, Mi, Pi, posM, posP)``, the fixed, open, mixed coordinates and those of the pairs with a mixed
+    coordinate (``P``), then each coordinate's index among the mixed ones and among ``P`` (-1 if none)."""
+    q = kind.shape[0]
+    nF, nO, nM = np.sum(kind == FIXED), np.sum(kind == FREE), np.sum(kind == MIXED)
     Fi, Oi, Mi = np.empty(nF, np.int64), np.empty(nO, np.int64), np.empty(nM, np.int64)
     posM = np.full(q, -1)
     nF, nO, nM = 0, 0, 0
@@ -210,41 +191,89 @@ def eliminate(Zb, A, R, eps, dx):
     for c in range(q):
         if posP[c] >= 0:
             Pi[posP[c]] = c
+    return kind, Fi, Oi, Mi, Pi, posM, posP
+
+
+@njit(cache=True, nogil=True)
+def schur(Zb, part):
+    """The part of the elimination that depends on ``Z`` and the kinds alone, the same for every Newton step
+    that keeps them: per harmonic ``Z_OO^-1`` (Nh + 1, nO, nO), ``G = Z_OO^-1 Z_OM`` (Nh + 1, nO, nM) and
+    the Schur complement ``S_PM = Z_PM - Z_PO G`` (Nh + 1, nP, nM) (complex, the amplitude ``a_k + i b_k``;
+    real at ``k = 0``), ``part`` of :func:`partition`. Returns ``(Zinv, G, Sc)``."""
+    kind, Fi, Oi, Mi, Pi, posM, posP = part
+    K = Zb.shape[0]
+    q = kind.shape[0]
+    nO, nM, nP = Oi.shape[0], Mi.shape[0], Pi.shape[0]
+    Zinv = np.zeros((K, nO, nO), dtype=np.complex128)
+    G = np.zeros((K, nO, nM), dtype=np.complex128)
+    Sc = np.zeros((K, nP, nM), dtype=np.complex128)
+    for k in range(K):
+        Zk = Zb[k]
+        if nO > 0:
+            ZOO = _cgather(Zk, q, Oi, Oi, k)
+            if k == 0:  # real
+                Zinv[0] = np.linalg.inv(np.ascontiguousarray(ZOO.real))
+            else:
+                Zinv[k] = np.linalg.inv(ZOO)
+            G[k] = Zinv[k] @ _cgather(Zk, q, Oi, Mi, k)
+        if nP > 0:
+            Sc[k] = _cgather(Zk, q, Pi, Mi, k) - _cgather(Zk, q, Pi, Oi, k) @ G[k]
+    return Zinv, G, Sc
+
+
+@njit(cache=True, nogil=True)
+def reduce_rhs(Zb, part, Zinv, R, eps, dx):
+    """The part of the elimination that depends on the residual: the fixed coordinates' steps ``-R / eps``
+    into ``dx`` (m), and per harmonic ``w = Z_OO^-1 (-R_O - Z_OF dx_F)`` (Nh + 1, nO) (m) and ``g_P = Z_PF
+    dx_F + Z_PO w`` (nP, H) in slots (N), from ``Z``'s blocks times the fixed steps (one product a
+    harmonic, no gather). Returns ``(g, w)``."""
+    kind, Fi, Oi, Mi, Pi, posM, posP = part
+    K = Zb.shape[0]
+    H = 2 * K - 1
+    q = kind.shape[0]
+    nO, nP = Oi.shape[0], Pi.shape[0]
     for c in range(q):
         for j in range(H):
             dx[c * H + j] = -R[c * H + j] / eps[c] if kind[c] == FIXED else 0.0
-    Sc = np.zeros((K, nP, nM), dtype=np.complex128)  # S_PM per harmonic: harmonic-diagonal
     g = np.zeros((nP, H))
-    G = np.zeros((K, nO, nM), dtype=np.complex128)
     w = np.zeros((K, nO), dtype=np.complex128)
+    v = np.zeros(2 * q)
     for k in range(K):
-        Zk = Zb[k]
-        dxF = np.empty(nF, dtype=np.complex128)
-        for a in range(nF):
-            dxF[a] = _amplitude(dx, Fi[a] * H, k)
-        if nO > 0:
-            rhs = np.empty((nO, nM + 1), dtype=np.complex128)
-            rhs[:, :nM] = _cgather(Zk, q, Oi, Mi, k)
-            bO = -(_cgather(Zk, q, Oi, Fi, k) @ dxF)
-            for a in range(nO):
-                bO[a] -= _amplitude(R, Oi[a] * H, k)
-            rhs[:, nM] = bO
-            ZOO = _cgather(Zk, q, Oi, Oi, k)
-            if k == 0:  # real
-                sol = np.linalg.solve(np.ascontiguousarray(ZOO.real), np.ascontiguousarray(rhs.real))
-                G[0] = sol[:, :nM]
-                w[0] = sol[:, nM]
-            else:
-                sol = np.linalg.solve(ZOO, rhs)
-                G[k] = sol[:, :nM]
-                w[k] = sol[:, nM]
-        if nP == 0:
-            continue
-        ZPO = _cgather(Zk, q, Pi, Oi, k)
-        Sc[k] = _cgather(Zk, q, Pi, Mi, k) - ZPO @ G[k]
-        gk = _cgather(Zk, q, Pi, Fi, k) @ dxF + ZPO @ w[k]
-        for a in range(nP):
-            _put_amplitude(g[a], 0, k, gk[a])
+        for c in range(q):  # Z_k dx_F (dx is 0 off the fixed coordinates): the real form on (cos, sin)
+            v[c] = dx[c * H] if k == 0 else dx[c * H + 2 * k - 1]
+            v[q + c] = 0.0 if k == 0 else dx[c * H + 2 * k]
+        y = Zb[k] @ v
+        bO = np.empty(nO, dtype=np.complex128)
+        for a in range(nO):
+            c = Oi[a]
+            bO[a] = -_amplitude(R, c * H, k) - complex(y[c], 0.0 if k == 0 else y[q + c])
+        w[k] = Zinv[k] @ bO
+        if nP > 0:
+            gk = _cgather(Zb[k], q, Pi, Oi, k) @ w[k]
+            for a in range(nP):
+                c = Pi[a]
+                gk[a] += complex(y[c], 0.0 if k == 0 else y[q + c])
+                _put_amplitude(g[a], 0, k, gk[a])
+    return g, w
+
+
+@njit(cache=True, nogil=True)
+def eliminate(Zb, A, R, eps, dx):
+    """The exact part of the step (module text): the fixed coordinates' steps into ``dx`` and, harmonic by
+    harmonic, the open coordinates eliminated onto the mixed ones (:func:`partition`, :func:`schur`,
+    :func:`reduce_rhs`).
+
+    Parameters as :func:`structured_step`'s. Returns ``(kind, Oi, Mi, posM, posP, Sc, g, G, w)``: the
+    kinds, the open and mixed coordinates, each coordinate's index among the mixed ones and among ``P``
+    (or -1), the Schur complement ``S_PM`` by harmonic ``Sc`` (Nh + 1, nP, nM) complex (N/m), ``g_P``
+    (nP, H) in slots (N), and ``Z_OO^-1 Z_OM`` (Nh + 1, nO, nM), ``Z_OO^-1 (-R_O - Z_OF dx_F)`` (Nh + 1,
+    nO) for :func:`back_substitute`.
+    """
+    d = A.shape[1] // (2 * Zb.shape[0] - 1)
+    part = partition(classify(A, d), d)
+    Zinv, G, Sc = schur(Zb, part)
+    g, w = reduce_rhs(Zb, part, Zinv, R, eps, dx)
+    kind, Fi, Oi, Mi, Pi, posM, posP = part
     return kind, Oi, Mi, posM, posP, Sc, g, G, w
 
 

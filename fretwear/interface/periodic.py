@@ -60,7 +60,7 @@ from ..hbm.cone_problem import newton_kernel as cone_newton_kernel
 from ..hbm.cone_problem import walk_kernel as cone_walk_kernel
 from ..hbm.dense import FASTMATH
 from ..hbm.harmonics import HarmonicBasis, default_samples
-from ..hbm.krylov import KRYLOV_MIN
+from ..hbm.krylov import COUNTERS, KRYLOV_MIN
 from ..hbm.newton import SINGULAR, cone_law, coupled_law
 from ..hbm.newton import newton as _newton_loop
 from ..hbm.strategy import NewtonResult, Steps, newton_message
@@ -152,7 +152,7 @@ class InterfaceProblem:
     krylov_min: int = KRYLOV_MIN
     basis: HarmonicBasis = field(init=False)
     #: counters of the structured path's steps, accumulated over its solves (``fretwear.hbm.krylov.STEPS``
-    #: ...): GMRES steps, their products, fallbacks to the exact step, exact steps
+    #: ...): GMRES steps, their products, fallbacks to the exact step, exact steps, reused eliminations
     krylov_stats: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -168,7 +168,7 @@ class InterfaceProblem:
         if self.friction == "cone" and contact.dim != 3:
             raise ValueError(f"friction='cone' needs 3-D contact pairs, got dim = {contact.dim}")
         self.samples = default_samples(self.harmonics) if self.samples is None else self.samples
-        self.krylov_stats = np.zeros(4, dtype=np.int64)
+        self.krylov_stats = np.zeros(COUNTERS, dtype=np.int64)
         self.basis = HarmonicBasis(self.harmonics, self.samples, False)
         nc = contact.count
         d = self.per_pair

@@ -5,7 +5,18 @@ import pytest
 
 from fretwear.hbm.dlft import jacobian_from_blocks
 from fretwear.hbm.harmonics import HarmonicBasis
-from fretwear.hbm.krylov import EXACT, FALLBACKS, ITERATIONS, MAX_ITERATIONS, STEPS, krylov_step
+from fretwear.hbm.krylov import (
+    COUNTERS,
+    EXACT,
+    FALLBACKS,
+    ITERATIONS,
+    MAX_ITERATIONS,
+    REUSED,
+    STEPS,
+    cached_step,
+    empty_cache,
+    krylov_step,
+)
 from fretwear.hbm.structured import FIXED, FREE, MIXED, classify, dense_from_blocks, structured_step
 
 NH = 3
@@ -74,7 +85,7 @@ def test_krylov_step_is_the_dense_step(d):
     assert np.abs(dx - ref).max() <= 1e-10 * np.abs(ref).max()
     r = np.linalg.norm(R)
     for rel in (1e-4, 1e-12):
-        stats = np.zeros(4, dtype=np.int64)
+        stats = np.zeros(COUNTERS, dtype=np.int64)
         res = krylov_step(Zb, A, R, eps, dx, rel * r, 0, stats)
         assert stats[STEPS] == 1 and stats[FALLBACKS] == 0 and 0 < stats[ITERATIONS] < MAX_ITERATIONS
         assert res <= rel * r
@@ -88,10 +99,30 @@ def test_small_systems_and_a_stalled_gmres_take_the_exact_step():
     Zb, A, R, eps = _case(3, 18, seed=7)
     ref, _ = _dense_step(Zb, A, R, eps)
     dx = np.empty_like(R)
-    stats = np.zeros(4, dtype=np.int64)
+    stats = np.zeros(COUNTERS, dtype=np.int64)
     assert krylov_step(Zb, A, R, eps, dx, 1e-6, 10**9, stats) == 0.0
-    assert stats.tolist() == [0, 0, 0, 1] and np.abs(dx - ref).max() <= 1e-10 * np.abs(ref).max()
+    assert stats.tolist() == [0, 0, 0, 1, 0] and np.abs(dx - ref).max() <= 1e-10 * np.abs(ref).max()
     stats[:] = 0
     assert krylov_step(Zb, A, R, eps, dx, 1e-300, 0, stats) == 0.0
     assert stats[STEPS] == 1 and stats[FALLBACKS] == 1 and stats[ITERATIONS] == MAX_ITERATIONS
     assert stats[EXACT] == 0 and np.abs(dx - ref).max() <= 1e-10 * np.abs(ref).max()
+
+
+def test_a_step_with_the_same_kinds_reuses_the_elimination():
+    """Two steps with the same law blocks and another residual: the second reuses the first's ``Z_OO^-1`` and
+    Schur complement, and is still the dense step of its residual; new kinds rebuild them."""
+    Zb, A, R, eps = _case(2, 30, seed=11)
+    stats = np.zeros(COUNTERS, dtype=np.int64)
+    dx = np.empty_like(R)
+    cache = cached_step(Zb, A, R, eps, dx, 0.0, 0, stats, empty_cache())[1]
+    R2 = np.random.default_rng(1).standard_normal(R.size) * np.abs(R).max()
+    cache = cached_step(Zb, A, R2, eps, dx, 0.0, 0, stats, cache)[1]
+    assert stats[REUSED] == 1 and stats[EXACT] == 2
+    ref, _ = _dense_step(Zb, A, R2, eps)
+    assert np.abs(dx - ref).max() <= 1e-10 * np.abs(ref).max()
+    A2, i = A.copy(), np.flatnonzero(classify(A, 2)[::2] == FREE)[0]  # a free pair closes: new kinds
+    A2[i] = np.eye(A.shape[1])
+    cached_step(Zb, A2, R2, eps, dx, 0.0, 0, stats, cache)
+    assert stats[REUSED] == 1
+    ref, _ = _dense_step(Zb, A2, R2, eps)
+    assert np.abs(dx - ref).max() <= 1e-10 * np.abs(ref).max()
