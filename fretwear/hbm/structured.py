@@ -33,6 +33,11 @@ with ``S = Z_PM - Z_PO Z_OO^-1 Z_OM`` and ``g_P = Z_PF dx_F + Z_PO Z_OO^-1
 mixed coordinate). Only this system, of ``H`` times the number of mixed
 coordinates (the slip annulus' tangential coordinates in partial slip), is
 dense. The step is the dense one's to rounding: the elimination is exact.
+:func:`structured_step` factors it (:func:`mixed_matrix`); ``fretwear.hbm.krylov``
+solves it by GMRES without forming it. The elimination is in two parts:
+:func:`schur` (``Z_OO^-1`` and ``S`` by harmonic) depends on ``Z`` and the
+kinds alone, so a Newton step that keeps the kinds reuses the last one's;
+:func:`reduce_rhs` (``g``, ``w``) is a few products per step.
 Per harmonic ``k >= 1`` the free and pair rows are eliminated in complex
 arithmetic (``Z_k``'s real block ``[[X, Y], [-Y, X]]`` is ``X - i Y`` on the
 amplitude ``a_k + i b_k``): a complex LU of the open coordinates costs half the
