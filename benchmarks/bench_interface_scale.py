@@ -112,9 +112,9 @@ def mixed_unknowns(problem: InterfaceProblem, x: np.ndarray) -> int:
 
 def best(fn, repeat: int) -> tuple:
     """:func:`measured` of ``fn`` ``repeat`` times: the shortest time (the least disturbed by the shared
-    machine's other load), the largest peak, the last result."""
+    machine's other load), the last run's peak (warm: a first run may compile kernels), the last result."""
     runs = [measured(fn) for _ in range(repeat)]
-    return min(r[0] for r in runs), max(r[1] for r in runs), runs[-1][2]
+    return min(r[0] for r in runs), runs[-1][1], runs[-1][2]
 
 
 def run_row(label: str, structured: InterfaceProblem, dense: InterfaceProblem | None, setup: float,

@@ -131,3 +131,15 @@ def test_gmres_steps_give_the_exact_steps_solution_with_the_cone():
     assert a.problem.krylov_stats[STEPS] > 0 and a.problem.krylov_stats[FALLBACKS] == 0
     assert b.problem.krylov_stats[STEPS] == 0
     assert np.abs(a.unknowns - b.unknowns).max() <= 1e-9 * np.abs(b.unknowns).max()
+
+
+def test_gmres_newton_out_of_steps_says_so(cylinder32):
+    """A Newton solve with GMRES steps stopped before convergence reports it: not converged, its residual
+    (judged on the true residual, never on GMRES's) above the tolerance, a message that says why."""
+    structured = cylinder32[1]
+    structured.krylov_min = 0
+    structured.krylov_stats[:] = 0
+    res = newton(structured, structured.start(), tol=1e-10, max_iter=2)
+    assert structured.krylov_stats[STEPS] > 0
+    assert not res.converged and res.residual > 1e-10 and res.iterations <= 2
+    assert res.message in ("no convergence in 2 iterations", "line search failed")
