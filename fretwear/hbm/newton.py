@@ -322,9 +322,10 @@ def _direction(code, J, R, A, eps, piv, dx, blocks, atol, krylov_min, stats, cac
 def forcing(r, r0, target):
     """The linear residual (N) to which an inexact Newton step from residual ``r`` solves (``r0`` the
     solve's first residual, ``target`` its tolerance, both N): ``eta r`` with ``eta = min(ETA_MAX, r / r0)``,
-    which makes Newton's convergence quadratic near the solution (``r_next ~ r^2 / r0``), and never
-    above ``FORCING_FLOOR`` times ``target``, so that a step on the solution's stick/slip pattern, where
-    the residual is linear, still lands within the tolerance."""
+    which makes Newton's convergence quadratic near the solution (``r_next ~ r^2 / r0``), but no tighter
+    than ``FORCING_FLOOR`` times ``target``: a step on the solution's stick/slip pattern, where the
+    residual is linear, then lands within the tolerance (the linear residual is a 2-norm, at least the
+    largest entry that the tolerance judges)."""
     return max(FORCING_FLOOR * target, min(ETA_MAX, r / max(r0, 1e-300)) * r)
 
 
