@@ -45,7 +45,12 @@ singular matrix (code ``SINGULAR``; a singular walk ends where it started);
 the coupled law's systems have hundreds, most of them in pairs stuck all
 period whose block of ``J`` is ``diag(eps)``: those are eliminated first and
 the rest solved by LAPACK, which raises on a singular matrix (the caller
-reports it).
+reports it). With ``Z`` by harmonic blocks (the pair laws at scale) the
+fixed and open coordinates are eliminated exactly and the mixed ones solved
+by GMRES (:mod:`fretwear.hbm.krylov`), an inexact Newton step whose forcing
+term (:func:`forcing`) keeps the convergence quadratic; convergence is
+always judged on the true residual, so an inexact step can slow Newton down
+but never make it report a wrong solution.
 """
 
 from __future__ import annotations
@@ -56,18 +61,21 @@ from numba.extending import overload
 
 from . import cone, coupled, dlft
 from .dense import FASTMATH, lu_factor, lu_solve
-from .structured import structured_step
+from .krylov import COUNTERS, KRYLOV_MIN, cached_step, empty_cache
 
 __all__ = [
     "DLFT", "COUPLED", "CONE", "CONVERGED", "NON_FINITE", "LINE_SEARCH", "BUDGET", "SINGULAR", "dlft_law",
     "coupled_law", "cone_law", "block_matvec", "evaluate_blocks", "newton", "walk", "tangent", "step_past",
-    "keep_full_step",
+    "keep_full_step", "forcing", "ETA_MAX", "FORCING_FLOOR",
 ]  # fmt: skip
 
 #: law codes: the 1-D friction/unilateral law, the coupled normal/tangential pair law, its 2-D friction form
 DLFT, COUPLED, CONE = 0, 1, 2
 #: codes of :func:`newton`: converged, non-finite step, line search failed, budget, singular Jacobian
 CONVERGED, NON_FINITE, LINE_SEARCH, BUDGET, SINGULAR = 0, 1, 2, 3, 4
+#: the inexact (GMRES) steps' forcing term (:func:`forcing`): at most ``ETA_MAX`` of the residual, at least
+#: ``FORCING_FLOOR`` of the target
+ETA_MAX, FORCING_FLOOR = 1e-4, 0.1
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -290,21 +298,35 @@ def _eliminated_solve(J, R, A, eps):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def _direction(code, J, R, A, eps, piv, dx, blocks):
-    """The Newton step ``dx = -J^-1 R`` by the law's linear algebra (module text); False if ``J`` is
-    singular (the LU loops; ``J`` is overwritten by its factors). With ``Z``'s harmonic ``blocks``
-    (coupled law), the step of :func:`fretwear.hbm.structured.structured_step` (no ``J``)."""
+def _direction(code, J, R, A, eps, piv, dx, blocks, atol, krylov_min, stats, cache):
+    """The Newton step ``dx = -J^-1 R`` by the law's linear algebra (module text) and the step cache;
+    False if ``J`` is singular (the LU loops; ``J`` is overwritten by its factors). With ``Z``'s harmonic
+    ``blocks`` (pair laws), the step of :func:`fretwear.hbm.krylov.cached_step` (no ``J``): the open and
+    fixed coordinates eliminated exactly (reusing the last step's factors while the kinds are the same),
+    the mixed ones by GMRES to the linear residual ``atol`` (N) from ``krylov_min`` mixed unknowns, else
+    exactly."""
     if blocks is not None:
-        structured_step(blocks, A, R, eps, dx)
-        return True
+        cache = cached_step(blocks, A, R, eps, dx, atol, krylov_min, stats, cache)[1]
+        return True, cache
     if code != DLFT:
         dx[:] = _eliminated_solve(J, R, A, eps)
-        return True
+        return True, cache
     if lu_factor(J, piv) == 0:
-        return False
+        return False, cache
     dx[:] = -R
     lu_solve(J, piv, dx)
-    return True
+    return True, cache
+
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def forcing(r, r0, target):
+    """The linear residual (N) to which an inexact Newton step from residual ``r`` solves (``r0`` the
+    solve's first residual, ``target`` its tolerance, both N): ``eta r`` with ``eta = min(ETA_MAX, r / r0)``,
+    which makes Newton's convergence quadratic near the solution (``r_next ~ r^2 / r0``), but no tighter
+    than ``FORCING_FLOOR`` times ``target``: a step on the solution's stick/slip pattern, where the
+    residual is linear, then lands within the tolerance (the linear residual is a 2-norm, at least the
+    largest entry that the tolerance judges)."""
+    return max(FORCING_FLOOR * target, min(ETA_MAX, r / max(r0, 1e-300)) * r)
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
@@ -319,7 +341,7 @@ def keep_full_step(r, best, it, max_iter):
 
 
 @njit(cache=True, nogil=True, fastmath=FASTMATH)
-def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
+def newton(law, x0, Z, F, eps, target, max_iter, blocks=None, krylov_min=KRYLOV_MIN, stats=None):
     """Non-monotone Newton's method from ``x0`` with a damped fallback from the best iterate (module text).
 
     Parameters
@@ -330,7 +352,12 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
     max_iter : int, Newton steps at most.
     blocks : (Nh + 1, 2 q, 2 q) ``Z`` by harmonic (``fretwear.hbm.structured.harmonic_blocks()``), pair
         laws only: the residuals by ``evaluate_blocks()`` and the steps by
-        :func:`~fretwear.hbm.structured.structured_step`, no dense ``Z`` or ``J`` (``Z`` may then be empty).
+        :func:`~fretwear.hbm.krylov.krylov_step`, no dense ``Z`` or ``J`` (``Z`` may then be empty).
+    krylov_min : int, with ``blocks``: the mixed unknowns from which the steps are inexact, by GMRES to the
+        forcing term :func:`forcing`; below, exact (:func:`~fretwear.hbm.structured.structured_step`'s).
+    stats : (5,) int64, optional, with ``blocks``: counters accumulated by
+        :func:`~fretwear.hbm.krylov.cached_step` (GMRES steps, products, fallbacks, exact steps, reused
+        eliminations).
 
     Returns ``(x, converged, iterations, max|R|, code)``, ``code`` one of
     ``CONVERGED``, ``NON_FINITE``, ``LINE_SEARCH``, ``BUDGET``, and ``(x0,
@@ -338,6 +365,8 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
     """
     code = law[0]
     n = x0.shape[0]
+    counters = np.zeros(COUNTERS, dtype=np.int64) if stats is None else stats
+    cache = empty_cache()
     buffers = _buffers(law)
     A = buffers[0]
     R, Rt, dx = np.empty(n), np.empty(n), np.empty(n)
@@ -347,12 +376,16 @@ def newton(law, x0, Z, F, eps, target, max_iter, blocks=None):
     x = x0.copy()
     r = _residual(law, x, Z, F, eps, R, J, buffers, blocks)
     best_r, best_x = r, x.copy()
+    r0 = r
     it = 0
     damped = False
     while it < max_iter:
         if r <= target:
             return x, True, it, r, CONVERGED
-        if not _direction(code, J, R, A, eps, piv, dx, blocks):  # J is computed again before it is used again
+        atol = forcing(r, r0, target)
+        # J is computed again before it is used again
+        ok, cache = _direction(code, J, R, A, eps, piv, dx, blocks, atol, krylov_min, counters, cache)
+        if not ok:
             return x0.copy(), False, 0, np.inf, SINGULAR
         if not np.all(np.isfinite(dx)):
             if damped:

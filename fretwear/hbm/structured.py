@@ -33,6 +33,11 @@ with ``S = Z_PM - Z_PO Z_OO^-1 Z_OM`` and ``g_P = Z_PF dx_F + Z_PO Z_OO^-1
 mixed coordinate). Only this system, of ``H`` times the number of mixed
 coordinates (the slip annulus' tangential coordinates in partial slip), is
 dense. The step is the dense one's to rounding: the elimination is exact.
+:func:`structured_step` factors it (:func:`mixed_matrix`); ``fretwear.hbm.krylov``
+solves it by GMRES without forming it. The elimination is in two parts:
+:func:`schur` (``Z_OO^-1`` and ``S`` by harmonic) depends on ``Z`` and the
+kinds alone, so a Newton step that keeps the kinds reuses the last one's;
+:func:`reduce_rhs` (``g``, ``w``) is a few products per step.
 Per harmonic ``k >= 1`` the free and pair rows are eliminated in complex
 arithmetic (``Z_k``'s real block ``[[X, Y], [-Y, X]]`` is ``X - i Y`` on the
 amplitude ``a_k + i b_k``): a complex LU of the open coordinates costs half the
@@ -44,7 +49,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["FIXED", "FREE", "MIXED", "harmonic_blocks", "dense_from_blocks", "classify", "structured_step"]
+__all__ = [
+    "FIXED", "FREE", "MIXED", "harmonic_blocks", "dense_from_blocks", "classify", "partition", "schur",
+    "reduce_rhs", "eliminate", "mixed_rhs", "mixed_matrix", "back_substitute", "structured_step",
+]  # fmt: skip
 
 #: kinds of a contact coordinate's rows of ``J`` (module text)
 FIXED, FREE, MIXED = 0, 1, 2
@@ -155,33 +163,12 @@ def _amplitude(v, start, k):
 
 
 @njit(cache=True, nogil=True)
-def structured_step(Zb, A, R, eps, dx):
-    """The Newton step ``dx = -J^-1 R`` of the coupled law by the elimination of the module text.
-
-    Parameters
-    ----------
-    Zb : (Nh + 1, 2 q, 2 q) blocks of ``Z`` by harmonic (:func:`harmonic_blocks`) (N/m).
-    A : (nc, d H, d H) the law's Jacobian blocks, ``d`` coordinates a pair (2: the coupled law, 3: the 2-D
-        friction law of ``fretwear.hbm.cone``), ``q = d nc``. R : (q H,) residual (N).
-    eps : (q,) penalty per coordinate (N/m). dx : (q H,) out, the step (m).
-
-    Returns the number of mixed coordinates. A singular ``Z_OO`` or Schur
-    complement raises (LAPACK), as the dense solve does.
-    """
-    K = Zb.shape[0]
-    H = 2 * K - 1
-    nc = A.shape[0]
-    d = A.shape[1] // H
-    q = d * nc
-    kind = classify(A, d)
-    nF, nO, nM = 0, 0, 0
-    for c in range(q):
-        if kind[c] == FIXED:
-            nF += 1
-        elif kind[c] == FREE:
-            nO += 1
-        else:
-            nM += 1
+def partition(kind, d):
+    """The index sets of the coordinates' ``kind`` (:func:`classify`, ``d`` coordinates a pair): ``(kind, Fi,
+    Oi, Mi, Pi, posM, posP)``, the fixed, open, mixed coordinates and those of the pairs with a mixed
+    coordinate (``P``), then each coordinate's index among the mixed ones and among ``P`` (-1 if none)."""
+    q = kind.shape[0]
+    nF, nO, nM = np.sum(kind == FIXED), np.sum(kind == FREE), np.sum(kind == MIXED)
     Fi, Oi, Mi = np.empty(nF, np.int64), np.empty(nO, np.int64), np.empty(nM, np.int64)
     posM = np.full(q, -1)
     nF, nO, nM = 0, 0, 0
@@ -209,85 +196,195 @@ def structured_step(Zb, A, R, eps, dx):
     for c in range(q):
         if posP[c] >= 0:
             Pi[posP[c]] = c
+    return kind, Fi, Oi, Mi, Pi, posM, posP
+
+
+@njit(cache=True, nogil=True)
+def schur(Zb, part):
+    """The part of the elimination that depends on ``Z`` and the kinds alone, the same for every Newton step
+    that keeps them: per harmonic ``Z_OO^-1`` (Nh + 1, nO, nO), ``G = Z_OO^-1 Z_OM`` (Nh + 1, nO, nM) and
+    the Schur complement ``S_PM = Z_PM - Z_PO G`` (Nh + 1, nP, nM) (complex, the amplitude ``a_k + i b_k``;
+    real at ``k = 0``), ``part`` of :func:`partition`. Returns ``(Zinv, G, Sc)``."""
+    kind, Fi, Oi, Mi, Pi, posM, posP = part
+    K = Zb.shape[0]
+    q = kind.shape[0]
+    nO, nM, nP = Oi.shape[0], Mi.shape[0], Pi.shape[0]
+    Zinv = np.zeros((K, nO, nO), dtype=np.complex128)
+    G = np.zeros((K, nO, nM), dtype=np.complex128)
+    Sc = np.zeros((K, nP, nM), dtype=np.complex128)
+    for k in range(K):
+        Zk = Zb[k]
+        if nO > 0:
+            ZOO = _cgather(Zk, q, Oi, Oi, k)
+            if k == 0:  # real
+                Zinv[0] = np.linalg.inv(np.ascontiguousarray(ZOO.real))
+            else:
+                Zinv[k] = np.linalg.inv(ZOO)
+            G[k] = Zinv[k] @ _cgather(Zk, q, Oi, Mi, k)
+        if nP > 0:
+            Sc[k] = _cgather(Zk, q, Pi, Mi, k) - _cgather(Zk, q, Pi, Oi, k) @ G[k]
+    return Zinv, G, Sc
+
+
+@njit(cache=True, nogil=True)
+def reduce_rhs(Zb, part, Zinv, R, eps, dx):
+    """The part of the elimination that depends on the residual: the fixed coordinates' steps ``-R / eps``
+    into ``dx`` (m), and per harmonic ``w = Z_OO^-1 (-R_O - Z_OF dx_F)`` (Nh + 1, nO) (m) and ``g_P = Z_PF
+    dx_F + Z_PO w`` (nP, H) in slots (N), from ``Z``'s blocks times the fixed steps (one product a
+    harmonic, no gather). Returns ``(g, w)``."""
+    kind, Fi, Oi, Mi, Pi, posM, posP = part
+    K = Zb.shape[0]
+    H = 2 * K - 1
+    q = kind.shape[0]
+    nO, nP = Oi.shape[0], Pi.shape[0]
     for c in range(q):
         for j in range(H):
             dx[c * H + j] = -R[c * H + j] / eps[c] if kind[c] == FIXED else 0.0
-    S = np.zeros((nP, H, nM, H))  # S_PM and g_P in slot layout, harmonic-diagonal
     g = np.zeros((nP, H))
-    G = np.zeros((K, nO, nM), dtype=np.complex128)  # Z_OO^-1 Z_OM and Z_OO^-1 (-R_O - Z_OF dx_F) per harmonic
     w = np.zeros((K, nO), dtype=np.complex128)
+    v = np.zeros(2 * q)
     for k in range(K):
-        Zk = Zb[k]
-        dxF = np.empty(nF, dtype=np.complex128)
-        for a in range(nF):
-            dxF[a] = _amplitude(dx, Fi[a] * H, k)
-        if nO > 0:
-            rhs = np.empty((nO, nM + 1), dtype=np.complex128)
-            rhs[:, :nM] = _cgather(Zk, q, Oi, Mi, k)
-            bO = -(_cgather(Zk, q, Oi, Fi, k) @ dxF)
-            for a in range(nO):
-                bO[a] -= _amplitude(R, Oi[a] * H, k)
-            rhs[:, nM] = bO
-            ZOO = _cgather(Zk, q, Oi, Oi, k)
-            if k == 0:  # real
-                sol = np.linalg.solve(np.ascontiguousarray(ZOO.real), np.ascontiguousarray(rhs.real))
-                G[0] = sol[:, :nM]
-                w[0] = sol[:, nM]
-            else:
-                sol = np.linalg.solve(ZOO, rhs)
-                G[k] = sol[:, :nM]
-                w[k] = sol[:, nM]
-        if nP == 0:
-            continue
-        ZPO = _cgather(Zk, q, Pi, Oi, k)
-        Sk = _cgather(Zk, q, Pi, Mi, k) - ZPO @ G[k]
-        gk = _cgather(Zk, q, Pi, Fi, k) @ dxF + ZPO @ w[k]
-        if k == 0:
+        for c in range(q):  # Z_k dx_F (dx is 0 off the fixed coordinates): the real form on (cos, sin)
+            v[c] = dx[c * H] if k == 0 else dx[c * H + 2 * k - 1]
+            v[q + c] = 0.0 if k == 0 else dx[c * H + 2 * k]
+        y = Zb[k] @ v
+        bO = np.empty(nO, dtype=np.complex128)
+        for a in range(nO):
+            c = Oi[a]
+            bO[a] = -_amplitude(R, c * H, k) - complex(y[c], 0.0 if k == 0 else y[q + c])
+        w[k] = Zinv[k] @ bO
+        if nP > 0:
+            gk = _cgather(Zb[k], q, Pi, Oi, k) @ w[k]
             for a in range(nP):
-                g[a, 0] = gk[a].real
-                for b in range(nM):
-                    S[a, 0, b, 0] = Sk[a, b].real
-            continue
-        c, s = 2 * k - 1, 2 * k  # the real form of a complex amplitude: [[Re, -Im], [Im, Re]]
-        for a in range(nP):
-            g[a, c], g[a, s] = gk[a].real, gk[a].imag
-            for b in range(nM):
-                re, im = Sk[a, b].real, Sk[a, b].imag
-                S[a, c, b, c], S[a, c, b, s], S[a, s, b, c], S[a, s, b, s] = re, -im, im, re
-    if nM > 0:
-        Kmat = np.zeros((nM, H, nM * H))
-        rhsM = np.zeros((nM, H))
-        Sflat = S.reshape(nP, H, nM * H)
-        for mc in range(nM):
-            c = Mi[mc]
-            i, a = c // d, c % d
-            for r in range(H):
-                rhsM[mc, r] = -R[c * H + r] - g[posP[c], r]
-            Kmat[mc] += Sflat[posP[c]]
+                c = Pi[a]
+                gk[a] += complex(y[c], 0.0 if k == 0 else y[q + c])
+                _put_amplitude(g[a], 0, k, gk[a])
+    return g, w
+
+
+@njit(cache=True, nogil=True)
+def eliminate(Zb, A, R, eps, dx):
+    """The exact part of the step (module text): the fixed coordinates' steps into ``dx`` and, harmonic by
+    harmonic, the open coordinates eliminated onto the mixed ones (:func:`partition`, :func:`schur`,
+    :func:`reduce_rhs`).
+
+    Parameters as :func:`structured_step`'s. Returns ``(kind, Oi, Mi, posM, posP, Sc, g, G, w)``: the
+    kinds, the open and mixed coordinates, each coordinate's index among the mixed ones and among ``P``
+    (or -1), the Schur complement ``S_PM`` by harmonic ``Sc`` (Nh + 1, nP, nM) complex (N/m), ``g_P``
+    (nP, H) in slots (N), and ``Z_OO^-1 Z_OM`` (Nh + 1, nO, nM), ``Z_OO^-1 (-R_O - Z_OF dx_F)`` (Nh + 1,
+    nO) for :func:`back_substitute`.
+    """
+    d = A.shape[1] // (2 * Zb.shape[0] - 1)
+    part = partition(classify(A, d), d)
+    Zinv, G, Sc = schur(Zb, part)
+    g, w = reduce_rhs(Zb, part, Zinv, R, eps, dx)
+    kind, Fi, Oi, Mi, Pi, posM, posP = part
+    return kind, Oi, Mi, posM, posP, Sc, g, G, w
+
+
+@njit(cache=True, nogil=True)
+def _put_amplitude(v, start, k, z):
+    """Write the complex amplitude ``z`` of harmonic ``k`` into the slots ``v[start : start + H]``."""
+    if k == 0:
+        v[start] = z.real
+    else:
+        v[start + 2 * k - 1], v[start + 2 * k] = z.real, z.imag
+
+
+@njit(cache=True, nogil=True)
+def mixed_rhs(A, R, eps, dx, kind, Mi, posP, g):
+    """The mixed rows' right-hand side ``-R_M - (I - A)_MP g_P - (A E)_MF dx_F`` (nM H,) (N), pair by pair
+    (``dx`` holds the fixed coordinates' steps)."""
+    nM, H = Mi.shape[0], g.shape[1]
+    d = A.shape[1] // H
+    rhs = np.zeros(nM * H)
+    t = np.zeros(d * H)
+    for mc in range(nM):
+        c = Mi[mc]
+        i, a = c // d, c % d
+        if mc == 0 or Mi[mc - 1] // d != i:  # a pair's mixed coordinates are consecutive: t once a pair
             for b in range(d):
                 e = d * i + b
-                Ace = np.ascontiguousarray(A[i, a * H : (a + 1) * H, b * H : (b + 1) * H])
-                Kmat[mc] -= Ace @ Sflat[posP[e]]
-                rhsM[mc] += Ace @ g[posP[e]]
-                if kind[e] == MIXED:
-                    for r in range(H):
-                        for s in range(H):
-                            Kmat[mc, r, posM[e] * H + s] += Ace[r, s] * eps[e]
-                else:  # fixed: its step is known
-                    rhsM[mc] -= eps[e] * (Ace @ dx[e * H : (e + 1) * H])
-        dxM = np.linalg.solve(Kmat.reshape(nM * H, nM * H), rhsM.reshape(nM * H))
+                for r in range(H):
+                    t[b * H + r] = g[posP[e], r] - (eps[e] * dx[e * H + r] if kind[e] == FIXED else 0.0)
+        At = A[i, a * H : (a + 1) * H] @ t
+        for r in range(H):
+            rhs[mc * H + r] = -R[c * H + r] - g[posP[c], r] + At[r]
+    return rhs
+
+
+@njit(cache=True, nogil=True)
+def mixed_matrix(Sc, A, eps, kind, Mi, posM, posP):
+    """The dense mixed system ``(I - A)_MP S_PM + (A E)_MM`` (nM H, nM H) (N/m), pair by pair from the
+    Schur complement by harmonic ``Sc`` (:func:`eliminate`)."""
+    K, nM = Sc.shape[0], Sc.shape[2]
+    H = 2 * K - 1
+    d = A.shape[1] // H
+    Kmat = np.zeros((nM * H, nM * H))
+    SR = np.zeros((d * H, nM * H))  # a pair's rows of S_PM in slots
+    mc = 0
+    while mc < nM:
+        i = Mi[mc] // d
+        SR[:, :] = 0.0
+        for b in range(d):
+            p = posP[d * i + b]
+            for k in range(K):
+                for m in range(nM):
+                    z = Sc[k, p, m]
+                    if k == 0:
+                        SR[b * H, m * H] = z.real
+                    else:  # the real form of a complex amplitude: [[Re, -Im], [Im, Re]]
+                        rc, rs, cc, cs = b * H + 2 * k - 1, b * H + 2 * k, m * H + 2 * k - 1, m * H + 2 * k
+                        SR[rc, cc], SR[rc, cs], SR[rs, cc], SR[rs, cs] = z.real, -z.imag, z.imag, z.real
+        T = SR - A[i] @ SR
+        for b in range(d):
+            e = d * i + b
+            if kind[e] == MIXED:
+                for r in range(d * H):
+                    for s in range(H):
+                        T[r, posM[e] * H + s] += A[i, r, b * H + s] * eps[e]
+        while mc < nM and Mi[mc] // d == i:
+            a = Mi[mc] % d
+            Kmat[mc * H : (mc + 1) * H] = T[a * H : (a + 1) * H]
+            mc += 1
+    return Kmat
+
+
+@njit(cache=True, nogil=True)
+def back_substitute(dx, Oi, Mi, G, w):
+    """The open coordinates' steps ``dx_O = w - G dx_M`` harmonic by harmonic into ``dx`` (m)."""
+    K, nO, nM = G.shape[0], Oi.shape[0], Mi.shape[0]
+    H = 2 * K - 1
+    for k in range(K):
+        dxMk = np.empty(nM, dtype=np.complex128)
+        for b in range(nM):
+            dxMk[b] = _amplitude(dx, Mi[b] * H, k)
+        dO = w[k] - G[k] @ dxMk
+        for a in range(nO):
+            _put_amplitude(dx, Oi[a] * H, k, dO[a])
+
+
+@njit(cache=True, nogil=True)
+def structured_step(Zb, A, R, eps, dx):
+    """The Newton step ``dx = -J^-1 R`` of the coupled law by the elimination of the module text.
+
+    Parameters
+    ----------
+    Zb : (Nh + 1, 2 q, 2 q) blocks of ``Z`` by harmonic (:func:`harmonic_blocks`) (N/m).
+    A : (nc, d H, d H) the law's Jacobian blocks, ``d`` coordinates a pair (2: the coupled law, 3: the 2-D
+        friction law of ``fretwear.hbm.cone``), ``q = d nc``. R : (q H,) residual (N).
+    eps : (q,) penalty per coordinate (N/m). dx : (q H,) out, the step (m).
+
+    Returns the number of mixed coordinates. A singular ``Z_OO`` or Schur
+    complement raises (LAPACK), as the dense solve does.
+    """
+    H = 2 * Zb.shape[0] - 1
+    kind, Oi, Mi, posM, posP, Sc, g, G, w = eliminate(Zb, A, R, eps, dx)
+    nM = Mi.shape[0]
+    if nM > 0:
+        rhs = mixed_rhs(A, R, eps, dx, kind, Mi, posP, g)
+        dxM = np.linalg.solve(mixed_matrix(Sc, A, eps, kind, Mi, posM, posP), rhs)
         for mc in range(nM):
-            for r in range(H):
-                dx[Mi[mc] * H + r] = dxM[mc * H + r]
-    if nO > 0:
-        for k in range(K):
-            dxMk = np.empty(nM, dtype=np.complex128)
-            for b in range(nM):
-                dxMk[b] = _amplitude(dx, Mi[b] * H, k)
-            dO = w[k] - G[k] @ dxMk
-            for a in range(nO):
-                if k == 0:
-                    dx[Oi[a] * H] = dO[a].real
-                else:
-                    dx[Oi[a] * H + 2 * k - 1], dx[Oi[a] * H + 2 * k] = dO[a].real, dO[a].imag
+            dx[Mi[mc] * H : (Mi[mc] + 1) * H] = dxM[mc * H : (mc + 1) * H]
+    back_substitute(dx, Oi, Mi, G, w)
     return nM

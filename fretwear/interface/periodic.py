@@ -17,8 +17,10 @@ solved for their harmonics with the coupled normal/tangential law of
 
 **Linear algebra** (``linear``): ``"structured"`` (default) takes every
 Newton step from ``Z``'s blocks by harmonic and the law's local blocks
-(:mod:`fretwear.hbm.structured`: the fixed and open pairs eliminated, a dense
-system on the mixed coordinates only), never forming the dense Jacobian; and
+(:mod:`fretwear.hbm.structured`: the fixed and open pairs eliminated, a
+system on the mixed coordinates only, solved by GMRES with a preconditioner
+that couples no two harmonics (:mod:`fretwear.hbm.krylov`) from
+``krylov_min`` of its unknowns, by its dense LU below), never forming the dense Jacobian; and
 it starts Newton by penalty continuation through softer penalties to a
 loose residual (:data:`SOFT_STAGES`: 0.1 then 0.3 times ``eps``) before the problem's penalty: the default
 ``eps`` is stiff (10 times ``Z``'s diagonal), and full Newton steps then wander
@@ -50,13 +52,17 @@ from dataclasses import dataclass, field
 from functools import cached_property, partial
 
 import numpy as np
+from numba import njit
 
 from .._fields import item
 from ..hbm import cone, strategy
 from ..hbm.cone_problem import newton_kernel as cone_newton_kernel
 from ..hbm.cone_problem import walk_kernel as cone_walk_kernel
+from ..hbm.dense import FASTMATH
 from ..hbm.harmonics import HarmonicBasis, default_samples
-from ..hbm.newton import SINGULAR
+from ..hbm.krylov import COUNTERS, KRYLOV_MIN
+from ..hbm.newton import SINGULAR, cone_law, coupled_law
+from ..hbm.newton import newton as _newton_loop
 from ..hbm.strategy import NewtonResult, Steps, newton_message
 from ..hbm.structured import dense_from_blocks
 from .contact import STICK, evaluate, slip_work
@@ -82,12 +88,22 @@ EPS_FACTOR = 10.0
 #: the structured path's soft stages before the problem's penalty: (penalty as a multiple of ``eps``,
 #: relative target, at most steps), each started from the last (penalty continuation). Measured: the
 #: 523-pair sphere (18 divisions, cone, Nh = 5) converges in 12 iterations with 0.1 -> 0.3 -> 1 against
-#: 38 with 0.1 -> 1; on the cylinder (32-128 pairs) 0.1 converges in 5-8 steps where 0.2 can wander,
-#: and 1e-3 lets the next stage start from settled stick/slip patterns
-SOFT_STAGES = ((0.1, 1e-3, 12), (0.3, 1e-3, 12))
+#: 38 with 0.1 -> 1; on the cylinder (32-128 pairs) 0.1 converges in 4-7 steps where 0.2 can wander. The
+#: first stage's loose target (5e-2) and the second's 1e-2 save steps that only polish a start (total
+#: iterations 8, 9, 10 on the cylinder at 32, 64, 128 pairs and 9 on the sphere, against 8, 11, 13 and 12
+#: with 1e-3 at both); a second stage looser than 1e-2 can leave the last one to wander (33 on the sphere
+#: at 3e-2)
+SOFT_STAGES = ((0.1, 5e-2, 12), (0.3, 1e-2, 12))
 
-#: the dense Z handed to the compiled Newton of the structured path, which works from the blocks alone
-_NO_Z = np.zeros((0, 0))
+
+@njit(cache=True, nogil=True, fastmath=FASTMATH)
+def _block_newton(x0, F, eps, gap, mu, xref, Phi, Psi, target, max_iter, blocks, krylov_min, stats):
+    """The compiled Newton of the structured path from ``Z``'s harmonic ``blocks`` alone (no dense ``Z``),
+    either pair law (the cone for ``xref`` (nc, 2)): :func:`fretwear.hbm.newton.newton` with its steps by
+    GMRES from ``krylov_min`` mixed unknowns, its counters accumulated in ``stats``."""
+    law = cone_law(gap, mu, xref, Phi, Psi) if xref.ndim == 2 else coupled_law(gap, mu, xref, Phi, Psi)
+    return _newton_loop(law, x0, np.zeros((0, 0)), F, eps, target, max_iter, blocks, krylov_min, stats)
+
 
 #: the linear algebra of the Newton steps (module text)
 LINEAR = ("structured", "dense")
@@ -118,6 +134,10 @@ class InterfaceProblem:
         Factor on the harmonic excitation (the static load is kept).
     linear : str
         The Newton steps' linear algebra, one of ``LINEAR`` (module text); the answer is the same.
+    krylov_min : int
+        The structured path's mixed unknowns (``nM H``) from which its steps solve the mixed system by
+        GMRES (``fretwear.hbm.krylov``; 0: always) rather than its dense LU (the exact step; a number
+        above the problem's ``size``: never).
     friction : str, optional
         One of ``FRICTION`` (module text); default ``"cone"`` for 3-D pairs, ``"line"`` for 2-D.
     """
@@ -132,7 +152,11 @@ class InterfaceProblem:
     force_scale: float = 1.0
     linear: str = "structured"
     friction: str | None = None
+    krylov_min: int = KRYLOV_MIN
     basis: HarmonicBasis = field(init=False)
+    #: counters of the structured path's steps, accumulated over its solves (``fretwear.hbm.krylov.STEPS``
+    #: ...): GMRES steps, their products, fallbacks to the exact step, exact steps, reused eliminations
+    krylov_stats: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.omega) and self.omega > 0):
@@ -147,6 +171,7 @@ class InterfaceProblem:
         if self.friction == "cone" and contact.dim != 3:
             raise ValueError(f"friction='cone' needs 3-D contact pairs, got dim = {contact.dim}")
         self.samples = default_samples(self.harmonics) if self.samples is None else self.samples
+        self.krylov_stats = np.zeros(COUNTERS, dtype=np.int64)
         self.basis = HarmonicBasis(self.harmonics, self.samples, False)
         nc = contact.count
         d = self.per_pair
@@ -297,12 +322,15 @@ def _newton(problem: InterfaceProblem, x0, eps: np.ndarray, tol: float, max_iter
     """One compiled Newton solve (:func:`~.kernels.newton_kernel`) at penalty ``eps`` (N/m)."""
     scale = problem.residual_scale()
     b = problem.basis
+    x0 = np.asarray(x0, dtype=float).copy()
+    args = (problem.F, eps, problem.gap, problem.mu, problem.xref, b.synthesis, b.analysis, tol * scale,
+            max_iter)  # fmt: skip
     try:
-        x, ok, it, r, code = problem._kernels[0](
-            np.asarray(x0, dtype=float).copy(), _NO_Z if problem.blocks is not None else problem.Z, problem.F,
-            eps, problem.gap, problem.mu,
-            problem.xref, b.synthesis, b.analysis, tol * scale, max_iter, problem.blocks,
-        )  # fmt: skip
+        if problem.blocks is None:
+            x, ok, it, r, code = problem._kernels[0](x0, problem.Z, *args)
+        else:
+            x, ok, it, r, code = _block_newton(x0, *args, problem.blocks, problem.krylov_min,
+                                               problem.krylov_stats)  # fmt: skip
     except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular matrix
         return NewtonResult(np.asarray(x0, dtype=float), False, 0, np.inf, newton_message(SINGULAR, max_iter))
     return NewtonResult(x, bool(ok), int(it), float(r / scale), newton_message(code, max_iter))

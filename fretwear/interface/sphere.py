@@ -634,6 +634,7 @@ def sphere_periodic(
     params: SphereOnFlat | None = None,
     condensation: ContactCondensation | None = None,
     linear: str = "structured",
+    krylov_min: int | None = None,
     **changes,
 ) -> dict:
     """Periodic response of the sphere on the flat under ``Q* cos(omega t)`` with the 2-D friction law.
@@ -651,6 +652,8 @@ def sphere_periodic(
         As :func:`sphere_static_benchmark`'s; ``condensation`` of a :func:`sphere_dynamic_model` to reuse.
     linear : str
         The Newton steps' linear algebra (:class:`~fretwear.interface.periodic.InterfaceProblem`).
+    krylov_min : int, optional
+        The problem's ``krylov_min`` (:class:`~fretwear.interface.periodic.InterfaceProblem`); default its.
 
     Returns
     -------
@@ -678,6 +681,8 @@ def sphere_periodic(
         condensation, 2 * np.pi * frequency_ratio * f1, harmonics=harmonics, linear=linear, friction="cone",
         force_scale=q_ratio * mu * P / info["tangential_load"],
     )  # fmt: skip
+    if krylov_min is not None:
+        problem.krylov_min = krylov_min
     sol = solve_interface(problem)
     sym = info["symmetry_factor"]
     out = dict(

@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from fretwear.hbm.dlft import jacobian_from_blocks
+from fretwear.hbm.krylov import EXACT, FALLBACKS, STEPS
 from fretwear.hbm.structured import FIXED, FREE, MIXED, classify, harmonic_blocks, structured_step
 from fretwear.interface.fe import cylinder_on_flat
 from fretwear.interface.periodic import InterfaceProblem, newton, solve_interface
 from fretwear.interface.reduction import ContactCondensation
+from fretwear.interface.sphere import sphere_dynamic_model
 from fretwear.model import craig_bampton
 
 OMEGA, NH = 2 * np.pi * 50.0, 7
@@ -94,3 +96,50 @@ def test_structured_newton_reports_a_failure(cylinder32):
 def test_linear_is_checked(cylinder32):
     with pytest.raises(ValueError, match="linear must be one of"):
         InterfaceProblem(cylinder32[0].condensation, OMEGA, linear="krylov")
+
+
+def test_gmres_steps_give_the_exact_steps_solution(cylinder32):
+    """Coupled law: every step by GMRES (``krylov_min = 0``) against every step exact and against the dense
+    path: the same converged solution within the Newton tolerance, with GMRES steps taken and none fallen
+    back to the exact step."""
+    dense, structured = cylinder32
+    sd = solve_interface(dense)
+    out = {}
+    for kmin in (0, 2**62):
+        structured.krylov_min = kmin
+        structured.krylov_stats[:] = 0
+        out[kmin] = (solve_interface(structured), structured.krylov_stats.copy())
+    (sk, stk), (se, ste) = out[0], out[2**62]
+    assert sk.converged and se.converged and sk.residual <= 1e-10 and se.residual <= 1e-10
+    assert stk[STEPS] > 0 and stk[FALLBACKS] == 0 and ste[STEPS] == 0 and ste[EXACT] > 0
+    for s in (sk, se):
+        assert np.abs(s.unknowns - sd.unknowns).max() <= 1e-9 * np.abs(sd.unknowns).max()
+
+
+def test_gmres_steps_give_the_exact_steps_solution_with_the_cone():
+    """2-D friction law (63 pairs of the sphere, partial slip): GMRES steps and exact steps converge to the
+    same solution within the Newton tolerance."""
+    from fretwear.interface.sphere import sphere_periodic
+
+    cond = ContactCondensation(sphere_dynamic_model(divisions=6, size=4.0))
+    runs = {}
+    for kmin in (0, 2**62):
+        d = sphere_periodic(0.5, 0.05, harmonics=3, condensation=cond, krylov_min=kmin)
+        runs[kmin] = d["solution"]
+    a, b = runs[0], runs[2**62]
+    assert a.converged and b.converged
+    assert a.problem.krylov_stats[STEPS] > 0 and a.problem.krylov_stats[FALLBACKS] == 0
+    assert b.problem.krylov_stats[STEPS] == 0
+    assert np.abs(a.unknowns - b.unknowns).max() <= 1e-9 * np.abs(b.unknowns).max()
+
+
+def test_gmres_newton_out_of_steps_says_so(cylinder32):
+    """A Newton solve with GMRES steps stopped before convergence reports it: not converged, its residual
+    (judged on the true residual, never on GMRES's) above the tolerance, a message that says why."""
+    structured = cylinder32[1]
+    structured.krylov_min = 0
+    structured.krylov_stats[:] = 0
+    res = newton(structured, structured.start(), tol=1e-10, max_iter=2)
+    assert structured.krylov_stats[STEPS] > 0
+    assert not res.converged and res.residual > 1e-10 and res.iterations <= 2
+    assert res.message in ("no convergence in 2 iterations", "line search failed")
