@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import weakref
 from collections.abc import Callable
+from contextlib import nullcontext
 from typing import Any
 
 import holoviews as hv
@@ -19,6 +20,7 @@ __all__ = [
     "View",
     "PageScript",
     "live_pane",
+    "redraw_stream",
     "figure_grid",
     "control_row",
     "message_list",
@@ -182,6 +184,40 @@ class PageScript(JSComponent):
       return document.createElement("span");
     }}
     """
+
+
+#: obj -> {parameter names: the live streams that follow them} (:func:`redraw_stream`)
+_REDRAWS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: stream classes by the parameters they carry
+_STREAM_TYPES: dict[tuple[str, ...], type] = {}
+
+
+def redraw_stream(obj: param.Parameterized, names: tuple[str, ...] = ("version",)) -> hv.streams.Stream:
+    """A stream of the parameters ``names`` of ``obj`` (as ``hv.streams.Params``), for a figure that redraws
+    when they change.
+
+    The figures of every such stream of ``obj`` redraw together, at one pass of
+    Bokeh over the page's models: each plot updated alone makes that pass (its
+    legend is taken out and put back), which cost as much as drawing the figure.
+    """
+    kind = _STREAM_TYPES.get(names)
+    if kind is None:
+        kind = _STREAM_TYPES[names] = hv.streams.Stream.define("Redraw", **dict.fromkeys(names))
+    stream = kind(**{name: getattr(obj, name) for name in names})
+    groups = _REDRAWS.setdefault(obj, {})
+    if names not in groups:
+        group = groups[names] = weakref.WeakSet()
+
+        def redraw(*_events: Any) -> None:
+            values = {name: getattr(obj, name) for name in names}
+            doc = pn.state.curdoc
+            with doc.models.freeze() if doc is not None else nullcontext():
+                for each in list(group):
+                    each.event(**values)
+
+        obj.param.watch(redraw, list(names))
+    groups[names].add(stream)
+    return stream
 
 
 def live_pane(draw: Callable[..., Any], streams: list) -> pn.pane.HoloViews:
