@@ -60,6 +60,7 @@ class View(param.Parameterized):
     presentation = param.Boolean(False, doc="Larger fonts and figures, for a projector")
     width = param.Integer(0, bounds=(0, None), doc="Width of the browser's window (px); 0 before it is known")
     narrow = param.Boolean(False, doc="Figures narrower than NARROW_FIGURE px: legends below them")
+    known = param.Boolean(False, doc="The window's width is known (``narrow`` is set for it)")
 
     _pages: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -75,7 +76,7 @@ class View(param.Parameterized):
     def _narrow(self) -> None:
         main = self.width - (SIDEBAR_WIDTH if self.width >= NARROW else 0) - PAGE_MARGINS
         columns = 2 if main >= 2 * FIGURE_BASIS else 1  # as the figure grid wraps
-        self.narrow = 0 < self.width and main / columns < NARROW_FIGURE
+        self.param.update(narrow=0 < self.width and main / columns < NARROW_FIGURE, known=self.width > 0)
 
     def styled(self, figure: Any, presentation: bool, narrow: bool) -> Any:
         """``figure`` (a Bokeh overlay or element) with the view's sizes: larger in presentation mode, its
@@ -226,27 +227,37 @@ def live_pane(draw: Callable[..., Any], streams: list) -> pn.pane.HoloViews:
     ``draw`` builds its figure with the Bokeh options only (``figures.styling_for``):
     the server also loads Matplotlib for the exports, whose options would double
     the cost of every redraw. An export builds its figure again, for its backend.
+    On a served page whose window's width is not known yet (the first page), the
+    figure is made once it is: made before, it was made again for a narrow window
+    (legends below), which cost the first page a second drawing of every figure.
     """
     view = View.current()
+    doc = pn.state.curdoc
+    wait = doc is not None and doc.session_context is not None and not view.known
 
     def bokeh_only(**values: Any) -> Any:
         with figures.styling_for("bokeh"):
             return view.styled(draw(**values), view.presentation, view.narrow)
 
     pane = pn.pane.HoloViews(
-        hv.DynamicMap(bokeh_only, streams=streams),
+        None if wait else hv.DynamicMap(bokeh_only, streams=streams),
         backend="bokeh",
         sizing_mode="stretch_width",
         linked_axes=False,
         min_width=MIN_WIDTH,
+        min_height=FIGURE_HEIGHT,  # the figure's room while it waits for the window's width
         styles={"flex": f"1 1 {FIGURE_BASIS}px"},
     )
+    drawn = [None if wait else (view.presentation, view.narrow)]
 
     def resized(*_events: Any) -> None:
+        if (wait and not view.known) or drawn[0] == (view.presentation, view.narrow):
+            return
+        drawn[0] = (view.presentation, view.narrow)
         # a new plot, not an update: Bokeh places colour bars and sizes a plot when it makes it
         pane.object = hv.DynamicMap(bokeh_only, streams=streams)
 
-    view.param.watch(resized, ["presentation", "narrow"])
+    view.param.watch(resized, ["presentation", "narrow", "known"])
     return pane
 
 
