@@ -52,6 +52,10 @@ FIGURE_HEIGHT, BELOW_HEIGHT = 340, 170
 NARROW_TEXT = "7pt"
 #: presentation mode: font scale and height (px) of the live figures (a projector seen from the back)
 PRESENTATION_FONTSCALE, PRESENTATION_HEIGHT = 1.6, 480
+#: the window's width (px) a served page assumes until the browser reports it: its first figures are made
+#: for it, and made again only when the window's says otherwise. Most laptop windows (1280 to 1600 px)
+#: make narrow figures, as this does; a wider window (1920 px) makes its figures twice, as every page did.
+ASSUMED_WIDTH = 1500
 
 
 class View(param.Parameterized):
@@ -60,7 +64,7 @@ class View(param.Parameterized):
     presentation = param.Boolean(False, doc="Larger fonts and figures, for a projector")
     width = param.Integer(0, bounds=(0, None), doc="Width of the browser's window (px); 0 before it is known")
     narrow = param.Boolean(False, doc="Figures narrower than NARROW_FIGURE px: legends below them")
-    known = param.Boolean(False, doc="The window's width is known (``narrow`` is set for it)")
+    assumed = param.Integer(0, bounds=(0, None), doc="Width assumed until the window's is known (px)")
 
     _pages: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -70,13 +74,17 @@ class View(param.Parameterized):
         doc = pn.state.curdoc
         if doc is None:
             return cls()
-        return cls._pages.setdefault(doc, cls())
+        if doc not in cls._pages:
+            served = doc.session_context is not None
+            cls._pages[doc] = cls(assumed=ASSUMED_WIDTH if served else 0)
+        return cls._pages[doc]
 
-    @param.depends("width", watch=True, on_init=True)
+    @param.depends("width", "assumed", watch=True, on_init=True)
     def _narrow(self) -> None:
-        main = self.width - (SIDEBAR_WIDTH if self.width >= NARROW else 0) - PAGE_MARGINS
+        width = self.width or self.assumed
+        main = width - (SIDEBAR_WIDTH if width >= NARROW else 0) - PAGE_MARGINS
         columns = 2 if main >= 2 * FIGURE_BASIS else 1  # as the figure grid wraps
-        self.param.update(narrow=0 < self.width and main / columns < NARROW_FIGURE, known=self.width > 0)
+        self.narrow = 0 < width and main / columns < NARROW_FIGURE
 
     def styled(self, figure: Any, presentation: bool, narrow: bool) -> Any:
         """``figure`` (a Bokeh overlay or element) with the view's sizes: larger in presentation mode, its
@@ -227,37 +235,35 @@ def live_pane(draw: Callable[..., Any], streams: list) -> pn.pane.HoloViews:
     ``draw`` builds its figure with the Bokeh options only (``figures.styling_for``):
     the server also loads Matplotlib for the exports, whose options would double
     the cost of every redraw. An export builds its figure again, for its backend.
-    On a served page whose window's width is not known yet (the first page), the
-    figure is made once it is: made before, it was made again for a narrow window
-    (legends below), which cost the first page a second drawing of every figure.
+    The first page makes its figures for :data:`ASSUMED_WIDTH` until the browser
+    reports the window's width; they are made again only if that width makes them
+    otherwise (made for a width of 0, every first page drew its figures twice on a
+    window narrower than 1640 px).
     """
     view = View.current()
-    doc = pn.state.curdoc
-    wait = doc is not None and doc.session_context is not None and not view.known
 
     def bokeh_only(**values: Any) -> Any:
         with figures.styling_for("bokeh"):
             return view.styled(draw(**values), view.presentation, view.narrow)
 
     pane = pn.pane.HoloViews(
-        None if wait else hv.DynamicMap(bokeh_only, streams=streams),
+        hv.DynamicMap(bokeh_only, streams=streams),
         backend="bokeh",
         sizing_mode="stretch_width",
         linked_axes=False,
         min_width=MIN_WIDTH,
-        min_height=FIGURE_HEIGHT,  # the figure's room while it waits for the window's width
         styles={"flex": f"1 1 {FIGURE_BASIS}px"},
     )
-    drawn = [None if wait else (view.presentation, view.narrow)]
+    drawn = [(view.presentation, view.narrow)]
 
     def resized(*_events: Any) -> None:
-        if (wait and not view.known) or drawn[0] == (view.presentation, view.narrow):
+        if drawn[0] == (view.presentation, view.narrow):
             return
         drawn[0] = (view.presentation, view.narrow)
         # a new plot, not an update: Bokeh places colour bars and sizes a plot when it makes it
         pane.object = hv.DynamicMap(bokeh_only, streams=streams)
 
-    view.param.watch(resized, ["presentation", "narrow", "known"])
+    view.param.watch(resized, ["presentation", "narrow"])
     return pane
 
 
