@@ -225,7 +225,7 @@ KERNELS: dict[str, Kernel] = {
             "interface",
             "contact interfaces with many node pairs (fretwear.interface)",
             (
-                "fretwear.interface.kernels:newton_kernel",
+                "fretwear.interface.periodic:_block_newton",
                 "fretwear.interface.kernels:walk_kernel",
                 "fretwear.interface.polynomial:rate_sensitivity",
                 "fretwear.interface.time_integration:integrate_kernel",
