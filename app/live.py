@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import weakref
 from collections.abc import Callable
-from contextlib import nullcontext
 from typing import Any
 
 import holoviews as hv
@@ -20,7 +19,6 @@ __all__ = [
     "View",
     "PageScript",
     "live_pane",
-    "redraw_stream",
     "figure_grid",
     "control_row",
     "message_list",
@@ -52,10 +50,6 @@ FIGURE_HEIGHT, BELOW_HEIGHT = 340, 170
 NARROW_TEXT = "7pt"
 #: presentation mode: font scale and height (px) of the live figures (a projector seen from the back)
 PRESENTATION_FONTSCALE, PRESENTATION_HEIGHT = 1.6, 480
-#: the window's width (px) a served page assumes until the browser reports it: its first figures are made
-#: for it, and made again only when the window's says otherwise. Most laptop windows (1280 to 1600 px)
-#: make narrow figures, as this does; a wider window (1920 px) makes its figures twice, as every page did.
-ASSUMED_WIDTH = 1500
 
 
 class View(param.Parameterized):
@@ -64,7 +58,6 @@ class View(param.Parameterized):
     presentation = param.Boolean(False, doc="Larger fonts and figures, for a projector")
     width = param.Integer(0, bounds=(0, None), doc="Width of the browser's window (px); 0 before it is known")
     narrow = param.Boolean(False, doc="Figures narrower than NARROW_FIGURE px: legends below them")
-    assumed = param.Integer(0, bounds=(0, None), doc="Width assumed until the window's is known (px)")
 
     _pages: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -74,17 +67,13 @@ class View(param.Parameterized):
         doc = pn.state.curdoc
         if doc is None:
             return cls()
-        if doc not in cls._pages:
-            served = doc.session_context is not None
-            cls._pages[doc] = cls(assumed=ASSUMED_WIDTH if served else 0)
-        return cls._pages[doc]
+        return cls._pages.setdefault(doc, cls())
 
-    @param.depends("width", "assumed", watch=True, on_init=True)
+    @param.depends("width", watch=True, on_init=True)
     def _narrow(self) -> None:
-        width = self.width or self.assumed
-        main = width - (SIDEBAR_WIDTH if width >= NARROW else 0) - PAGE_MARGINS
+        main = self.width - (SIDEBAR_WIDTH if self.width >= NARROW else 0) - PAGE_MARGINS
         columns = 2 if main >= 2 * FIGURE_BASIS else 1  # as the figure grid wraps
-        self.narrow = 0 < width and main / columns < NARROW_FIGURE
+        self.narrow = 0 < self.width and main / columns < NARROW_FIGURE
 
     def styled(self, figure: Any, presentation: bool, narrow: bool) -> Any:
         """``figure`` (a Bokeh overlay or element) with the view's sizes: larger in presentation mode, its
@@ -195,50 +184,12 @@ class PageScript(JSComponent):
     """
 
 
-#: obj -> {parameter names: the live streams that follow them} (:func:`redraw_stream`)
-_REDRAWS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-#: stream classes by the parameters they carry
-_STREAM_TYPES: dict[tuple[str, ...], type] = {}
-
-
-def redraw_stream(obj: param.Parameterized, names: tuple[str, ...] = ("version",)) -> hv.streams.Stream:
-    """A stream of the parameters ``names`` of ``obj`` (as ``hv.streams.Params``), for a figure that redraws
-    when they change.
-
-    The figures of every such stream of ``obj`` redraw together, at one pass of
-    Bokeh over the page's models: each plot updated alone makes that pass (its
-    legend is taken out and put back), which cost as much as drawing the figure.
-    """
-    kind = _STREAM_TYPES.get(names)
-    if kind is None:
-        kind = _STREAM_TYPES[names] = hv.streams.Stream.define("Redraw", **dict.fromkeys(names))
-    stream = kind(**{name: getattr(obj, name) for name in names})
-    groups = _REDRAWS.setdefault(obj, {})
-    if names not in groups:
-        group = groups[names] = weakref.WeakSet()
-
-        def redraw(*_events: Any) -> None:
-            values = {name: getattr(obj, name) for name in names}
-            doc = pn.state.curdoc
-            with doc.models.freeze() if doc is not None else nullcontext():
-                for each in list(group):
-                    each.event(**values)
-
-        obj.param.watch(redraw, list(names))
-    groups[names].add(stream)
-    return stream
-
-
 def live_pane(draw: Callable[..., Any], streams: list) -> pn.pane.HoloViews:
     """A Bokeh pane of ``hv.DynamicMap(draw, streams=streams)``, sized by the page's :class:`View`.
 
     ``draw`` builds its figure with the Bokeh options only (``figures.styling_for``):
     the server also loads Matplotlib for the exports, whose options would double
     the cost of every redraw. An export builds its figure again, for its backend.
-    The first page makes its figures for :data:`ASSUMED_WIDTH` until the browser
-    reports the window's width; they are made again only if that width makes them
-    otherwise (made for a width of 0, every first page drew its figures twice on a
-    window narrower than 1640 px).
     """
     view = View.current()
 
@@ -254,12 +205,8 @@ def live_pane(draw: Callable[..., Any], streams: list) -> pn.pane.HoloViews:
         min_width=MIN_WIDTH,
         styles={"flex": f"1 1 {FIGURE_BASIS}px"},
     )
-    drawn = [(view.presentation, view.narrow)]
 
     def resized(*_events: Any) -> None:
-        if drawn[0] == (view.presentation, view.narrow):
-            return
-        drawn[0] = (view.presentation, view.narrow)
         # a new plot, not an update: Bokeh places colour bars and sizes a plot when it makes it
         pane.object = hv.DynamicMap(bokeh_only, streams=streams)
 

@@ -45,7 +45,6 @@ from .live import (
     figure_grid,
     live_pane,
     message_list,
-    redraw_stream,
     run_status,
 )
 from .scenes import ANIMATION_FRAMES, QUANTITY_LABELS, TARGETS, AccuracyScene, CycleScene, Scene
@@ -105,38 +104,24 @@ def document_dispatch(doc) -> Callable[[Callable[[], None]], None]:
     Callbacks that arrive before the page has loaded in the browser (a run
     started with the session) wait for it (``pn.state.onload``): an update made
     while the page is being sent could be lost, leaving the figures on the
-    results they were first drawn with. Callbacks that arrive while others wait
-    for the loop (a run's progress reports, its results) run together, and the
-    changes of each batch reach the browser as one message: every message costs
-    Bokeh a pass over all the page's models, and each change of a widget or plot
-    was a message of its own.
+    results they were first drawn with.
     """
     from panel.io.state import set_curdoc
 
     served = doc is not None and doc.session_context is not None
     lock = threading.Lock()
     waiting: list[Callable[[], None]] | None = [] if served else None
-    pending: list[Callable[[], None]] = []
 
-    def run(callbacks: list[Callable[[], None]]) -> None:
-        with set_curdoc(doc), pn.io.hold(doc):
-            for callback in callbacks:
-                try:
-                    callback()
-                except Exception:  # noqa: BLE001 - a bug: logged, and the batch's other updates still made
-                    log.exception("page update failed")
+    def run(callback: Callable[[], None]) -> None:
+        with set_curdoc(doc):
+            callback()
 
     def loaded() -> None:
         nonlocal waiting
         with lock:
             queued, waiting = waiting or [], None
-        run(queued)
-
-    def flush() -> None:
-        with lock:
-            callbacks = pending.copy()
-            pending.clear()
-        run(callbacks)
+        for callback in queued:
+            run(callback)
 
     if served:
         pn.state.onload(loaded)
@@ -149,11 +134,8 @@ def document_dispatch(doc) -> Callable[[Callable[[], None]], None]:
             if waiting is not None:
                 waiting.append(callback)
                 return
-            pending.append(callback)
-            if len(pending) > 1:  # a flush is scheduled and has not started: it runs this one too
-                return
         try:
-            doc.add_next_tick_callback(flush)
+            doc.add_next_tick_callback(partial(run, callback))
         except Exception:  # noqa: BLE001 - the session was closed: nothing to update
             pass
 
@@ -510,14 +492,14 @@ def _draw(scene: Scene, name: str, version: int, **_streams: Any) -> hv.Overlay:
 
 
 def _figure_pane(scene: Scene, name: str, session: Session) -> pn.pane.HoloViews:
-    streams: list = [redraw_stream(scene)]
+    streams: list = [hv.streams.Params(scene, ["version"])]
     if (scene.key, name) == ("wearmap", "wear_map"):
         # a stream of the DynamicMap itself: a Tap with ``source=`` does not link to a plot of overlays
         tap = hv.streams.Tap(x=None, y=None)
         tap.add_subscriber(lambda x, y: session.select(x, y))
         streams.append(tap)
     if isinstance(scene, CycleScene):
-        streams = [redraw_stream(scene, ("version", "frame"))]  # the animation redraws them
+        streams = [hv.streams.Params(scene, ["version", "frame"])]  # the animation redraws them
     return live_pane(partial(_draw, scene, name), streams)
 
 

@@ -63,8 +63,6 @@ log = logging.getLogger(__name__)
 Publish = Callable[[dict[str, Any], bool], None]
 #: before a task at least this heavy (see ``Task.weight``), the results computed so far are shown
 PARTIAL_WEIGHT = 3.0
-#: ... once that task has run this long (s): a shorter one would only make the page draw its figures twice
-PARTIAL_DELAY = 0.5
 #: set once every kernel group of :mod:`fretwear.compile` is compiled or in Numba's cache
 _compiled = threading.Event()
 
@@ -80,12 +78,6 @@ def computing(label: str) -> str:
             return f"Computing {label} (compiling numerical kernels, first run only: a few minutes, once)"
         _compiled.set()
     return f"Computing {label}"
-
-
-def _while(running: list[object], token: object, callback: Callable[[], None]) -> None:
-    """``callback()`` while ``running[0]`` is ``token`` (the task it was made for has not ended)."""
-    if running[0] is token:
-        callback()
 
 
 class Runner(param.Parameterized):
@@ -173,31 +165,19 @@ class Runner(param.Parameterized):
     def _run(self, generation: int, tasks: list[Task], publish: Publish) -> None:
         job = Job(cancelled=partial(self._stale, generation))
         total, done, fresh = sum(t.weight for t in tasks), 0.0, False
-        running: list[object] = [None]  # the long task under way, while its partial publish may still show
-        timer: threading.Timer | None = None
         try:
             for task in tasks:
                 if job.cancelled():
                     return
                 if fresh and task.weight >= PARTIAL_WEIGHT and task.key not in self.cache:
-                    # a long task follows: show what is new, the older results meanwhile
-                    so_far = partial(self._publish, generation, publish, dict(job.results), False)
-                    if self.executor is None:  # nothing is drawn while the caller waits: no delay
-                        self.dispatch(so_far)
-                    else:  # once the task has run PARTIAL_DELAY s, unless it has ended by then
-                        running[0] = token = object()
-                        timer = threading.Timer(
-                            PARTIAL_DELAY, self.dispatch, [partial(_while, running, token, so_far)]
-                        )
-                        timer.daemon = True
-                        timer.start()
+                    # a long task follows: show what is new now, the older results meanwhile
+                    self.dispatch(partial(self._publish, generation, publish, dict(job.results), False))
                 fresh = fresh or task.key not in self.cache
                 job.progress = partial(
                     self._report, generation, done / total, task.weight / total, task.label
                 )
                 job.progress(0.0)
                 job.results[task.name] = self.cache.get_or_compute(task.key, partial(task.run, job))
-                running[0] = None  # before any later publish is dispatched: a late partial one skips
                 done += task.weight
         except Cancelled:
             return
@@ -206,9 +186,6 @@ class Runner(param.Parameterized):
             message = f"Internal error ({type(exc).__name__}: {exc}); the server log has the details"
             self.dispatch(partial(self._fail, generation, message))
             return
-        finally:
-            if timer is not None:
-                timer.cancel()
         self.dispatch(partial(self._publish, generation, publish, job.results, True))
 
     def _report(

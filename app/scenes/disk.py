@@ -35,7 +35,7 @@ from fretwear.figures.record import version
 from fretwear.model import DiskSector
 
 from ..backend import DiskSpec, Failure, Grid
-from ..live import control_row, figure_grid, live_pane, message_list, redraw_stream, run_status, typed_box
+from ..live import control_row, figure_grid, live_pane, message_list, run_status, typed_box
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter, whole
 from .base import Addressed, Exports, OwnSettings
@@ -321,6 +321,7 @@ class DiskScene(Addressed, OwnSettings, Exports, Runner):
 
 def disk_tab(scene: DiskScene, export_card: Callable[[Any], Any]) -> list:
     """The Bladed disk tab: its controls, progress, figures, notes and exports; starts the first run."""
+    hv = holoviews()
     boxes = []
     # sliders for what a class explores (a run when released), boxes for the rest
     for name, label, (low, high, step) in SLIDERS:
@@ -338,11 +339,11 @@ def disk_tab(scene: DiskScene, export_card: Callable[[Any], Any]) -> list:
                               loop_policy="loop", width=300)  # fmt: skip
     phase.link(scene, value="phase")
     status, notes = run_status(scene), message_list(scene, "notes")
-    streams = {"disk": ("version", "phase"), "zzenf": ("version", "engine_order", "frequency")}
+    streams = {"disk": ["version", "phase"], "zzenf": ["version", "engine_order", "frequency"]}
     panes = [
         live_pane(
             partial(lambda n, **_k: scene.figure(n), name),
-            [redraw_stream(scene, streams.get(name, ("version",)))],
+            [hv.streams.Params(scene, streams.get(name, ["version"]))],
         )  # fmt: skip
         for name in scene.figure_names
     ]

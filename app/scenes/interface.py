@@ -47,7 +47,7 @@ from fretwear.figures.record import version
 from fretwear.model import OPEN, SLIP, STICK
 
 from ..backend import Failure, Grid, InterfaceModel
-from ..live import control_row, figure_grid, live_pane, message_list, redraw_stream, run_status, typed_box
+from ..live import control_row, figure_grid, live_pane, message_list, run_status, typed_box
 from ..session import Runner
 from ..state import ResultOf, Task, Tasks, WearAfter, file_stamp, whole
 from .base import Addressed, Exports, OwnSettings
@@ -569,6 +569,7 @@ class InterfaceScene(Addressed, OwnSettings, Exports, Runner):
 
 def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> list:
     """The Interface tab: its controls, progress, figures, notes and exports; starts the first run."""
+    hv = holoviews()
     model = pn.widgets.RadioButtonGroup(
         options=list(scene.param.model.objects), value=scene.model, variant="outline", color="primary"
     )
@@ -591,7 +592,9 @@ def interface_tab(scene: InterfaceScene, export_card: Callable[[Any], Any]) -> l
     status, notes = run_status(scene), message_list(scene, "notes")
 
     def pane(name: str) -> Any:
-        return live_pane(partial(lambda n, **_k: scene.figure(n), name), [redraw_stream(scene)])
+        return live_pane(
+            partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])]
+        )
 
     panes = [pane(name) for name in scene.figure_names if name not in PATCH_FIGURES]
 

@@ -29,7 +29,7 @@ from fretwear.studies.compute import STATUS
 from fretwear.studies.summary import magnification_summary, wear_life_summary
 
 from ..backend import Failure, shared_backend, shared_cache
-from ..live import control_row, figure_grid, live_pane, message_list, redraw_stream
+from ..live import control_row, figure_grid, live_pane, message_list
 from ..session import Runner
 from ..state import Tasks, file_stamp
 from .base import Addressed, Exports
@@ -483,6 +483,7 @@ def study_tab(scene: StudyScene, export_card: Callable[[Any], Any]) -> list:
             return [pn.pane.Alert(f"Cannot open the study: {scene.error}", alert_type="danger",
                                   sizing_mode="stretch_width"), pn.pane.Markdown(HOW_TO)]  # fmt: skip
         return [pn.pane.Markdown(HOW_TO, sizing_mode="stretch_width")]
+    hv = holoviews()
     ds = scene.ds
     status = np.asarray(ds["status"].values).ravel()
     counts = ", ".join(f"{int((status == i).sum())} {s.replace('_', ' ')}" for i, s in enumerate(STATUS)
@@ -495,7 +496,7 @@ def study_tab(scene: StudyScene, export_card: Callable[[Any], Any]) -> list:
         sizing_mode="stretch_width",
     )
     panes = [
-        live_pane(partial(lambda n, **_k: scene.figure(n), name), [redraw_stream(scene)])
+        live_pane(partial(lambda n, **_k: scene.figure(n), name), [hv.streams.Params(scene, ["version"])])
         for name in scene.figure_names
     ]
     notes = message_list(scene, "notes")

@@ -29,7 +29,6 @@ import time
 import zipfile
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 pytestmark = pytest.mark.browser
@@ -566,68 +565,6 @@ def test_the_wear_history_shows_the_exact_answer_and_the_methods_error(open_page
     assert 0 < max(exact["y"]) <= 1
 
 
-#: the Bokeh models of the visible plots by title start: the plot's id and its glyphs' data source ids, and
-#: the wear map's image (its values as drawn)
-MODELS_JS = """
-(starts) => {
-  const out = {}, stack = Object.values(Bokeh.index), seen = new Set();
-  while (stack.length) {
-    const v = stack.pop();
-    if (!v || seen.has(v)) continue;
-    seen.add(v);
-    const m = v.model;
-    if (m && m.title && typeof m.title.text === "string" && v.frame
-        && v.canvas_view.el.getBoundingClientRect().width > 0) {
-      const start = starts.find(s => m.title.text.startsWith(s));
-      if (start !== undefined) {
-        const glyphs = (m.renderers ?? []).filter(r => r.data_source);
-        const image = glyphs.find(r => r.glyph.type === "Image");
-        out[start] = {id: m.id, sources: glyphs.map(r => r.data_source.id), title: m.title.text,
-                      x: [m.x_range.start, m.x_range.end],
-                      image: image ? Array.from(image.data_source.data.image[0]) : null};
-      }
-    }
-    if (typeof v.children === "function") for (const c of v.children()) stack.push(c);
-  }
-  return out;
-}
-"""
-
-
-def test_a_change_on_the_wear_map_redraws_the_same_plots(open_page):
-    """Issue 26: a change of k_w or of the band updates the plots on the page (their data, titles and
-    axes), it does not make new ones: the same Bokeh plots and data sources show the new results."""
-    page = open_page(f"{SMALL}&scene=wearmap", first="Wear history at")
-    page.idle()
-    starts = ["Wear map (", "Wear history at", "Pseudo-FRF of mass 1"]
-
-    def models() -> dict:
-        return page.page.evaluate(MODELS_JS, starts)
-
-    page.page.wait_for_function(f"(s) => Object.keys(({MODELS_JS})(s)).length === s.length", arg=starts)
-    before = models()
-    assert len(before["Wear map ("]["image"]) == 11 * 11  # N > 0 only
-    page.type("kw", "3e-11")
-    page.wait_title("wear coefficient 3e-11")
-    page.idle()
-    after = models()
-    for start in starts:  # the same plot, and the same data sources with new data
-        assert [after[start][k] for k in ("id", "sources")] == [before[start][k] for k in ("id", "sources")]
-    # three times k_w: every cell wears at least as much by a given N, some more
-    worn, was = np.array(after["Wear map ("]["image"]), np.array(before["Wear map ("]["image"])
-    assert np.all(worn >= was - 1e-12) and np.any(worn > was + 1e-3)
-    page.type("fmin", "0.5")
-    page.page.wait_for_function(
-        f"(s) => {{ const x = ({MODELS_JS})(s)['Wear map ('].x; return x[0] > 0.44 && x[0] < 0.5; }}",
-        arg=starts,
-    )
-    page.idle()
-    moved = models()
-    for start in starts:
-        assert moved[start]["id"] == before[start]["id"]
-    assert len(moved["Wear map ("]["image"]) == 11 * 11 and moved["Wear map ("]["image"] != worn.tolist()
-
-
 def drawn(page, title: str, timeout: float = 60.0) -> tuple[dict, dict]:
     """The plot ``title`` and its largest glyph, once that glyph holds finite data: a tab's results may land
     after the page first reads idle (seen under load)."""
@@ -647,9 +584,7 @@ def test_legends_beside_the_curves_numbers_in_labels_and_room_around_loops(open_
     page = open_page(f"{SMALL}&scene=evolution", first="Pseudo-FRFs of mass 1")
     page.idle()
     evolution = page.plot("Pseudo-FRFs of mass 1")
-    # beside the axes, or below them on a figure narrower than 600 px (this one, at 1500 px: the page used
-    # to draw it wide first, then narrow once the browser reported its width), never over the curves
-    assert {item["place"] for item in evolution["legends"]} in ({"right"}, {"below"})
+    assert {item["place"] for item in evolution["legends"]} == {"right"}  # beside the axes, never over
     labels = [item["label"] for item in evolution["legends"]]
     shown = ["N = 100", "N = 1e+03", "N = 1e+04", "N = 1e+05"]
     assert labels[2:] == ["N = 0 (no wear)", *shown, *(f"{n}, exact" for n in shown)]  # exact: dashed

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from app.live import ASSUMED_WIDTH, BELOW_HEIGHT, FIGURE_HEIGHT, NARROW_TEXT, PRESENTATION_FONTSCALE, View
+from app.live import BELOW_HEIGHT, FIGURE_HEIGHT, NARROW_TEXT, PRESENTATION_FONTSCALE, View
 from fretwear import figures
 from fretwear.figures.sketch import model_sketch
 from fretwear.model import paper_model
@@ -19,8 +19,6 @@ def test_narrow_figures_put_legends_below_and_grow_only_when_they_have_one():
     curves = figures.line_figure({"a": (x, x), "b": (x, 2 * x)}, xlabel="f (Hz)", ylabel="x (m)")
     view = View(width=390)
     assert view.narrow and not View(width=1920).narrow and not View().narrow  # 0: not known yet
-    # a served page assumes a laptop's window until the browser reports its own: narrow figures, unless wide
-    assert View(assumed=ASSUMED_WIDTH).narrow and not View(assumed=ASSUMED_WIDTH, width=1920).narrow
     styled = view.styled(curves, False, True)
     assert bokeh_options(styled)["legend_position"] == "bottom"
     assert bokeh_options(styled)["height"] == FIGURE_HEIGHT + BELOW_HEIGHT
